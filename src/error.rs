@@ -1,0 +1,40 @@
+//! One error type for the library: every message names the problem, so the CLI
+//! can print it on one line and exit with code 2.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in `rgc`, phrased for the person who caused it.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A numeric parameter out of its physical range (non-positive, NaN, too large ...).
+    #[error("invalid parameter: {0}")]
+    Parameter(String),
+    /// A graph6 string that does not decode to a graph.
+    #[error("malformed graph6 {input:?}: {reason}")]
+    Graph6 { input: String, reason: String },
+    /// A contact edge list that does not parse.
+    #[error("malformed edge list {path}: line {line}: {reason}")]
+    EdgeList {
+        path: PathBuf,
+        line: usize,
+        reason: String,
+    },
+    /// A file that cannot be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+impl Error {
+    /// Wraps an I/O error with the path it concerns.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+pub type Result<T> = std::result::Result<T, Error>;

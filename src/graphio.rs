@@ -1,0 +1,1 @@
+//! graph6 and edge-list input and output.

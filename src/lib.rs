@@ -1,0 +1,22 @@
+//! `rgc`: rigidity percolation in random 3-D rod systems.
+//!
+//! The data flows through the modules in the order of the model
+//! (see `DESIGN.md` in the project's shared notes):
+//!
+//! * [`rods`] — random soft-core spherocylinders in a periodic box;
+//! * [`contacts`] — which rods touch (cell list, robust segment distance),
+//!   the contact graph and its statistics;
+//! * [`spanning`] — whether a cluster of rods spans the periodic box;
+//! * [`engine`] — the 3D rigid graph compression (3D-RGC) with the base motifs;
+//! * [`sample`] — one Monte Carlo sample from rods to rigid clusters;
+//! * [`graphio`] — graph6 and edge-list input and output.
+
+pub mod contacts;
+pub mod engine;
+pub mod error;
+pub mod graphio;
+pub mod rods;
+pub mod sample;
+pub mod spanning;
+
+pub use error::{Error, Result};

@@ -1,0 +1,1 @@
+//! One Monte Carlo sample: rods, contacts, statistics, compression, spanning.

@@ -1,0 +1,1 @@
+//! Whether a cluster of rods spans the periodic box (DESIGN §1).
