@@ -1,11 +1,29 @@
 //! The 3D rigid graph compression (3D-RGC) engine (DESIGN §5).
+//!
+//! Compression repeatedly finds a rigid motif and merges its nodes into one
+//! body. Work is driven by a worklist of tasks drawn in random order: every
+//! rod first (for the rods-only motifs), then every pair of nodes whose
+//! relation a merge changed (for the motifs with bodies). A new motif
+//! instance always contains the merged node and one of those changed pairs,
+//! so nothing is missed and nothing far away is looked at again.
 
+mod motifs;
+mod state;
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::contacts::ContactGraph;
+use crate::{Error, Result};
+use motifs::Found;
+use state::State;
 
 /// Which motif conditions the engine applies.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Rules {
     /// The published conditions, except that two planar bodies are never
@@ -34,17 +52,247 @@ pub struct Body {
     pub class: BodyClass,
 }
 
+/// The base motifs, by the paper's names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Motif {
+    /// 3D3C grown to a 3-clique community of rods (3D3C with 3D2B).
+    Community,
+    /// A rod touching a body at two or more contacts.
+    D2B,
+    /// Two bodies with three or more contacts, not all on one rod.
+    D2A,
+    /// Three bodies pairwise in contact (1, 2, 2 contacts).
+    D3A,
+    /// Two bodies with two contacts and a rod touching both.
+    D3B,
+    /// A body touching a path of three rods.
+    D4,
+    /// Two rods touching the same four rods (K_{2,4}).
+    D6,
+}
+
+/// How many instances of each motif one run compressed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MotifCounts {
+    pub community: u32,
+    #[serde(rename = "3D2B")]
+    pub d2b: u32,
+    #[serde(rename = "3D2A")]
+    pub d2a: u32,
+    #[serde(rename = "3D3A")]
+    pub d3a: u32,
+    #[serde(rename = "3D3B")]
+    pub d3b: u32,
+    #[serde(rename = "3D4")]
+    pub d4: u32,
+    #[serde(rename = "3D6")]
+    pub d6: u32,
+}
+
+impl MotifCounts {
+    fn add(&mut self, motif: Motif) {
+        let slot = match motif {
+            Motif::Community => &mut self.community,
+            Motif::D2B => &mut self.d2b,
+            Motif::D2A => &mut self.d2a,
+            Motif::D3A => &mut self.d3a,
+            Motif::D3B => &mut self.d3b,
+            Motif::D4 => &mut self.d4,
+            Motif::D6 => &mut self.d6,
+        };
+        *slot += 1;
+    }
+}
+
 /// The outcome of one compression run.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Compression {
-    /// Bodies, largest first (ties by smallest rod).
+    /// Bodies, largest first (ties by smallest rod), each with sorted rods.
     pub bodies: Vec<Body>,
     /// Nodes left: bodies plus rods in no body.
     pub components: usize,
+    /// Motif instances compressed, by motif.
+    pub motifs: MotifCounts,
 }
 
-/// Compresses `graph` once with a random motif order drawn from `seed`.
+impl Compression {
+    /// The largest body, if any.
+    pub fn largest(&self) -> Option<&Body> {
+        self.bodies.first()
+    }
+
+    /// Rods in the largest body (1 when no body formed but rods exist, 0 for no rods).
+    pub fn largest_rods(&self) -> usize {
+        self.largest().map_or(0, |b| b.rods.len())
+    }
+}
+
+/// Something to examine: a rod (rods-only motifs) or a body and a node whose
+/// relation to it changed (motifs with bodies).
+#[derive(Clone, Copy, Debug)]
+enum Task {
+    Rod(u32),
+    Pair(u32, u32),
+}
+
+/// Compresses `graph` once, with the order of motif application drawn from `seed`.
 pub fn compress(graph: &ContactGraph, rules: Rules, seed: u64) -> Compression {
-    let _ = (graph, rules, seed);
-    todo!()
+    compress_from(graph, &[], rules, seed).expect("no declared bodies to reject")
+}
+
+/// Compresses `graph` once, starting from `bodies` declared rigid (rods of a
+/// body need no contacts among them): the host of a mixed motif.
+pub fn compress_from(
+    graph: &ContactGraph,
+    bodies: &[Body],
+    rules: Rules,
+    seed: u64,
+) -> Result<Compression> {
+    check_bodies(graph, bodies)?;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut state = State::new(graph);
+    let mut counts = MotifCounts::default();
+    let mut tasks: Vec<Task> = Vec::new();
+    for body in bodies {
+        let (node, changed) = state.merge(&body.rods, body.class);
+        tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
+    }
+    tasks.extend(
+        (0..graph.n_nodes() as u32)
+            .filter(|&r| graph.degree(r) >= 2)
+            .map(Task::Rod),
+    );
+    let mut buf = Vec::new();
+    while !tasks.is_empty() {
+        let task = tasks.swap_remove(rng.random_range(0..tasks.len()));
+        let found = match task {
+            Task::Rod(r) => {
+                if !state.is_free_rod(r) {
+                    continue;
+                }
+                if rng.random::<bool>() {
+                    state.community(r).or_else(|| state.k24(r))
+                } else {
+                    state.k24(r).or_else(|| state.community(r))
+                }
+            }
+            Task::Pair(x, y) => {
+                let (x, y) = (state.find(x), state.find(y));
+                if x == y {
+                    continue;
+                }
+                examine_pair(&mut state, x, y, rules, &mut rng, &mut buf)
+            }
+        };
+        if let Some(Found {
+            motif,
+            parts,
+            class,
+        }) = found
+        {
+            counts.add(motif);
+            let (node, changed) = state.merge(&parts, class);
+            tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
+        }
+    }
+    let mut bodies: Vec<Body> = state
+        .bodies()
+        .map(|(rods, class)| {
+            let mut rods = rods.to_vec();
+            rods.sort_unstable();
+            Body { rods, class }
+        })
+        .collect();
+    bodies.sort_by(|a, b| {
+        b.rods
+            .len()
+            .cmp(&a.rods.len())
+            .then(a.rods[0].cmp(&b.rods[0]))
+    });
+    Ok(Compression {
+        bodies,
+        components: state.n_nodes(),
+        motifs: counts,
+    })
+}
+
+/// Declared bodies must have two or more rods each, in range, and be disjoint.
+fn check_bodies(graph: &ContactGraph, bodies: &[Body]) -> Result<()> {
+    let mut owner = vec![usize::MAX; graph.n_nodes()];
+    for (k, body) in bodies.iter().enumerate() {
+        if body.rods.len() < 2 {
+            return Err(Error::Parameter(format!(
+                "declared body {k} has {} rod(s); a body has at least two",
+                body.rods.len()
+            )));
+        }
+        for &r in &body.rods {
+            let slot = owner.get_mut(r as usize).ok_or_else(|| {
+                Error::Parameter(format!(
+                    "declared body {k} names rod {r}, outside 0..{}",
+                    graph.n_nodes()
+                ))
+            })?;
+            if *slot != usize::MAX {
+                return Err(Error::Parameter(format!(
+                    "rod {r} is declared in body {} and body {k}",
+                    *slot
+                )));
+            }
+            *slot = k;
+        }
+    }
+    Ok(())
+}
+
+/// Tries, in random order, every motif with bodies that contains both `x` and `y`.
+fn examine_pair(
+    state: &mut State,
+    x: u32,
+    y: u32,
+    rules: Rules,
+    rng: &mut ChaCha8Rng,
+    buf: &mut Vec<u32>,
+) -> Option<Found> {
+    let (body, other) = match (state.class(x), state.class(y)) {
+        (Some(_), _) => (x, y),
+        (None, Some(_)) => (y, x),
+        (None, None) => return None,
+    };
+    let start = rng.random_range(0..3usize);
+    if state.class(other).is_some() {
+        (0..3).find_map(|k| match (start + k) % 3 {
+            0 => state.d2a(body, other, rules),
+            1 => state.d3a(body, other),
+            _ => state.d3b_bodies(body, other, buf),
+        })
+    } else {
+        (0..3).find_map(|k| match (start + k) % 3 {
+            0 => state.d2b(body, other, buf),
+            1 => state.d3b_rod(body, other, buf),
+            _ => state.d4(body, other, rules, buf),
+        })
+    }
+}
+
+/// The seed of run `k` of a sample seeded with `seed` (SplitMix64 of both),
+/// so runs are independent and the same whatever the thread count.
+pub fn run_seed(seed: u64, k: u64) -> u64 {
+    let mut z = seed ^ k.wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// `runs` independent compressions of `graph` (rayon), in run order.
+pub fn compress_runs(
+    graph: &ContactGraph,
+    rules: Rules,
+    seed: u64,
+    runs: usize,
+) -> Vec<Compression> {
+    (0..runs as u64)
+        .into_par_iter()
+        .map(|k| compress(graph, rules, run_seed(seed, k)))
+        .collect()
 }

@@ -1,0 +1,202 @@
+//! The compression state: a multigraph of rods and bodies whose edges are the
+//! original rod–rod contacts, each still knowing its two rods (DESIGN §5).
+//!
+//! Nodes are identified by a representative rod (union–find over rods). Rods
+//! keep no adjacency of their own: their contacts are read from the static
+//! contact graph and resolved to current nodes on the fly. Bodies keep a map
+//! from each neighbouring node to the contacts they share, seen from the body
+//! (own rod, other rod). Merging moves the smaller maps into the largest, so
+//! the total work of all merges is O(E log E) and only the neighbours of the
+//! absorbed parts see their relation change.
+
+use rustc_hash::FxHashMap;
+
+use super::BodyClass;
+use crate::contacts::ContactGraph;
+
+/// One original contact seen from a node: its rod on this side and on the other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Link {
+    pub own: u32,
+    pub other: u32,
+}
+
+#[derive(Default)]
+pub(super) struct Node {
+    /// `None` for a single rod.
+    pub class: Option<BodyClass>,
+    /// Member rods of a body (empty for a rod).
+    pub members: Vec<u32>,
+    /// Contacts of a body with each neighbouring node (empty for a rod).
+    pub adj: FxHashMap<u32, Vec<Link>>,
+}
+
+pub(super) struct State<'g> {
+    pub g: &'g ContactGraph,
+    parent: Vec<u32>,
+    pub nodes: Vec<Node>,
+}
+
+impl<'g> State<'g> {
+    pub fn new(g: &'g ContactGraph) -> Self {
+        let n = g.n_nodes();
+        State {
+            g,
+            parent: (0..n as u32).collect(),
+            nodes: (0..n).map(|_| Node::default()).collect(),
+        }
+    }
+
+    /// The node that rod `x` currently belongs to.
+    pub fn find(&mut self, mut x: u32) -> u32 {
+        while self.parent[x as usize] != x {
+            let p = self.parent[x as usize];
+            let gp = self.parent[p as usize];
+            self.parent[x as usize] = gp;
+            x = gp;
+        }
+        x
+    }
+
+    /// Whether `x` is a node that is a single rod.
+    pub fn is_free_rod(&self, x: u32) -> bool {
+        self.parent[x as usize] == x && self.nodes[x as usize].class.is_none()
+    }
+
+    /// Class of node `x` (`None` for a rod).
+    pub fn class(&self, x: u32) -> Option<BodyClass> {
+        self.nodes[x as usize].class
+    }
+
+    /// Contacts of body `b` with node `y`.
+    pub fn body_links(&self, b: u32, y: u32) -> &[Link] {
+        self.nodes[b as usize]
+            .adj
+            .get(&y)
+            .map_or(&[][..], |v| v.as_slice())
+    }
+
+    /// Rods of node `x` that rod `r` touches (the other ends of `r`'s contacts with `x`).
+    pub fn rod_contacts_with(&mut self, r: u32, x: u32, out: &mut Vec<u32>) {
+        out.clear();
+        let g = self.g;
+        for &(nb, _) in g.neighbors(r) {
+            if self.find(nb) == x {
+                out.push(nb);
+            }
+        }
+    }
+
+    /// Every contact of node `x`, grouped by the neighbouring node it reaches.
+    fn take_links(&mut self, x: u32) -> Vec<(u32, Vec<Link>)> {
+        if self.nodes[x as usize].class.is_some() {
+            return std::mem::take(&mut self.nodes[x as usize].adj)
+                .into_iter()
+                .collect();
+        }
+        let g = self.g;
+        let mut out: Vec<(u32, Vec<Link>)> = Vec::with_capacity(g.degree(x));
+        for &(nb, _) in g.neighbors(x) {
+            let y = self.find(nb);
+            let link = Link { own: x, other: nb };
+            match out.iter_mut().find(|(n, _)| *n == y) {
+                Some((_, v)) => v.push(link),
+                None => out.push((y, vec![link])),
+            }
+        }
+        out
+    }
+
+    /// Number of contacts of node `x`, the size that decides which part of a merge survives.
+    fn weight(&self, x: u32) -> usize {
+        let node = &self.nodes[x as usize];
+        if node.class.is_some() {
+            node.adj.len()
+        } else {
+            self.g.degree(x)
+        }
+    }
+
+    /// Merges the nodes `parts` into one body of class `class`. Returns the new
+    /// node and the neighbours whose relation to it changed (all of them when
+    /// the surviving part changed kind or class).
+    pub fn merge(&mut self, parts: &[u32], class: BodyClass) -> (u32, Vec<u32>) {
+        debug_assert!(parts.len() >= 2);
+        let keep = *parts
+            .iter()
+            .max_by_key(|&&x| (self.weight(x), std::cmp::Reverse(x)))
+            .expect("a merge has parts");
+        let all_changed = self.nodes[keep as usize].class != Some(class);
+        if self.nodes[keep as usize].class.is_none() {
+            let links = self.take_links(keep);
+            let node = &mut self.nodes[keep as usize];
+            node.adj = links.into_iter().collect();
+            node.members.push(keep);
+        }
+        let mut changed = Vec::new();
+        for &part in parts.iter().filter(|&&p| p != keep) {
+            let links = self.take_links(part);
+            for (y, ls) in links {
+                if parts.contains(&y) {
+                    continue;
+                }
+                changed.push(y);
+                if self.nodes[y as usize].class.is_some() {
+                    let mut moved = self.nodes[y as usize]
+                        .adj
+                        .remove(&part)
+                        .expect("adjacency is symmetric between bodies");
+                    self.nodes[y as usize]
+                        .adj
+                        .entry(keep)
+                        .or_default()
+                        .append(&mut moved);
+                }
+                self.nodes[keep as usize]
+                    .adj
+                    .entry(y)
+                    .or_default()
+                    .extend(ls);
+            }
+            let members = std::mem::take(&mut self.nodes[part as usize].members);
+            let node = &mut self.nodes[part as usize];
+            node.class = None;
+            let keep_node = &mut self.nodes[keep as usize];
+            if members.is_empty() {
+                keep_node.members.push(part);
+            } else {
+                keep_node.members.extend(members);
+            }
+            self.parent[part as usize] = keep;
+        }
+        let keep_node = &mut self.nodes[keep as usize];
+        for p in parts {
+            keep_node.adj.remove(p);
+        }
+        keep_node.class = Some(class);
+        if all_changed {
+            changed = keep_node.adj.keys().copied().collect();
+        }
+        changed.sort_unstable();
+        changed.dedup();
+        (keep, changed)
+    }
+
+    /// The bodies left, with their classes.
+    pub fn bodies(&self) -> impl Iterator<Item = (&[u32], BodyClass)> {
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter(|(i, n)| self.parent[*i] == *i as u32 && n.class.is_some())
+            .map(|(_, n)| (n.members.as_slice(), n.class.expect("filtered")))
+    }
+
+    /// Number of nodes left (bodies and free rods).
+    pub fn n_nodes(&self) -> usize {
+        self.parent
+            .iter()
+            .enumerate()
+            .filter(|&(i, &p)| p == i as u32)
+            .count()
+    }
+}
