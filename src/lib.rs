@@ -9,8 +9,10 @@
 //! * [`spanning`] — whether a cluster of rods spans the periodic box;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC) with the base motifs;
 //! * [`sample`] — one Monte Carlo sample from rods to rigid clusters;
-//! * [`graphio`] — graph6 and edge-list input and output.
+//! * [`graphio`] — graph6 and edge-list input and output;
+//! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
+pub mod bench;
 pub mod contacts;
 pub mod engine;
 pub mod error;

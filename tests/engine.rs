@@ -3,9 +3,140 @@
 //! not, whatever the random order (checked over many seeds).
 
 use rgc::contacts::ContactGraph;
+use rgc::engine::examples::{self, Example};
 use rgc::engine::{Body, BodyClass, Compression, Rules, compress, compress_from, compress_runs};
 
 const SEEDS: u64 = 64;
+
+fn example(name: &str) -> Example {
+    examples::all()
+        .into_iter()
+        .find(|e| e.name == name)
+        .unwrap_or_else(|| panic!("no example {name:?}"))
+}
+
+/// The outcomes of every seed for an example, with its bodies re-classed by `mask`
+/// (bit i set: body i planar).
+fn outcomes(e: &Example, rules: Rules, mask: u32) -> Vec<Compression> {
+    let bodies: Vec<Body> = e
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| Body {
+            rods: b.rods.clone(),
+            class: if mask >> i & 1 == 1 {
+                BodyClass::Planar
+            } else {
+                b.class
+            },
+        })
+        .collect();
+    (0..SEEDS)
+        .map(|s| compress_from(&e.graph(), &bodies, rules, s).unwrap())
+        .collect()
+}
+
+#[test]
+fn every_example_ends_as_expected_in_every_order() {
+    for e in examples::all() {
+        for (rules, expect) in [(Rules::Sound, e.expect[0]), (Rules::Paper, e.expect[1])] {
+            for (seed, c) in outcomes(&e, rules, 0).iter().enumerate() {
+                assert_eq!(
+                    c.components, expect,
+                    "{} under {rules:?}, seed {seed}: {c:?}",
+                    e.name
+                );
+            }
+        }
+    }
+    let table = examples::check_all(8);
+    assert!(table.iter().all(|r| r.pass));
+    assert!(table.len() >= 26);
+}
+
+#[test]
+fn each_positive_example_is_compressed_by_its_own_motif() {
+    let cases: [(&str, fn(&rgc::engine::MotifCounts) -> u32); 8] = [
+        ("3D3C rod triangle", |m| m.community),
+        ("3-clique community (strip of 4 triangles)", |m| m.community),
+        ("3D2B rod touching a 3D6 body twice", |m| m.d2b),
+        ("3D2A spatial + spatial", |m| m.d2a),
+        ("3D3A", |m| m.d3a),
+        ("3D3B", |m| m.d3b),
+        ("3D4 planar body", |m| m.d4),
+        ("3D6 K_{2,4} of rods", |m| m.d6),
+    ];
+    for (name, count) in cases {
+        for rules in [Rules::Sound, Rules::Paper] {
+            for c in outcomes(&example(name), rules, 0) {
+                assert_eq!(count(&c.motifs), 1, "{name}: {:?}", c.motifs);
+            }
+        }
+    }
+}
+
+#[test]
+fn body_classes_follow_the_motif() {
+    let class_of = |name: &str, rules| {
+        let out = outcomes(&example(name), rules, 0);
+        let classes: std::collections::BTreeSet<_> = out
+            .iter()
+            .flat_map(|c| c.bodies.iter().map(|b| format!("{:?}", b.class)))
+            .collect();
+        classes.into_iter().collect::<Vec<_>>().join(",")
+    };
+    assert_eq!(class_of("3D3C rod triangle", Rules::Sound), "Planar");
+    assert_eq!(
+        class_of("3-clique community (strip of 4 triangles)", Rules::Sound),
+        "Planar"
+    );
+    assert_eq!(
+        class_of("3D2B rod touching a planar body twice", Rules::Sound),
+        "Planar"
+    );
+    assert_eq!(
+        class_of("3D2B rod touching a 3D6 body twice", Rules::Sound),
+        "Spatial"
+    );
+    assert_eq!(class_of("3D2A spatial + planar", Rules::Sound), "Spatial");
+    assert_eq!(class_of("3D6 K_{2,4} of rods", Rules::Sound), "Spatial");
+    assert_eq!(
+        class_of("rod prism (two rod triangles, 3 contacts)", Rules::Sound),
+        "Planar"
+    );
+    assert_eq!(
+        class_of("rod prism (two rod triangles, 3 contacts)", Rules::Paper),
+        "Spatial"
+    );
+}
+
+#[test]
+fn three_and_two_body_motifs_are_rigid_under_every_class_assignment() {
+    for mask in 0..8 {
+        for c in outcomes(&example("3D3A"), Rules::Sound, mask) {
+            assert_eq!(c.components, 1, "3D3A with planar mask {mask:03b}");
+        }
+    }
+    for mask in 0..4 {
+        for c in outcomes(&example("3D3B"), Rules::Sound, mask) {
+            assert_eq!(c.components, 1, "3D3B with planar mask {mask:02b}");
+        }
+    }
+}
+
+#[test]
+fn communities_sharing_a_rod_give_it_to_one_of_them() {
+    let owners: std::collections::BTreeSet<Vec<u32>> =
+        outcomes(&example("two triangles sharing one rod"), Rules::Sound, 0)
+            .into_iter()
+            .map(|c| c.bodies[0].rods.clone())
+            .collect();
+    assert_eq!(
+        owners.len(),
+        2,
+        "the shared rod goes to either community: {owners:?}"
+    );
+}
 
 fn graph(n: usize, edges: &[(u32, u32)]) -> ContactGraph {
     ContactGraph::new(n, edges.iter().map(|&(a, b)| [a, b]).collect()).unwrap()
@@ -16,296 +147,6 @@ fn body(rods: &[u32], class: BodyClass) -> Body {
         rods: rods.to_vec(),
         class,
     }
-}
-
-/// Runs the engine with every seed and returns the outcomes.
-fn outcomes(g: &ContactGraph, bodies: &[Body], rules: Rules) -> Vec<Compression> {
-    (0..SEEDS)
-        .map(|s| compress_from(g, bodies, rules, s).unwrap())
-        .collect()
-}
-
-fn always_one_node(g: &ContactGraph, bodies: &[Body], rules: Rules) -> Vec<Compression> {
-    let out = outcomes(g, bodies, rules);
-    for (seed, c) in out.iter().enumerate() {
-        assert_eq!(c.components, 1, "seed {seed}: {c:?}");
-        assert_eq!(c.largest_rods(), g.n_nodes());
-    }
-    out
-}
-
-fn never_one_node(g: &ContactGraph, bodies: &[Body], rules: Rules, nodes: usize) {
-    for (seed, c) in outcomes(g, bodies, rules).iter().enumerate() {
-        assert_eq!(c.components, nodes, "seed {seed}: {c:?}");
-    }
-}
-
-/// Edges of K_{2,4}: rods 0 and 1 each touching rods 2..=5 (offset by `o`).
-fn k24(o: u32) -> Vec<(u32, u32)> {
-    (2..6).flat_map(|k| [(o, o + k), (o + 1, o + k)]).collect()
-}
-
-#[test]
-fn rod_triangle_is_one_planar_body() {
-    for rules in [Rules::Sound, Rules::Paper] {
-        let out = always_one_node(&graph(3, &[(0, 1), (1, 2), (0, 2)]), &[], rules);
-        assert!(out.iter().all(|c| c.bodies[0].class == BodyClass::Planar));
-        assert!(out.iter().all(|c| c.motifs.community == 1));
-    }
-}
-
-#[test]
-fn three_clique_community_is_one_planar_body() {
-    // A strip of four triangles glued along edges: 0-1-2, 1-2-3, 2-3-4, 3-4-5.
-    let g = graph(
-        6,
-        &[
-            (0, 1),
-            (0, 2),
-            (1, 2),
-            (1, 3),
-            (2, 3),
-            (2, 4),
-            (3, 4),
-            (3, 5),
-            (4, 5),
-        ],
-    );
-    let out = always_one_node(&g, &[], Rules::Sound);
-    assert!(out.iter().all(|c| c.bodies[0].class == BodyClass::Planar));
-    assert!(out.iter().all(|c| c.motifs.community == 1));
-}
-
-#[test]
-fn communities_sharing_a_rod_give_it_to_one_of_them() {
-    // Two triangles sharing rod 2 only: 0-1-2 and 2-3-4 (a bowtie). One
-    // community takes rod 2, the other is left with rods 3 and 4 touching it
-    // once each: no rod triangle remains outside a body.
-    let g = graph(5, &[(0, 1), (0, 2), (1, 2), (2, 3), (2, 4), (3, 4)]);
-    let out = outcomes(&g, &[], Rules::Sound);
-    let mut owners = std::collections::BTreeSet::new();
-    for c in &out {
-        assert_eq!(c.components, 3, "{c:?}");
-        assert_eq!(c.bodies.len(), 1);
-        owners.insert(c.bodies[0].rods.clone());
-    }
-    assert_eq!(owners.len(), 2, "the shared rod goes to either community");
-}
-
-#[test]
-fn d2b_rod_touching_body_twice_joins_it() {
-    // 3D6 body on rods 0..=5 and rod 6 touching rods 2 and 3 (which do not touch).
-    let mut e = k24(0);
-    e.extend([(6, 2), (6, 3)]);
-    let out = always_one_node(&graph(7, &e), &[], Rules::Sound);
-    assert!(out.iter().all(|c| c.motifs.d6 == 1 && c.motifs.d2b == 1));
-    // A planar body stays planar when a rod joins it by 3D2B.
-    let g = graph(4, &[(3, 0), (3, 1)]);
-    let out = always_one_node(&g, &[body(&[0, 1, 2], BodyClass::Planar)], Rules::Sound);
-    assert!(out.iter().all(|c| c.bodies[0].class == BodyClass::Planar));
-    let out = always_one_node(&g, &[body(&[0, 1, 2], BodyClass::Spatial)], Rules::Sound);
-    assert!(out.iter().all(|c| c.bodies[0].class == BodyClass::Spatial));
-}
-
-#[test]
-fn rod_touching_body_once_stays_free() {
-    let g = graph(4, &[(3, 0)]);
-    never_one_node(&g, &[body(&[0, 1, 2], BodyClass::Spatial)], Rules::Paper, 2);
-}
-
-#[test]
-fn d2a_two_bodies_three_contacts() {
-    let g = graph(6, &[(0, 3), (1, 4), (2, 5)]);
-    let a = body(&[0, 1, 2], BodyClass::Spatial);
-    let b = body(&[3, 4, 5], BodyClass::Spatial);
-    let p = body(&[3, 4, 5], BodyClass::Planar);
-    for rules in [Rules::Sound, Rules::Paper] {
-        let out = always_one_node(&g, &[a.clone(), b.clone()], rules);
-        assert!(out.iter().all(|c| c.motifs.d2a == 1));
-        assert!(out.iter().all(|c| c.bodies[0].class == BodyClass::Spatial));
-        always_one_node(&g, &[a.clone(), p.clone()], rules);
-    }
-    // Contacts sharing a rod on one side, but not all three: still rigid.
-    let g = graph(6, &[(0, 3), (0, 4), (1, 5)]);
-    always_one_node(&g, &[a.clone(), b.clone()], Rules::Sound);
-}
-
-#[test]
-fn d2a_degenerate_variants_do_not_compress() {
-    let a = body(&[0, 1, 2], BodyClass::Spatial);
-    let b = body(&[3, 4, 5], BodyClass::Spatial);
-    // All three contacts on rod 0.
-    let g = graph(6, &[(0, 3), (0, 4), (0, 5)]);
-    for rules in [Rules::Sound, Rules::Paper] {
-        never_one_node(&g, &[a.clone(), b.clone()], rules, 2);
-    }
-    // Only two contacts.
-    let g = graph(6, &[(0, 3), (1, 4)]);
-    never_one_node(&g, &[a.clone(), b.clone()], Rules::Paper, 2);
-    // Two planar bodies: a hinge about the line where their planes meet.
-    let g = graph(6, &[(0, 3), (1, 4), (2, 5)]);
-    let pa = body(&[0, 1, 2], BodyClass::Planar);
-    let pb = body(&[3, 4, 5], BodyClass::Planar);
-    never_one_node(&g, &[pa.clone(), pb.clone()], Rules::Sound, 2);
-    always_one_node(&g, &[pa, pb], Rules::Paper);
-}
-
-#[test]
-fn rod_prism_is_two_planar_bodies_under_sound_one_node_under_paper() {
-    let g = graph(
-        6,
-        &[
-            (0, 1),
-            (1, 2),
-            (0, 2),
-            (3, 4),
-            (4, 5),
-            (3, 5),
-            (0, 3),
-            (1, 4),
-            (2, 5),
-        ],
-    );
-    for (seed, c) in outcomes(&g, &[], Rules::Sound).iter().enumerate() {
-        assert_eq!(c.components, 2, "seed {seed}: {c:?}");
-        assert!(c.bodies.iter().all(|b| b.class == BodyClass::Planar));
-        assert_eq!(c.bodies[0].rods.len(), 3);
-    }
-    always_one_node(&g, &[], Rules::Paper);
-}
-
-#[test]
-fn d3a_three_bodies() {
-    // R1 = {0,1,2}, R2 = {3,4,5}, R3 = {6,7,8}: R1-R2 once, R1-R3 twice, R2-R3 twice.
-    let bodies = [
-        body(&[0, 1, 2], BodyClass::Spatial),
-        body(&[3, 4, 5], BodyClass::Spatial),
-        body(&[6, 7, 8], BodyClass::Spatial),
-    ];
-    let g = graph(9, &[(0, 3), (1, 6), (2, 7), (4, 7), (5, 8)]);
-    for rules in [Rules::Sound, Rules::Paper] {
-        let out = always_one_node(&g, &bodies, rules);
-        assert!(out.iter().all(|c| c.motifs.d3a == 1));
-    }
-    // Every planar/spatial assignment is rigid (DESIGN §5).
-    for mask in 0..8u32 {
-        let classes: Vec<Body> = bodies
-            .iter()
-            .enumerate()
-            .map(|(i, b)| {
-                let class = if mask >> i & 1 == 1 {
-                    BodyClass::Planar
-                } else {
-                    BodyClass::Spatial
-                };
-                body(&b.rods, class)
-            })
-            .collect();
-        always_one_node(&g, &classes, Rules::Sound);
-    }
-}
-
-#[test]
-fn d3a_degenerate_variants_do_not_compress() {
-    let bodies = [
-        body(&[0, 1, 2], BodyClass::Spatial),
-        body(&[3, 4, 5], BodyClass::Spatial),
-        body(&[6, 7, 8], BodyClass::Spatial),
-    ];
-    // p1, p2, p3 all on rod 0 of R1.
-    let g = graph(9, &[(0, 3), (0, 6), (0, 7), (4, 7), (5, 8)]);
-    never_one_node(&g, &bodies, Rules::Paper, 3);
-    // p1, p4, p5 all on rod 3 of R2.
-    let g = graph(9, &[(0, 3), (1, 6), (2, 7), (3, 7), (3, 8)]);
-    never_one_node(&g, &bodies, Rules::Paper, 3);
-    // p2, p3, p4, p5 all on rod 6 of R3.
-    let g = graph(9, &[(0, 3), (1, 6), (2, 6), (4, 6), (5, 6)]);
-    never_one_node(&g, &bodies, Rules::Paper, 3);
-}
-
-#[test]
-fn d3b_two_bodies_and_a_rod() {
-    let bodies = [
-        body(&[0, 1, 2], BodyClass::Spatial),
-        body(&[3, 4, 5], BodyClass::Spatial),
-    ];
-    let g = graph(7, &[(0, 3), (1, 4), (6, 2), (6, 5)]);
-    for rules in [Rules::Sound, Rules::Paper] {
-        let out = always_one_node(&g, &bodies, rules);
-        assert!(out.iter().all(|c| c.motifs.d3b == 1));
-    }
-    for mask in 0..4u32 {
-        let classes: Vec<Body> = bodies
-            .iter()
-            .enumerate()
-            .map(|(i, b)| {
-                let class = if mask >> i & 1 == 1 {
-                    BodyClass::Planar
-                } else {
-                    BodyClass::Spatial
-                };
-                body(&b.rods, class)
-            })
-            .collect();
-        always_one_node(&g, &classes, Rules::Sound);
-    }
-    // The rod's contact with R1 on the rod that carries both p1 and p2: excluded.
-    let g = graph(7, &[(0, 3), (0, 4), (6, 0), (6, 5)]);
-    never_one_node(&g, &bodies, Rules::Paper, 3);
-}
-
-#[test]
-fn d4_body_and_three_rods() {
-    // Body {0,1,2}; rods 3-4-5 in a path, touching rods 0, 1, 2.
-    let g = graph(6, &[(3, 4), (4, 5), (3, 0), (4, 1), (5, 2)]);
-    for class in [BodyClass::Spatial, BodyClass::Planar] {
-        for rules in [Rules::Sound, Rules::Paper] {
-            let out = always_one_node(&g, &[body(&[0, 1, 2], class)], rules);
-            assert!(out.iter().all(|c| c.motifs.d4 == 1));
-        }
-    }
-    // Two of the three body contacts on one rod is fine.
-    let g = graph(6, &[(3, 4), (4, 5), (3, 0), (4, 0), (5, 2)]);
-    always_one_node(&g, &[body(&[0, 1, 2], BodyClass::Spatial)], Rules::Sound);
-}
-
-#[test]
-fn d4_degenerate_variants_do_not_compress() {
-    // All three body contacts on rod 0.
-    let g = graph(6, &[(3, 4), (4, 5), (3, 0), (4, 0), (5, 0)]);
-    never_one_node(&g, &[body(&[0, 1, 2], BodyClass::Spatial)], Rules::Paper, 4);
-    // A triangle through a body: body, rods 3 and 4 touching each other and it.
-    let g = graph(5, &[(3, 4), (3, 0), (4, 1)]);
-    never_one_node(&g, &[body(&[0, 1, 2], BodyClass::Spatial)], Rules::Paper, 3);
-}
-
-#[test]
-fn d6_k24_of_rods() {
-    let out = always_one_node(&graph(6, &k24(0)), &[], Rules::Sound);
-    assert!(out.iter().all(|c| c.motifs.d6 == 1));
-    assert!(out.iter().all(|c| c.bodies[0].class == BodyClass::Spatial));
-}
-
-#[test]
-fn flexible_rod_graphs_do_not_compress() {
-    // A 4-cycle of rods.
-    never_one_node(
-        &graph(4, &[(0, 1), (1, 2), (2, 3), (3, 0)]),
-        &[],
-        Rules::Paper,
-        4,
-    );
-    // K_{2,3} of rods.
-    let k23: Vec<(u32, u32)> = (2..5).flat_map(|k| [(0, k), (1, k)]).collect();
-    never_one_node(&graph(5, &k23), &[], Rules::Paper, 5);
-    // Two rod triangles sharing one rod: one triangle takes it, the other
-    // pair of rods touches that body once each.
-    never_one_node(
-        &graph(5, &[(0, 1), (0, 2), (1, 2), (2, 3), (2, 4), (3, 4)]),
-        &[],
-        Rules::Paper,
-        3,
-    );
 }
 
 #[test]
