@@ -1,1 +1,317 @@
-fn main() {}
+//! `rgc`: the command-line face of the library. Each subcommand parses its
+//! arguments, calls one library entry point and prints the result.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use serde::Serialize;
+
+use rgc::contacts::ContactGraph;
+use rgc::engine::{self, Body, Compression, Rules};
+use rgc::rods::RodParams;
+use rgc::sample::{SampleOptions, sample};
+use rgc::spanning::Criterion;
+use rgc::{Error, Result, bench, graphio};
+
+#[derive(Parser)]
+#[command(
+    name = "rgc",
+    version,
+    about = "Rigidity percolation in random 3-D rod systems"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Generate one rod system, find its contacts and rigid bodies.
+    Sample(SampleArgs),
+    /// Compress a rods-only contact graph given as graph6 or as an edge list.
+    Compress(CompressArgs),
+    /// Check the engine on every base motif and its excluded variants, then run a demo system.
+    Audit(AuditArgs),
+    /// Time contact detection and compression on the reference systems (single thread).
+    Bench(BenchArgs),
+}
+
+/// How to compress: shared by the subcommands that run the engine.
+#[derive(Args)]
+struct EngineArgs {
+    /// Seed of the random motif order (and of the rods, for `sample`).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Independent compressions; a system is rigid-spanning if any finds a spanning body.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    runs: u64,
+    /// Motif conditions: `sound` never joins two planar bodies by 3D2A; `paper` is verbatim.
+    #[arg(long, value_enum, default_value_t = Rules::Sound)]
+    rules: Rules,
+}
+
+#[derive(Args)]
+struct SampleArgs {
+    /// Aspect ratio l / (2r).
+    #[arg(long, allow_hyphen_values = true)]
+    gamma: f64,
+    /// Side of the periodic box, in rod lengths.
+    #[arg(long = "box", allow_hyphen_values = true)]
+    box_len: f64,
+    /// Number density N / L^3.
+    #[arg(long, allow_hyphen_values = true)]
+    density: f64,
+    #[command(flatten)]
+    engine: EngineArgs,
+    /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
+    #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
+    criterion: Criterion,
+    /// Write the contact graph as an edge list (`u v` per line) to this file.
+    #[arg(long)]
+    save_contacts: Option<PathBuf>,
+    /// Print one JSON object instead of a summary.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+#[group(id = "input", required = true, multiple = false)]
+struct GraphInput {
+    /// The contact graph as a graph6 string.
+    #[arg(long, group = "input")]
+    graph6: Option<String>,
+    /// The contact graph as an edge list file (`u v` per line, `#` comments).
+    #[arg(long, group = "input")]
+    edges: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct CompressArgs {
+    #[command(flatten)]
+    input: GraphInput,
+    #[command(flatten)]
+    engine: EngineArgs,
+    /// Print one JSON object instead of a summary.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct AuditArgs {
+    /// Print the table as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Repetitions per system (the median is reported).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
+    repeat: u64,
+    /// Only the systems up to this many rods.
+    #[arg(long, default_value_t = 200_000)]
+    max_rods: usize,
+    /// Also write the figures as JSON here.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("rgc: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Sample(a) => run_sample(a),
+        Command::Compress(a) => run_compress(a),
+        Command::Audit(a) => run_audit(a),
+        Command::Bench(a) => run_bench(a),
+    }
+}
+
+fn print_json(value: &impl Serialize) -> Result<()> {
+    let text = serde_json::to_string_pretty(value).expect("reports serialize");
+    println!("{text}");
+    Ok(())
+}
+
+fn run_sample(a: SampleArgs) -> Result<()> {
+    let opts = SampleOptions {
+        params: RodParams::new(a.gamma, a.box_len, a.density)?,
+        seed: a.engine.seed,
+        runs: a.engine.runs as usize,
+        rules: a.engine.rules,
+        criterion: a.criterion,
+    };
+    let s = sample(&opts);
+    if let Some(path) = &a.save_contacts {
+        let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+        let mut w = std::io::BufWriter::new(file);
+        graphio::write_edge_list(&s.graph, &mut w)
+            .and_then(|()| w.flush())
+            .map_err(|e| Error::io(path, e))?;
+    }
+    let r = &s.report;
+    if a.json {
+        return print_json(r);
+    }
+    println!(
+        "{} rods, {} contacts: c0 = {:.4} (Philipse {:.4}), c1 = {:.4}, c2 = {:.4}, clustering = {:.4}",
+        r.n_rods, r.n_contacts, r.c0, r.c0_expected, r.c1, r.c2, r.clustering
+    );
+    println!(
+        "contact spanning ({:?}): {}; rigid spanning: {} ({} of {} runs, rules {:?})",
+        r.criterion, r.contact_spanning, r.rigid_spanning, r.runs_spanning, r.runs, r.rules
+    );
+    println!(
+        "largest body {} rods; {} bodies and {} nodes in run {}; {:.3} s",
+        r.largest_body_rods, r.n_bodies, r.components, r.reported_run, r.seconds
+    );
+    Ok(())
+}
+
+/// The JSON printed by `rgc compress`.
+#[derive(Serialize)]
+struct CompressReport<'a> {
+    nodes: usize,
+    contacts: usize,
+    rules: Rules,
+    seed: u64,
+    runs: u64,
+    /// Nodes left in the reported run (the one with fewest).
+    components: usize,
+    /// Index of the reported run.
+    reported_run: usize,
+    bodies: &'a [Body],
+    /// Nodes left in each run.
+    components_per_run: Vec<usize>,
+    motifs: engine::MotifCounts,
+}
+
+fn run_compress(a: CompressArgs) -> Result<()> {
+    let graph: ContactGraph = match (&a.input.graph6, &a.input.edges) {
+        (Some(s), _) => graphio::parse_graph6(s)?,
+        (None, Some(path)) => graphio::read_edge_list(path)?,
+        (None, None) => unreachable!("clap requires one input"),
+    };
+    let runs = engine::compress_runs(
+        &graph,
+        a.engine.rules,
+        a.engine.seed,
+        a.engine.runs as usize,
+    );
+    let best = (0..runs.len())
+        .min_by_key(|&k| runs[k].components)
+        .expect("at least one run");
+    let c: &Compression = &runs[best];
+    let report = CompressReport {
+        nodes: graph.n_nodes(),
+        contacts: graph.n_edges(),
+        rules: a.engine.rules,
+        seed: a.engine.seed,
+        runs: a.engine.runs,
+        components: c.components,
+        reported_run: best,
+        bodies: &c.bodies,
+        components_per_run: runs.iter().map(|r| r.components).collect(),
+        motifs: c.motifs,
+    };
+    if a.json {
+        return print_json(&report);
+    }
+    println!(
+        "{} rods, {} contacts -> {} nodes (run {best} of {})",
+        report.nodes, report.contacts, report.components, report.runs
+    );
+    for b in report.bodies {
+        println!("  {:?} body: {:?}", b.class, b.rods);
+    }
+    Ok(())
+}
+
+fn run_audit(a: AuditArgs) -> Result<()> {
+    let table = rgc::engine::examples::check_all(64);
+    if a.json {
+        return print_json(&table);
+    }
+    println!("Base motifs of 3D-RGC: nodes left after compression (over 64 random orders)\n");
+    println!(
+        "{:<48} {:>8} {:>8} {:>8} {:>8}  verdict",
+        "example", "sound", "expect", "paper", "expect"
+    );
+    let mut ok = true;
+    for row in &table {
+        ok &= row.pass;
+        println!(
+            "{:<48} {:>8} {:>8} {:>8} {:>8}  {}",
+            row.name,
+            row.sound,
+            row.expect_sound,
+            row.paper,
+            row.expect_paper,
+            if row.pass { "ok" } else { "MISMATCH" }
+        );
+    }
+    let params = RodParams::new(23.0, 5.0, 40.0)?;
+    let s = sample(&SampleOptions {
+        params,
+        seed: 1,
+        runs: 10,
+        rules: Rules::Sound,
+        criterion: Criterion::Wrap,
+    });
+    let r = &s.report;
+    println!(
+        "\nDemo: gamma 23, L 5, rho 40 (seed 1, 10 runs, sound, wrap): {} rods, c0 = {:.3} \
+         (Philipse {:.3}), contact spanning {}, rigid spanning {}, largest body {} rods, {:.3} s",
+        r.n_rods,
+        r.c0,
+        r.c0_expected,
+        r.contact_spanning,
+        r.rigid_spanning,
+        r.largest_body_rods,
+        r.seconds
+    );
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::Parameter(
+            "a base motif example did not compress as expected".into(),
+        ))
+    }
+}
+
+fn run_bench(a: BenchArgs) -> Result<()> {
+    let rows = bench::run(a.repeat as usize, a.max_rods);
+    println!(
+        "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "gamma", "rho", "L", "rods", "contacts", "detect s", "compress s", "ns/rod", "peak MiB"
+    );
+    for r in &rows {
+        println!(
+            "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10.4} {:>10.4} {:>10.0} {:>9.1}",
+            r.gamma,
+            r.density,
+            r.box_len,
+            r.n_rods,
+            r.n_contacts,
+            r.seconds_detect,
+            r.seconds_compress,
+            r.ns_per_rod,
+            r.peak_rss_mib
+        );
+    }
+    if let Some(path) = &a.out {
+        let text = serde_json::to_string_pretty(&rows).expect("bench rows serialize");
+        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))?;
+    }
+    Ok(())
+}

@@ -1,1 +1,145 @@
-//! One Monte Carlo sample: rods, contacts, statistics, compression, spanning.
+//! One Monte Carlo sample: rods, contacts, statistics, K compressions, spanning.
+
+use serde::Serialize;
+use std::time::Instant;
+
+use crate::contacts::{self, Contact, ContactGraph, ContactStats};
+use crate::engine::{self, Compression, MotifCounts, Rules};
+use crate::rods::{RodParams, RodSystem};
+use crate::spanning::{self, Criterion, SpanChecker};
+
+/// What to sample and how to compress it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleOptions {
+    pub params: RodParams,
+    pub seed: u64,
+    /// Independent compressions (random motif orders); a system is
+    /// rigid-spanning if any of them finds a spanning body.
+    pub runs: usize,
+    pub rules: Rules,
+    pub criterion: Criterion,
+}
+
+/// The figures of one sample, as printed by `rgc sample --json`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SampleReport {
+    pub gamma: f64,
+    #[serde(rename = "box")]
+    pub box_len: f64,
+    pub density: f64,
+    pub seed: u64,
+    pub runs: usize,
+    pub rules: Rules,
+    pub criterion: Criterion,
+    pub n_rods: usize,
+    pub n_contacts: usize,
+    pub c0: f64,
+    /// Philipse's expectation `rho V_ex (N-1)/N` for comparison with `c0`.
+    pub c0_expected: f64,
+    pub c1: f64,
+    pub c2: f64,
+    pub clustering: f64,
+    pub contact_spanning: bool,
+    /// Whether any run found a spanning body (the union rule).
+    pub rigid_spanning: bool,
+    /// How many of the runs found a spanning body.
+    pub runs_spanning: usize,
+    /// Rods in the largest body of any run.
+    pub largest_body_rods: usize,
+    /// Bodies in the reported run: the first spanning one, else the one with the largest body.
+    pub n_bodies: usize,
+    /// Nodes left (bodies and free rods) in the reported run.
+    pub components: usize,
+    /// Index of the reported run.
+    pub reported_run: usize,
+    /// Motifs compressed in the reported run.
+    pub motifs: MotifCounts,
+    pub seconds: f64,
+    pub seconds_contacts: f64,
+    pub seconds_compression: f64,
+}
+
+/// Everything a sample produced, for callers that need more than the report.
+pub struct Sample {
+    pub system: RodSystem,
+    pub contacts: Vec<Contact>,
+    pub graph: ContactGraph,
+    pub runs: Vec<Compression>,
+    /// Per run, whether it found a spanning body.
+    pub spans: Vec<bool>,
+    pub report: SampleReport,
+}
+
+/// Generates, detects, compresses and measures one rod system.
+pub fn sample(opts: &SampleOptions) -> Sample {
+    let start = Instant::now();
+    let system = RodSystem::generate(opts.params, opts.seed);
+    let contacts = contacts::detect(&system);
+    let graph = ContactGraph::from_contacts(system.len(), &contacts);
+    let seconds_contacts = start.elapsed().as_secs_f64();
+    let ContactStats {
+        c0,
+        c1,
+        c2,
+        clustering,
+    } = contacts::stats(&graph);
+    let contact_spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
+
+    let t = Instant::now();
+    let runs = engine::compress_runs(&graph, opts.rules, opts.seed, opts.runs);
+    let seconds_compression = t.elapsed().as_secs_f64();
+    let mut checker = SpanChecker::new();
+    let spans: Vec<bool> = runs
+        .iter()
+        .map(|run| {
+            run.bodies
+                .iter()
+                .any(|b| checker.spans(&system, &contacts, &graph, &b.rods, opts.criterion))
+        })
+        .collect();
+    let reported_run = spans.iter().position(|&s| s).unwrap_or_else(|| {
+        (0..runs.len())
+            .max_by_key(|&k| (runs[k].largest_rods(), std::cmp::Reverse(k)))
+            .unwrap_or(0)
+    });
+    let reported = runs.get(reported_run);
+    let report = SampleReport {
+        gamma: opts.params.gamma,
+        box_len: opts.params.box_len,
+        density: opts.params.density,
+        seed: opts.seed,
+        runs: opts.runs,
+        rules: opts.rules,
+        criterion: opts.criterion,
+        n_rods: system.len(),
+        n_contacts: contacts.len(),
+        c0,
+        c0_expected: opts.params.expected_c0(),
+        c1,
+        c2,
+        clustering,
+        contact_spanning,
+        rigid_spanning: spans.iter().any(|&s| s),
+        runs_spanning: spans.iter().filter(|&&s| s).count(),
+        largest_body_rods: runs
+            .iter()
+            .map(Compression::largest_rods)
+            .max()
+            .unwrap_or(0),
+        n_bodies: reported.map_or(0, |r| r.bodies.len()),
+        components: reported.map_or(system.len(), |r| r.components),
+        reported_run,
+        motifs: reported.map(|r| r.motifs).unwrap_or_default(),
+        seconds: start.elapsed().as_secs_f64(),
+        seconds_contacts,
+        seconds_compression,
+    };
+    Sample {
+        system,
+        contacts,
+        graph,
+        runs,
+        spans,
+        report,
+    }
+}
