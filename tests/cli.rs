@@ -1,0 +1,239 @@
+//! The command-line contract: JSON fields, files written, exit codes and
+//! one-line error messages.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn rgc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(args: &[&str]) -> Value {
+    let out = rgc(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+}
+
+/// Runs a command that must fail with exit code 2 and a message containing `needle`.
+fn fails(args: &[&str], needle: &str) {
+    let out = rgc(args);
+    assert_eq!(out.status.code(), Some(2), "{args:?} should exit with 2");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+}
+
+#[test]
+fn sample_json_has_the_contract_fields() {
+    let v = json(&[
+        "sample",
+        "--gamma",
+        "23",
+        "--box",
+        "5",
+        "--density",
+        "40",
+        "--seed",
+        "3",
+        "--runs",
+        "4",
+        "--json",
+    ]);
+    for key in [
+        "n_rods",
+        "n_contacts",
+        "c0",
+        "c1",
+        "c2",
+        "clustering",
+        "contact_spanning",
+        "rigid_spanning",
+        "largest_body_rods",
+        "n_bodies",
+        "seconds",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["n_rods"], 5000);
+    let c0 = 2.0 * v["n_contacts"].as_f64().unwrap() / 5000.0;
+    assert!((v["c0"].as_f64().unwrap() - c0).abs() < 1e-12);
+    assert_eq!(v["runs"], 4);
+    assert_eq!(v["rules"], "sound");
+    assert_eq!(v["criterion"], "wrap");
+    // Contact spanning is necessary for rigid spanning.
+    if v["rigid_spanning"].as_bool().unwrap() {
+        assert!(v["contact_spanning"].as_bool().unwrap());
+    }
+}
+
+#[test]
+fn sample_is_reproducible_and_saves_its_contacts() {
+    let dir = std::env::temp_dir().join(format!("rgc-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("contacts.txt");
+    let args = |p: &str| {
+        vec![
+            "sample",
+            "--gamma",
+            "10",
+            "--box",
+            "4",
+            "--density",
+            "12",
+            "--seed",
+            "9",
+            "--runs",
+            "3",
+            "--rules",
+            "paper",
+            "--criterion",
+            "faces",
+            "--save-contacts",
+            p,
+            "--json",
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>()
+    };
+    let a = args(path.to_str().unwrap());
+    let mut first = json(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let mut second = json(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    for v in [&mut first, &mut second] {
+        for k in ["seconds", "seconds_contacts", "seconds_compression"] {
+            v.as_object_mut().unwrap().remove(k);
+        }
+    }
+    assert_eq!(first, second);
+    let g = rgc::graphio::read_edge_list(&path).unwrap();
+    assert_eq!(g.n_nodes() as u64, first["n_rods"].as_u64().unwrap());
+    assert_eq!(g.n_edges() as u64, first["n_contacts"].as_u64().unwrap());
+    // The saved graph compresses the same way through `rgc compress`.
+    let c = json(&[
+        "compress",
+        "--edges",
+        path.to_str().unwrap(),
+        "--json",
+        "--runs",
+        "1",
+    ]);
+    assert_eq!(c["nodes"], first["n_rods"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn compress_reports_components_and_bodies() {
+    // K_{2,4}: one spatial body by 3D6.
+    let v = json(&["compress", "--graph6", "E]r?", "--runs", "3", "--json"]);
+    assert_eq!(v["components"], 1);
+    assert_eq!(
+        v["bodies"][0]["rods"],
+        serde_json::json!([0, 1, 2, 3, 4, 5])
+    );
+    assert_eq!(v["bodies"][0]["class"], "spatial");
+    assert_eq!(v["components_per_run"], serde_json::json!([1, 1, 1]));
+    // The rod prism: two planar bodies under sound, one body under paper.
+    let prism = "E{Sw";
+    let g = rgc::graphio::parse_graph6(prism).unwrap();
+    assert_eq!((g.n_nodes(), g.n_edges()), (6, 9));
+    let sound = json(&["compress", "--graph6", prism, "--runs", "8", "--json"]);
+    assert_eq!(sound["components"], 2);
+    assert_eq!(sound["bodies"][0]["class"], "planar");
+    let paper = json(&[
+        "compress", "--graph6", prism, "--runs", "8", "--rules", "paper", "--json",
+    ]);
+    assert_eq!(paper["components"], 1);
+    // A 4-cycle stays four rods.
+    let v = json(&["compress", "--graph6", "Cl", "--json"]);
+    assert_eq!(v["components"], 4);
+    assert_eq!(v["bodies"], serde_json::json!([]));
+}
+
+#[test]
+fn bad_input_is_a_one_line_error_with_exit_code_2() {
+    let sample = |g: &str, l: &str, d: &str| {
+        vec!["sample", "--gamma", g, "--box", l, "--density", d]
+            .into_iter()
+            .map(String::from)
+            .collect::<Vec<_>>()
+    };
+    let run = |v: Vec<String>, needle: &str| {
+        fails(&v.iter().map(String::as_str).collect::<Vec<_>>(), needle)
+    };
+    run(
+        sample("-1", "5", "3"),
+        "gamma must be a positive finite number",
+    );
+    run(
+        sample("0", "5", "3"),
+        "gamma must be a positive finite number",
+    );
+    run(
+        sample("NaN", "5", "3"),
+        "gamma must be a positive finite number",
+    );
+    run(
+        sample("23", "inf", "3"),
+        "box must be a positive finite number",
+    );
+    run(
+        sample("23", "5", "-2"),
+        "density must be a positive finite number",
+    );
+    run(sample("23", "1.5", "3"), "box 1.5 is too small");
+    run(sample("23", "100", "1e9"), "more than the");
+    run(sample("23", "5", "abc"), "invalid value");
+    fails(&["compress", "--graph6", "A"], "malformed graph6");
+    fails(&["compress", "--graph6", ""], "malformed graph6");
+    fails(
+        &["compress", "--edges", "/nonexistent/edges.txt"],
+        "/nonexistent/edges.txt",
+    );
+    fails(
+        &["compress", "--graph6", "A_", "--edges", "x"],
+        "cannot be used with",
+    );
+    fails(&["compress"], "required");
+    fails(&["compress", "--graph6", "A_", "--runs", "0"], "--runs");
+    let dir = std::env::temp_dir().join(format!("rgc-cli-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.txt");
+    std::fs::write(&bad, "0 1\n1 x\n").unwrap();
+    fails(&["compress", "--edges", bad.to_str().unwrap()], "line 2");
+    std::fs::write(&bad, "0 1\n2 2\n").unwrap();
+    fails(&["compress", "--edges", bad.to_str().unwrap()], "line 2");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn audit_checks_every_base_motif() {
+    let out = rgc(&["audit"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!text.contains("MISMATCH"));
+    for motif in [
+        "3D3C",
+        "3D2B",
+        "3D2A",
+        "3D3A",
+        "3D3B",
+        "3D4",
+        "3D6",
+        "rod prism",
+    ] {
+        assert!(text.contains(motif), "audit table lacks {motif}");
+    }
+    assert!(text.contains("Demo"));
+}
