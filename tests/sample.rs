@@ -68,7 +68,6 @@ fn report_agrees_with_its_runs() {
             );
             // A rigid body is a connected cluster: rigid spanning implies contact spanning.
             assert!(!r.rigid_spanning || r.contact_spanning);
-            );
         }
     }
 }
