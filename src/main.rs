@@ -118,8 +118,26 @@ struct BenchArgs {
     out: Option<PathBuf>,
 }
 
+/// Appends a line to a subcommand's output (writing to a `String` cannot fail).
+macro_rules! say {
+    ($out:expr, $($arg:tt)*) => {{
+        use std::fmt::Write as _;
+        let _ = writeln!($out, $($arg)*);
+    }};
+}
+
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let mut out = String::new();
+    let result = run(Cli::parse(), &mut out);
+    // A reader that closed the pipe early (`rgc audit | head`) is not an error.
+    match std::io::stdout().write_all(out.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("rgc: error: writing the output: {e}");
+            return ExitCode::from(2);
+        }
+        _ => {}
+    }
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("rgc: error: {e}");
@@ -128,22 +146,22 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli, out: &mut String) -> Result<()> {
     match cli.command {
-        Command::Sample(a) => run_sample(a),
-        Command::Compress(a) => run_compress(a),
-        Command::Audit(a) => run_audit(a),
-        Command::Bench(a) => run_bench(a),
+        Command::Sample(a) => run_sample(a, out),
+        Command::Compress(a) => run_compress(a, out),
+        Command::Audit(a) => run_audit(a, out),
+        Command::Bench(a) => run_bench(a, out),
     }
 }
 
-fn print_json(value: &impl Serialize) -> Result<()> {
+fn print_json(value: &impl Serialize, out: &mut String) -> Result<()> {
     let text = serde_json::to_string_pretty(value).expect("reports serialize");
-    println!("{text}");
+    say!(out, "{text}");
     Ok(())
 }
 
-fn run_sample(a: SampleArgs) -> Result<()> {
+fn run_sample(a: SampleArgs, out: &mut String) -> Result<()> {
     let opts = SampleOptions {
         params: RodParams::new(a.gamma, a.box_len, a.density)?,
         seed: a.engine.seed,
@@ -161,19 +179,37 @@ fn run_sample(a: SampleArgs) -> Result<()> {
     }
     let r = &s.report;
     if a.json {
-        return print_json(r);
+        return print_json(r, out);
     }
-    println!(
+    say!(
+        out,
         "{} rods, {} contacts: c0 = {:.4} (Philipse {:.4}), c1 = {:.4}, c2 = {:.4}, clustering = {:.4}",
-        r.n_rods, r.n_contacts, r.c0, r.c0_expected, r.c1, r.c2, r.clustering
+        r.n_rods,
+        r.n_contacts,
+        r.c0,
+        r.c0_expected,
+        r.c1,
+        r.c2,
+        r.clustering
     );
-    println!(
+    say!(
+        out,
         "contact spanning ({:?}): {}; rigid spanning: {} ({} of {} runs, rules {:?})",
-        r.criterion, r.contact_spanning, r.rigid_spanning, r.runs_spanning, r.runs, r.rules
+        r.criterion,
+        r.contact_spanning,
+        r.rigid_spanning,
+        r.runs_spanning,
+        r.runs,
+        r.rules
     );
-    println!(
+    say!(
+        out,
         "largest body {} rods; {} bodies and {} nodes in run {}; {:.3} s",
-        r.largest_body_rods, r.n_bodies, r.components, r.reported_run, r.seconds
+        r.largest_body_rods,
+        r.n_bodies,
+        r.components,
+        r.reported_run,
+        r.seconds
     );
     Ok(())
 }
@@ -196,7 +232,7 @@ struct CompressReport<'a> {
     motifs: engine::MotifCounts,
 }
 
-fn run_compress(a: CompressArgs) -> Result<()> {
+fn run_compress(a: CompressArgs, out: &mut String) -> Result<()> {
     let graph: ContactGraph = match (&a.input.graph6, &a.input.edges) {
         (Some(s), _) => graphio::parse_graph6(s)?,
         (None, Some(path)) => graphio::read_edge_list(path)?,
@@ -225,32 +261,45 @@ fn run_compress(a: CompressArgs) -> Result<()> {
         motifs: c.motifs,
     };
     if a.json {
-        return print_json(&report);
+        return print_json(&report, out);
     }
-    println!(
+    say!(
+        out,
         "{} rods, {} contacts -> {} nodes (run {best} of {})",
-        report.nodes, report.contacts, report.components, report.runs
+        report.nodes,
+        report.contacts,
+        report.components,
+        report.runs
     );
     for b in report.bodies {
-        println!("  {:?} body: {:?}", b.class, b.rods);
+        say!(out, "  {:?} body: {:?}", b.class, b.rods);
     }
     Ok(())
 }
 
-fn run_audit(a: AuditArgs) -> Result<()> {
+fn run_audit(a: AuditArgs, out: &mut String) -> Result<()> {
     let table = rgc::engine::examples::check_all(64);
     if a.json {
-        return print_json(&table);
+        return print_json(&table, out);
     }
-    println!("Base motifs of 3D-RGC: nodes left after compression (over 64 random orders)\n");
-    println!(
+    say!(
+        out,
+        "Base motifs of 3D-RGC: nodes left after compression (over 64 random orders)\n"
+    );
+    say!(
+        out,
         "{:<48} {:>8} {:>8} {:>8} {:>8}  verdict",
-        "example", "sound", "expect", "paper", "expect"
+        "example",
+        "sound",
+        "expect",
+        "paper",
+        "expect"
     );
     let mut ok = true;
     for row in &table {
         ok &= row.pass;
-        println!(
+        say!(
+            out,
             "{:<48} {:>8} {:>8} {:>8} {:>8}  {}",
             row.name,
             row.sound,
@@ -269,7 +318,8 @@ fn run_audit(a: AuditArgs) -> Result<()> {
         criterion: Criterion::Wrap,
     });
     let r = &s.report;
-    println!(
+    say!(
+        out,
         "\nDemo: gamma 23, L 5, rho 40 (seed 1, 10 runs, sound, wrap): {} rods, c0 = {:.3} \
          (Philipse {:.3}), contact spanning {}, rigid spanning {}, largest body {} rods, {:.3} s",
         r.n_rods,
@@ -289,14 +339,24 @@ fn run_audit(a: AuditArgs) -> Result<()> {
     }
 }
 
-fn run_bench(a: BenchArgs) -> Result<()> {
+fn run_bench(a: BenchArgs, out: &mut String) -> Result<()> {
     let rows = bench::run(a.repeat as usize, a.max_rods);
-    println!(
+    say!(
+        out,
         "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9}",
-        "gamma", "rho", "L", "rods", "contacts", "detect s", "compress s", "ns/rod", "peak MiB"
+        "gamma",
+        "rho",
+        "L",
+        "rods",
+        "contacts",
+        "detect s",
+        "compress s",
+        "ns/rod",
+        "peak MiB"
     );
     for r in &rows {
-        println!(
+        say!(
+            out,
             "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10.4} {:>10.4} {:>10.0} {:>9.1}",
             r.gamma,
             r.density,

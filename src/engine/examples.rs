@@ -188,6 +188,13 @@ pub fn all() -> Vec<Example> {
             [2, 1],
         ),
         ex(
+            "two planar bodies, one made spatial by 3D2A first",
+            9,
+            &[(0, 3), (1, 4), (2, 5), (0, 6), (1, 7), (2, 8)],
+            vec![planar(&[0, 1, 2]), planar(&[3, 4, 5]), spatial(&[6, 7, 8])],
+            [1, 1],
+        ),
+        ex(
             "3D3A",
             9,
             &[(0, 3), (1, 6), (2, 7), (4, 7), (5, 8)],

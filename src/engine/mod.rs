@@ -154,9 +154,16 @@ pub fn compress_from(
     let mut state = State::new(graph);
     let mut counts = MotifCounts::default();
     let mut tasks: Vec<Task> = Vec::new();
-    for body in bodies {
-        let (node, changed) = state.merge(&body.rods, body.class);
-        tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
+    let declared: Vec<u32> = bodies
+        .iter()
+        .map(|body| state.merge(&body.rods, body.class).0)
+        .collect();
+    // Every declared body with every neighbour, independently of what the
+    // merges reported as changed: a restart from a finished run's bodies is
+    // then an exhaustive check that the run left no motif behind.
+    for b in declared {
+        let b = state.find(b);
+        tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
     tasks.extend(
         (0..graph.n_nodes() as u32)

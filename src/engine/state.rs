@@ -68,6 +68,11 @@ impl<'g> State<'g> {
         self.nodes[x as usize].class
     }
 
+    /// The nodes body `b` touches.
+    pub fn neighbours(&self, b: u32) -> impl Iterator<Item = u32> + '_ {
+        self.nodes[b as usize].adj.keys().copied()
+    }
+
     /// Contacts of body `b` with node `y`.
     pub fn body_links(&self, b: u32, y: u32) -> &[Link] {
         self.nodes[b as usize]
