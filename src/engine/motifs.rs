@@ -127,6 +127,9 @@ impl State<'_> {
     /// 3D6: rods `r` and `s`, not touching, both touching the same four rods.
     pub fn k24(&mut self, r: u32) -> Option<Found> {
         let g = self.g;
+        if g.degree(r) < 4 {
+            return None;
+        }
         let mut second: Vec<(u32, u32)> = Vec::new();
         for &(u, _) in g.neighbors(r) {
             if !self.is_free_rod(u) {
