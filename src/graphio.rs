@@ -30,9 +30,9 @@ const MAX_SHORT_N: usize = 62;
 /// Largest order graph6 writes in the four-byte size form.
 pub const MAX_MEDIUM_N: usize = 258_047;
 
-/// Largest node count a [`ContactGraph`] accepts (its indices are `u32` with a
-/// spare bit).
-pub const MAX_NODES: usize = (u32::MAX / 2) as usize;
+/// Largest node count read from a file: a contact graph is a graph of rods, and
+/// a declared count beyond what fits in memory should fail fast, not abort.
+pub const MAX_NODES: usize = crate::rods::MAX_RODS;
 
 /// Largest edge count a [`ContactGraph`] can index: its degree sum is a `u32`.
 pub const MAX_EDGES: usize = (u32::MAX / 2) as usize;
