@@ -52,7 +52,7 @@ impl RodParams {
             )));
         }
         let n = density * box_len.powi(3);
-        if !(n < MAX_RODS as f64) {
+        if n >= MAX_RODS as f64 {
             return Err(Error::Parameter(format!(
                 "density {density} in a box of side {box_len} means {n:.3e} rods, more than the {MAX_RODS} that fit in memory"
             )));

@@ -56,7 +56,8 @@ fn every_example_ends_as_expected_in_every_order() {
 
 #[test]
 fn each_positive_example_is_compressed_by_its_own_motif() {
-    let cases: [(&str, fn(&rgc::engine::MotifCounts) -> u32); 8] = [
+    type Count = fn(&rgc::engine::MotifCounts) -> u32;
+    let cases: [(&str, Count); 8] = [
         ("3D3C rod triangle", |m| m.community),
         ("3-clique community (strip of 4 triangles)", |m| m.community),
         ("3D2B rod touching a 3D6 body twice", |m| m.d2b),
