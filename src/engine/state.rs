@@ -23,8 +23,6 @@ pub(super) struct Link {
 
 #[derive(Default)]
 pub(super) struct Node {
-    /// `None` for a single rod.
-    pub class: Option<BodyClass>,
     /// Member rods of a body (empty for a rod).
     pub members: Vec<u32>,
     /// Contacts of a body with each neighbouring node (empty for a rod).
@@ -34,6 +32,9 @@ pub(super) struct Node {
 pub(super) struct State<'g> {
     pub g: &'g ContactGraph,
     parent: Vec<u32>,
+    /// Class of each node (`None` for a rod), apart from the bulky node data
+    /// so that the hot membership tests stay in cache.
+    class: Vec<Option<BodyClass>>,
     pub nodes: Vec<Node>,
 }
 
@@ -43,6 +44,7 @@ impl<'g> State<'g> {
         State {
             g,
             parent: (0..n as u32).collect(),
+            class: vec![None; n],
             nodes: (0..n).map(|_| Node::default()).collect(),
         }
     }
@@ -60,12 +62,12 @@ impl<'g> State<'g> {
 
     /// Whether `x` is a node that is a single rod.
     pub fn is_free_rod(&self, x: u32) -> bool {
-        self.parent[x as usize] == x && self.nodes[x as usize].class.is_none()
+        self.parent[x as usize] == x && self.class[x as usize].is_none()
     }
 
     /// Class of node `x` (`None` for a rod).
     pub fn class(&self, x: u32) -> Option<BodyClass> {
-        self.nodes[x as usize].class
+        self.class[x as usize]
     }
 
     /// The nodes body `b` touches.
@@ -94,7 +96,7 @@ impl<'g> State<'g> {
 
     /// Every contact of node `x`, grouped by the neighbouring node it reaches.
     fn take_links(&mut self, x: u32) -> Vec<(u32, Vec<Link>)> {
-        if self.nodes[x as usize].class.is_some() {
+        if self.class[x as usize].is_some() {
             return std::mem::take(&mut self.nodes[x as usize].adj)
                 .into_iter()
                 .collect();
@@ -114,9 +116,8 @@ impl<'g> State<'g> {
 
     /// Number of contacts of node `x`, the size that decides which part of a merge survives.
     fn weight(&self, x: u32) -> usize {
-        let node = &self.nodes[x as usize];
-        if node.class.is_some() {
-            node.adj.len()
+        if self.class[x as usize].is_some() {
+            self.nodes[x as usize].adj.len()
         } else {
             self.g.degree(x)
         }
@@ -131,8 +132,8 @@ impl<'g> State<'g> {
             .iter()
             .max_by_key(|&&x| (self.weight(x), std::cmp::Reverse(x)))
             .expect("a merge has parts");
-        let all_changed = self.nodes[keep as usize].class != Some(class);
-        if self.nodes[keep as usize].class.is_none() {
+        let all_changed = self.class[keep as usize] != Some(class);
+        if self.class[keep as usize].is_none() {
             let links = self.take_links(keep);
             let node = &mut self.nodes[keep as usize];
             node.adj = links.into_iter().collect();
@@ -146,7 +147,7 @@ impl<'g> State<'g> {
                     continue;
                 }
                 changed.push(y);
-                if self.nodes[y as usize].class.is_some() {
+                if self.class[y as usize].is_some() {
                     let mut moved = self.nodes[y as usize]
                         .adj
                         .remove(&part)
@@ -164,8 +165,7 @@ impl<'g> State<'g> {
                     .extend(ls);
             }
             let members = std::mem::take(&mut self.nodes[part as usize].members);
-            let node = &mut self.nodes[part as usize];
-            node.class = None;
+            self.class[part as usize] = None;
             let keep_node = &mut self.nodes[keep as usize];
             if members.is_empty() {
                 keep_node.members.push(part);
@@ -178,7 +178,7 @@ impl<'g> State<'g> {
         for p in parts {
             keep_node.adj.remove(p);
         }
-        keep_node.class = Some(class);
+        self.class[keep as usize] = Some(class);
         if all_changed {
             changed = keep_node.adj.keys().copied().collect();
         }
@@ -189,11 +189,10 @@ impl<'g> State<'g> {
 
     /// The bodies left, with their classes.
     pub fn bodies(&self) -> impl Iterator<Item = (&[u32], BodyClass)> {
-        self.nodes
-            .iter()
-            .enumerate()
-            .filter(|(i, n)| self.parent[*i] == *i as u32 && n.class.is_some())
-            .map(|(_, n)| (n.members.as_slice(), n.class.expect("filtered")))
+        self.nodes.iter().enumerate().filter_map(|(i, n)| {
+            let class = self.class[i]?;
+            (self.parent[i] == i as u32).then_some((n.members.as_slice(), class))
+        })
     }
 
     /// Number of nodes left (bodies and free rods).
