@@ -71,6 +71,9 @@ struct SampleArgs {
     /// Write the contact graph as an edge list (`u v` per line) to this file.
     #[arg(long)]
     save_contacts: Option<PathBuf>,
+    /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
+    #[arg(long)]
+    save_bodies: Option<PathBuf>,
     /// Print one JSON object instead of a summary.
     #[arg(long)]
     json: bool,
@@ -176,6 +179,11 @@ fn run_sample(a: SampleArgs, out: &mut String) -> Result<()> {
         graphio::write_edge_list(&s.graph, &mut w)
             .and_then(|()| w.flush())
             .map_err(|e| Error::io(path, e))?;
+    }
+    if let Some(path) = &a.save_bodies {
+        let text = serde_json::to_string_pretty(&s.reported_bodies(opts.criterion))
+            .expect("bodies serialize");
+        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))?;
     }
     let r = &s.report;
     if a.json {

@@ -4,7 +4,7 @@ use serde::Serialize;
 use std::time::Instant;
 
 use crate::contacts::{self, Contact, ContactGraph, ContactStats};
-use crate::engine::{self, Compression, MotifCounts, Rules};
+use crate::engine::{self, BodyClass, Compression, MotifCounts, Rules};
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
 
@@ -68,6 +68,51 @@ pub struct Sample {
     /// Per run, whether it found a spanning body.
     pub spans: Vec<bool>,
     pub report: SampleReport,
+}
+
+/// A body of the reported run, as written by `rgc sample --save-bodies`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReportedBody {
+    pub rods: Vec<u32>,
+    pub class: BodyClass,
+    pub spans: bool,
+}
+
+/// The bodies of the reported run, largest first, under `criterion`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReportedBodies {
+    pub run: usize,
+    pub criterion: Criterion,
+    pub bodies: Vec<ReportedBody>,
+}
+
+impl Sample {
+    /// The bodies of the reported run with whether each spans.
+    pub fn reported_bodies(&self, criterion: Criterion) -> ReportedBodies {
+        let run = self.report.reported_run;
+        let mut checker = SpanChecker::new();
+        let bodies = self.runs.get(run).map_or_else(Vec::new, |c| {
+            c.bodies
+                .iter()
+                .map(|b| ReportedBody {
+                    rods: b.rods.clone(),
+                    class: b.class,
+                    spans: checker.spans(
+                        &self.system,
+                        &self.contacts,
+                        &self.graph,
+                        &b.rods,
+                        criterion,
+                    ),
+                })
+                .collect()
+        });
+        ReportedBodies {
+            run,
+            criterion,
+            bodies,
+        }
+    }
 }
 
 /// Generates, detects, compresses and measures one rod system.

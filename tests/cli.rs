@@ -79,6 +79,7 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     let dir = std::env::temp_dir().join(format!("rgc-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("contacts.txt");
+    let bodies_path = dir.join("bodies.json");
     let args = |p: &str| {
         vec![
             "sample",
@@ -98,6 +99,8 @@ fn sample_is_reproducible_and_saves_its_contacts() {
             "faces",
             "--save-contacts",
             p,
+            "--save-bodies",
+            bodies_path.to_str().unwrap(),
             "--json",
         ]
         .into_iter()
@@ -116,6 +119,18 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     let g = rgc::graphio::read_edge_list(&path).unwrap();
     assert_eq!(g.n_nodes() as u64, first["n_rods"].as_u64().unwrap());
     assert_eq!(g.n_edges() as u64, first["n_contacts"].as_u64().unwrap());
+    let bodies: Value =
+        serde_json::from_str(&std::fs::read_to_string(&bodies_path).unwrap()).unwrap();
+    let list = bodies["bodies"].as_array().unwrap();
+    assert_eq!(list.len() as u64, first["n_bodies"].as_u64().unwrap());
+    assert_eq!(bodies["run"], first["reported_run"]);
+    let spanning = list.iter().any(|b| b["spans"].as_bool().unwrap());
+    let runs_spanning = first["runs_spanning"].as_u64().unwrap();
+    assert_eq!(
+        spanning,
+        runs_spanning > 0,
+        "the reported run is a spanning one when any is"
+    );
     // The saved graph compresses the same way through `rgc compress`.
     let c = json(&[
         "compress",
