@@ -9,6 +9,7 @@
 //! * [`spanning`] — whether a cluster of rods spans the periodic box;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC) with the base motifs;
 //! * [`sample`] — one Monte Carlo sample from rods to rigid clusters;
+//! * [`motifs`] — typed contact patterns: what is enumerated, checked and loaded as rules;
 //! * [`graphio`] — graph6 and edge-list input and output;
 //! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
@@ -17,6 +18,7 @@ pub mod contacts;
 pub mod engine;
 pub mod error;
 pub mod graphio;
+pub mod motifs;
 pub mod rods;
 pub mod sample;
 pub mod spanning;
