@@ -10,6 +10,9 @@
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC) with the base motifs;
 //! * [`sample`] — one Monte Carlo sample from rods to rigid clusters;
 //! * [`motifs`] — typed contact patterns: what is enumerated, checked and loaded as rules;
+//! * [`realization`] — exact realizations of a pattern and their components;
+//! * [`rigidity`] — the rigidity matrix and the exact verdict over components;
+//! * [`rank`] — exact rank over the prime field F_p;
 //! * [`graphio`] — graph6 and edge-list input and output;
 //! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
@@ -19,6 +22,9 @@ pub mod engine;
 pub mod error;
 pub mod graphio;
 pub mod motifs;
+pub mod rank;
+pub mod realization;
+pub mod rigidity;
 pub mod rods;
 pub mod sample;
 pub mod spanning;

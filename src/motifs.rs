@@ -218,13 +218,84 @@ impl Pattern {
             .kinds
             .iter()
             .zip(&members)
-            .filter_map(|(k, rods)| {
-                k.class().map(|class| Body {
-                    rods: rods.clone(),
-                    class,
+            .filter_map(|(k, rods)| k.class().map(|class| Body::new(rods.clone(), class)))
+            .collect();
+        Ok((graph, bodies, members))
+    }
+
+    /// The pattern of a rods-level host: each declared body becomes a body
+    /// node whose rods are its member rods that have contacts, every other rod
+    /// a rod node. Contacts inside one body are dropped (the body is rigid).
+    pub fn from_host(graph: &ContactGraph, bodies: &[Body]) -> Result<Self> {
+        let mut node_of = vec![None; graph.n_nodes()];
+        let mut kinds = Vec::new();
+        let mut label_of = vec![0u8; graph.n_nodes()];
+        for body in bodies {
+            let node = kinds.len() as u8;
+            kinds.push(match body.class {
+                BodyClass::Planar => NodeKind::Planar,
+                BodyClass::Spatial => NodeKind::Spatial,
+            });
+            for (label, &r) in body.rods.iter().enumerate() {
+                let slot = node_of.get_mut(r as usize).ok_or_else(|| {
+                    Error::Parameter(format!("body rod {r} is outside 0..{}", graph.n_nodes()))
+                })?;
+                *slot = Some(node);
+                label_of[r as usize] = u8::try_from(label).map_err(|_| {
+                    Error::Parameter(format!(
+                        "a body has more than 255 rods ({})",
+                        body.rods.len()
+                    ))
+                })?;
+            }
+        }
+        for slot in node_of.iter_mut().filter(|s| s.is_none()) {
+            *slot = Some(kinds.len() as u8);
+            kinds.push(NodeKind::Rod);
+        }
+        if kinds.len() > MAX_PATTERN_NODES {
+            return Err(Error::Parameter(format!(
+                "a pattern has at most {MAX_PATTERN_NODES} nodes, this host makes {}",
+                kinds.len()
+            )));
+        }
+        let contacts = graph
+            .edges()
+            .iter()
+            .filter_map(|&[a, b]| {
+                let (na, nb) = (node_of[a as usize]?, node_of[b as usize]?);
+                (na != nb).then(|| PatternContact {
+                    nodes: [na, nb],
+                    rods: [label_of[a as usize], label_of[b as usize]],
                 })
             })
             .collect();
-        Ok((graph, bodies, members))
+        let mut p = Pattern { kinds, contacts };
+        p.compact_labels();
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// Renumbers each body's rod labels `0..` in order of first use, so that
+    /// labels of rods without contacts leave no gaps.
+    fn compact_labels(&mut self) {
+        for node in 0..self.kinds.len() as u8 {
+            let mut map: Vec<u8> = Vec::new();
+            for c in &mut self.contacts {
+                for side in 0..2 {
+                    if c.nodes[side] == node {
+                        let old = c.rods[side];
+                        let new = match map.iter().position(|&x| x == old) {
+                            Some(k) => k,
+                            None => {
+                                map.push(old);
+                                map.len() - 1
+                            }
+                        };
+                        c.rods[side] = new as u8;
+                    }
+                }
+            }
+        }
     }
 }

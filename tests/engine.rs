@@ -22,13 +22,13 @@ fn outcomes(e: &Example, rules: Rules, mask: u32) -> Vec<Compression> {
         .bodies
         .iter()
         .enumerate()
-        .map(|(i, b)| Body {
-            rods: b.rods.clone(),
-            class: if mask >> i & 1 == 1 {
+        .map(|(i, b)| {
+            let class = if mask >> i & 1 == 1 {
                 BodyClass::Planar
             } else {
                 b.class
-            },
+            };
+            Body::new(b.rods.clone(), class)
         })
         .collect();
     (0..SEEDS)
@@ -144,10 +144,7 @@ fn graph(n: usize, edges: &[(u32, u32)]) -> ContactGraph {
 }
 
 fn body(rods: &[u32], class: BodyClass) -> Body {
-    Body {
-        rods: rods.to_vec(),
-        class,
-    }
+    Body::new(rods.to_vec(), class)
 }
 
 #[test]
@@ -283,4 +280,33 @@ fn compression_ends_at_a_fixpoint_on_rod_systems() {
             assert_fixpoint(&g, rules, 7 + k as u64);
         }
     }
+}
+
+/// A planar body keeps its plane inside a spatial body: a rod triangle
+/// touching three rods of that plane is the prism's hinge again, so `sound`
+/// refuses both 3D2A and 3D4 there; rods outside the plane make it rigid.
+#[test]
+fn planar_parts_of_spatial_bodies_keep_their_plane() {
+    let g = graph(7, &[(3, 4), (4, 5), (3, 5), (3, 0), (4, 1), (5, 2)]);
+    let mut s = body(&[0, 1, 2, 6], BodyClass::Spatial);
+    s.planes = vec![vec![0, 1, 2]];
+    for seed in 0..SEEDS {
+        let sound = compress_from(&g, std::slice::from_ref(&s), Rules::Sound, seed).unwrap();
+        assert_eq!(sound.components, 2, "seed {seed}: {sound:?}");
+        assert_eq!(sound.bodies[0].planes, vec![vec![0, 1, 2]]);
+        let paper = compress_from(&g, std::slice::from_ref(&s), Rules::Paper, seed).unwrap();
+        assert_eq!(paper.components, 1);
+    }
+    // The same triangle on rods 0, 1, 6, with 6 outside the plane: rigid.
+    let g = graph(7, &[(3, 4), (4, 5), (3, 5), (3, 0), (4, 1), (5, 6)]);
+    for seed in 0..SEEDS {
+        let sound = compress_from(&g, std::slice::from_ref(&s), Rules::Sound, seed).unwrap();
+        assert_eq!(sound.components, 1, "seed {seed}: {sound:?}");
+    }
+    let mut bad = s.clone();
+    bad.planes = vec![vec![0, 9]];
+    let err = compress_from(&g, &[bad], Rules::Sound, 0)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("plane rod 9"), "{err}");
 }

@@ -25,17 +25,11 @@ impl Example {
 }
 
 fn spatial(rods: &[u32]) -> Body {
-    Body {
-        rods: rods.to_vec(),
-        class: BodyClass::Spatial,
-    }
+    Body::new(rods.to_vec(), BodyClass::Spatial)
 }
 
 fn planar(rods: &[u32]) -> Body {
-    Body {
-        rods: rods.to_vec(),
-        class: BodyClass::Planar,
-    }
+    Body::new(rods.to_vec(), BodyClass::Planar)
 }
 
 fn ex(
@@ -192,7 +186,7 @@ pub fn all() -> Vec<Example> {
             9,
             &[(0, 3), (1, 4), (2, 5), (0, 6), (1, 7), (2, 8)],
             vec![planar(&[0, 1, 2]), planar(&[3, 4, 5]), spatial(&[6, 7, 8])],
-            [1, 1],
+            [2, 1],
         ),
         ex(
             "3D3A",

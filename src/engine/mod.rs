@@ -51,6 +51,21 @@ pub struct Body {
     /// Member rods, sorted.
     pub rods: Vec<u32>,
     pub class: BodyClass,
+    /// For a spatial body, the rods of each planar body it absorbed: they
+    /// still lie in one plane, so their contacts with another plane are collinear.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub planes: Vec<Vec<u32>>,
+}
+
+impl Body {
+    /// A body with no planar parts recorded.
+    pub fn new(rods: Vec<u32>, class: BodyClass) -> Self {
+        Body {
+            rods,
+            class,
+            planes: Vec::new(),
+        }
+    }
 }
 
 /// The base motifs, by the paper's names.
@@ -156,7 +171,13 @@ pub fn compress_from(
     let mut tasks: Vec<Task> = Vec::new();
     let declared: Vec<u32> = bodies
         .iter()
-        .map(|body| state.merge(&body.rods, body.class).0)
+        .map(|body| {
+            let node = state.merge(&body.rods, body.class).0;
+            for plane in &body.planes {
+                state.put_in_plane(plane);
+            }
+            node
+        })
         .collect();
     // Every declared body with every neighbour, independently of what the
     // merges reported as changed: a restart from a finished run's bodies is
@@ -205,10 +226,14 @@ pub fn compress_from(
     }
     let mut bodies: Vec<Body> = state
         .bodies()
-        .map(|(rods, class)| {
+        .map(|(rods, class, planes)| {
             let mut rods = rods.to_vec();
             rods.sort_unstable();
-            Body { rods, class }
+            Body {
+                rods,
+                class,
+                planes,
+            }
         })
         .collect();
     bodies.sort_by(|a, b| {
@@ -248,6 +273,16 @@ fn check_bodies(graph: &ContactGraph, bodies: &[Body]) -> Result<()> {
                 )));
             }
             *slot = k;
+        }
+        let mut in_plane = std::collections::HashSet::new();
+        for plane in &body.planes {
+            for &r in plane {
+                if !body.rods.contains(&r) || !in_plane.insert(r) {
+                    return Err(Error::Parameter(format!(
+                        "declared body {k}: plane rod {r} is not a rod of the body, or is in two planes"
+                    )));
+                }
+            }
         }
     }
     Ok(())

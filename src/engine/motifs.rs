@@ -7,7 +7,7 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use super::state::{Link, State};
+use super::state::{Link, NO_PLANE, State};
 use super::{BodyClass, Motif, Rules};
 
 /// A motif instance ready to be compressed.
@@ -23,6 +23,22 @@ fn on_one_rod(links: &[Link]) -> bool {
         return true;
     };
     links.iter().all(|l| l.own == first.own) || links.iter().all(|l| l.other == first.other)
+}
+
+impl State<'_> {
+    /// Whether all `links` lie on one line: on one rod, or (under `sound`)
+    /// between one plane on each side, where they sit on the line the two
+    /// planes share — wherever those planar parts now belong.
+    fn on_one_line(&self, links: &[Link], rules: Rules) -> bool {
+        if on_one_rod(links) {
+            return true;
+        }
+        let one_plane = |rod: fn(&Link) -> u32| {
+            let p = self.plane(rod(&links[0]));
+            p != NO_PLANE && links.iter().all(|l| self.plane(rod(l)) == p)
+        };
+        rules == Rules::Sound && one_plane(|l| l.own) && one_plane(|l| l.other)
+    }
 }
 
 /// Pairs `{p, q}` of `links` (first side = `R_i`, second side = `R_3`) that
@@ -167,18 +183,15 @@ impl State<'_> {
     }
 
     /// 3D2A: bodies `x`, `y` with three or more contacts not all on one rod;
-    /// under `sound` never two planar bodies (a hinge about their common line).
+    /// under `sound` not all between one plane of each (two planar bodies, or
+    /// planar parts of larger ones: a hinge about the line the planes share).
     pub fn d2a(&self, x: u32, y: u32, rules: Rules) -> Option<Found> {
         let links = self.body_links(x, y);
-        let planar_pair =
-            self.class(x) == Some(BodyClass::Planar) && self.class(y) == Some(BodyClass::Planar);
-        (links.len() >= 3 && !on_one_rod(links) && !(rules == Rules::Sound && planar_pair)).then(
-            || Found {
-                motif: Motif::D2A,
-                parts: vec![x, y],
-                class: BodyClass::Spatial,
-            },
-        )
+        (links.len() >= 3 && !self.on_one_line(links, rules)).then(|| Found {
+            motif: Motif::D2A,
+            parts: vec![x, y],
+            class: BodyClass::Spatial,
+        })
     }
 
     /// 3D3A through bodies `x` and `y`: a third body `z` touching both, in any
@@ -306,11 +319,10 @@ impl State<'_> {
 
     /// 3D4 through body `x` and rod `r`: rods a–b–c in a path, each touching
     /// `x`, with `r` among them and the three body contacts not all on one rod of `x`.
-    /// Under `sound`, a planar body is refused when a and c touch too: the rods
-    /// then form a triangle, a second planar body, and the pair is the rod
-    /// prism's hinge (two planes meeting in the line of the three contacts).
+    /// Under `sound`, when a and c touch too the rods form a triangle, a planar
+    /// body; if the three body contacts all sit in one plane of `x`, the pair
+    /// is the rod prism's hinge (the contacts on the line the planes share).
     pub fn d4(&mut self, x: u32, r: u32, rules: Rules, buf: &mut Vec<u32>) -> Option<Found> {
-        let refuse_triangles = rules == Rules::Sound && self.class(x) == Some(BodyClass::Planar);
         let g = self.g;
         // Rods around r that touch x, with the rods of x they touch.
         let mut touching: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
@@ -353,12 +365,12 @@ impl State<'_> {
             }
         }
         let path = paths.into_iter().find(|p| {
-            if refuse_triangles && g.edge_between(p[0], p[2]).is_some() {
-                return false;
-            }
-            let mut rods = p.iter().flat_map(|v| touching[v].iter());
-            let first = *rods.next().expect("each rod of the path touches x");
-            rods.any(|&q| q != first)
+            let rods: Vec<u32> = p.iter().flat_map(|v| touching[v].iter().copied()).collect();
+            let plane = self.plane(rods[0]);
+            let in_one_plane = plane != NO_PLANE && rods.iter().all(|&q| self.plane(q) == plane);
+            let hinge =
+                rules == Rules::Sound && in_one_plane && g.edge_between(p[0], p[2]).is_some();
+            rods.iter().any(|&q| q != rods[0]) && !hinge
         })?;
         let mut parts = vec![x];
         parts.extend(path);

@@ -35,8 +35,15 @@ pub(super) struct State<'g> {
     /// Class of each node (`None` for a rod), apart from the bulky node data
     /// so that the hot membership tests stay in cache.
     class: Vec<Option<BodyClass>>,
+    /// The plane each rod lies in, if it was ever part of a planar body: a
+    /// planar body keeps its plane when it becomes part of a spatial one.
+    plane: Vec<u32>,
+    planes: u32,
     pub nodes: Vec<Node>,
 }
+
+/// No plane: the rod was never part of a planar body.
+pub(super) const NO_PLANE: u32 = u32::MAX;
 
 impl<'g> State<'g> {
     pub fn new(g: &'g ContactGraph) -> Self {
@@ -45,6 +52,8 @@ impl<'g> State<'g> {
             g,
             parent: (0..n as u32).collect(),
             class: vec![None; n],
+            plane: vec![NO_PLANE; n],
+            planes: 0,
             nodes: (0..n).map(|_| Node::default()).collect(),
         }
     }
@@ -73,6 +82,11 @@ impl<'g> State<'g> {
     /// The nodes body `b` touches.
     pub fn neighbours(&self, b: u32) -> impl Iterator<Item = u32> + '_ {
         self.nodes[b as usize].adj.keys().copied()
+    }
+
+    /// The plane rod `r` lies in ([`NO_PLANE`] if none).
+    pub fn plane(&self, r: u32) -> u32 {
+        self.plane[r as usize]
     }
 
     /// Contacts of body `b` with node `y`.
@@ -128,6 +142,9 @@ impl<'g> State<'g> {
     /// the surviving part changed kind or class).
     pub fn merge(&mut self, parts: &[u32], class: BodyClass) -> (u32, Vec<u32>) {
         debug_assert!(parts.len() >= 2);
+        if class == BodyClass::Planar {
+            self.assign_plane(parts);
+        }
         let keep = *parts
             .iter()
             .max_by_key(|&&x| (self.weight(x), std::cmp::Reverse(x)))
@@ -187,11 +204,59 @@ impl<'g> State<'g> {
         (keep, changed)
     }
 
-    /// The bodies left, with their classes.
-    pub fn bodies(&self) -> impl Iterator<Item = (&[u32], BodyClass)> {
+    /// Puts the rods of a new planar body in its plane: the plane of the
+    /// planar body among `parts` (a rod joining it by 3D2B), else a new one.
+    fn assign_plane(&mut self, parts: &[u32]) {
+        let existing = parts
+            .iter()
+            .find(|&&x| self.class[x as usize] == Some(BodyClass::Planar))
+            .map(|&x| self.plane[self.nodes[x as usize].members[0] as usize]);
+        let id = existing.unwrap_or_else(|| {
+            self.planes += 1;
+            self.planes - 1
+        });
+        for &x in parts {
+            if self.class[x as usize].is_none() {
+                self.plane[x as usize] = id;
+            } else {
+                for &r in &self.nodes[x as usize].members {
+                    self.plane[r as usize] = id;
+                }
+            }
+        }
+    }
+
+    /// Puts `rods` in one new plane (a planar part declared in a spatial body).
+    pub fn put_in_plane(&mut self, rods: &[u32]) {
+        for &r in rods {
+            self.plane[r as usize] = self.planes;
+        }
+        self.planes += 1;
+    }
+
+    /// The bodies left: rods, class and, for spatial bodies, the rods of each
+    /// planar part (sorted, largest first).
+    pub fn bodies(&self) -> impl Iterator<Item = (&[u32], BodyClass, Vec<Vec<u32>>)> {
         self.nodes.iter().enumerate().filter_map(|(i, n)| {
             let class = self.class[i]?;
-            (self.parent[i] == i as u32).then_some((n.members.as_slice(), class))
+            (self.parent[i] == i as u32).then(|| {
+                let mut planes: Vec<Vec<u32>> = Vec::new();
+                if class == BodyClass::Spatial {
+                    let mut by_plane: Vec<(u32, u32)> = n
+                        .members
+                        .iter()
+                        .map(|&r| (self.plane[r as usize], r))
+                        .filter(|&(p, _)| p != NO_PLANE)
+                        .collect();
+                    by_plane.sort_unstable();
+                    planes = by_plane
+                        .chunk_by(|a, b| a.0 == b.0)
+                        .map(|c| c.iter().map(|&(_, r)| r).collect())
+                        .collect();
+                    planes.sort_by(|a: &Vec<u32>, b| b.len().cmp(&a.len()).then(a.cmp(b)));
+                }
+                (n.members.as_slice(), class, planes)
+            })
         })
     }
 

@@ -1,0 +1,803 @@
+//! Realizations of a contact pattern and their components (DESIGN §3).
+//!
+//! A realization places one point per contact so that the contacts of one
+//! rod are collinear (they lie on its axis), the contacts of a planar body
+//! are coplanar, and all contact points are distinct. The set of
+//! realizations can have several components on which the rigidity rank
+//! differs, so every component must be sampled.
+//!
+//! Families of realizations are built from *plane groupings*: sets of rods
+//! placed in one common plane, where any two lines meet. The forced grouping
+//! (planar bodies, rod triangles and rods touching a plane twice) is the
+//! most generic family; merging groups or rods into planes gives the others,
+//! up to the all-coplanar realization. Each family is constructed exactly
+//! over F_p by placing planes and lines one after another, every step
+//! rational: a line meeting 0, 1, 2 or 3 placed lines, a plane through a
+//! placed line, a group line through at most two required points.
+//!
+//! A family is its own component when the realization set has no more
+//! directions at its sample than the family itself (the nullity of the
+//! Jacobian of all incidence constraints equals that of the family's
+//! constraints); otherwise the sample is a special position of a larger
+//! family and its rank says nothing about rigidity.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
+use std::collections::{BTreeSet, HashMap};
+
+use crate::motifs::{NodeKind, Pattern};
+use crate::rank::{Fp, Matrix, Scalar, rank_fp};
+
+/// A point or vector over a field.
+pub type V3<S> = [S; 3];
+
+pub fn sub<S: Scalar>(a: V3<S>, b: V3<S>) -> V3<S> {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub fn add<S: Scalar>(a: V3<S>, b: V3<S>) -> V3<S> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+pub fn scale<S: Scalar>(a: V3<S>, k: S) -> V3<S> {
+    [a[0] * k, a[1] * k, a[2] * k]
+}
+
+pub fn dot<S: Scalar>(a: V3<S>, b: V3<S>) -> S {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub fn cross<S: Scalar>(a: V3<S>, b: V3<S>) -> V3<S> {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+pub fn is_null<S: Scalar>(a: V3<S>) -> bool {
+    a.iter().all(|x| x.negligible())
+}
+
+/// The lines, contacts and planes of a pattern.
+#[derive(Clone, Debug)]
+pub struct Incidence {
+    /// For each line (one per rod: a rod node, or a rod label of a body), its node.
+    pub line_node: Vec<u8>,
+    /// The two lines of each contact.
+    pub contact_lines: Vec<[usize; 2]>,
+    /// The contacts on each line.
+    pub line_contacts: Vec<Vec<usize>>,
+    /// The lines of each node.
+    pub node_lines: Vec<Vec<usize>>,
+    pub kinds: Vec<NodeKind>,
+}
+
+impl Incidence {
+    pub fn new(p: &Pattern) -> Self {
+        let mut line_of: HashMap<(u8, u8), usize> = HashMap::new();
+        let mut line_node = Vec::new();
+        let mut node_lines = vec![Vec::new(); p.kinds.len()];
+        for i in 0..p.kinds.len() as u8 {
+            for label in p.rods_of(i) {
+                line_of.insert((i, label), line_node.len());
+                node_lines[i as usize].push(line_node.len());
+                line_node.push(i);
+            }
+        }
+        let contact_lines: Vec<[usize; 2]> = p
+            .contacts
+            .iter()
+            .map(|c| {
+                [
+                    line_of[&(c.nodes[0], c.rods[0])],
+                    line_of[&(c.nodes[1], c.rods[1])],
+                ]
+            })
+            .collect();
+        let mut line_contacts = vec![Vec::new(); line_node.len()];
+        for (k, &[a, b]) in contact_lines.iter().enumerate() {
+            line_contacts[a].push(k);
+            line_contacts[b].push(k);
+        }
+        Incidence {
+            line_node,
+            contact_lines,
+            line_contacts,
+            node_lines,
+            kinds: p.kinds.clone(),
+        }
+    }
+
+    pub fn n_lines(&self) -> usize {
+        self.line_node.len()
+    }
+
+    pub fn n_contacts(&self) -> usize {
+        self.contact_lines.len()
+    }
+
+    /// The line across contact `c` from line `l`.
+    fn other(&self, c: usize, l: usize) -> usize {
+        let [a, b] = self.contact_lines[c];
+        if a == l { b } else { a }
+    }
+
+    /// Lines touching line `l`.
+    fn touching(&self, l: usize) -> impl Iterator<Item = usize> + '_ {
+        self.line_contacts[l].iter().map(move |&c| self.other(c, l))
+    }
+
+    fn touch(&self, a: usize, b: usize) -> bool {
+        self.touching(a).any(|x| x == b)
+    }
+
+    /// Contacts whose points must lie in the plane of a group of lines.
+    fn group_contacts(&self, group: &BTreeSet<usize>) -> Vec<usize> {
+        let mut cs: Vec<usize> = group
+            .iter()
+            .flat_map(|&l| self.line_contacts[l].iter().copied())
+            .collect();
+        cs.sort_unstable();
+        cs.dedup();
+        cs
+    }
+}
+
+/// A family of realizations: which lines share a plane.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Grouping {
+    pub groups: Vec<BTreeSet<usize>>,
+}
+
+impl Grouping {
+    /// Closes a grouping under the coplanarities it forces: groups sharing two
+    /// lines are one plane, and a line touching two lines of a group lies in it.
+    fn close(mut self, inc: &Incidence) -> Self {
+        loop {
+            let mut changed = false;
+            'merge: for i in 0..self.groups.len() {
+                for j in i + 1..self.groups.len() {
+                    if self.groups[i].intersection(&self.groups[j]).count() >= 2 {
+                        let g = self.groups.remove(j);
+                        self.groups[i].extend(g);
+                        changed = true;
+                        break 'merge;
+                    }
+                }
+            }
+            for g in &mut self.groups {
+                for l in 0..inc.n_lines() {
+                    if !g.contains(&l) && inc.touching(l).filter(|m| g.contains(m)).count() >= 2 {
+                        g.insert(l);
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        self.groups.sort();
+        self.groups.dedup();
+        self
+    }
+
+    /// The forced grouping: planar bodies and rod triangles, closed.
+    pub fn forced(inc: &Incidence) -> Self {
+        let mut groups: Vec<BTreeSet<usize>> = inc
+            .kinds
+            .iter()
+            .enumerate()
+            .filter(|(_, k)| **k == NodeKind::Planar)
+            .map(|(i, _)| inc.node_lines[i].iter().copied().collect())
+            .collect();
+        let n = inc.n_lines();
+        for a in 0..n {
+            for b in a + 1..n {
+                if !inc.touch(a, b) {
+                    continue;
+                }
+                for c in b + 1..n {
+                    if inc.touch(a, c) && inc.touch(b, c) {
+                        groups.push([a, b, c].into_iter().collect());
+                    }
+                }
+            }
+        }
+        Grouping { groups }.close(inc)
+    }
+
+    /// Everything in one plane.
+    pub fn all_coplanar(inc: &Incidence) -> Self {
+        Grouping {
+            groups: vec![(0..inc.n_lines()).collect()],
+        }
+    }
+
+    /// The grouping without its groups of two touching lines: two lines that
+    /// meet always share a plane, so such a group constrains nothing.
+    fn effective(&self, inc: &Incidence) -> Grouping {
+        let planar = body_planes(inc);
+        Grouping {
+            groups: self
+                .groups
+                .iter()
+                .filter(|g| {
+                    let v: Vec<usize> = g.iter().copied().collect();
+                    !(v.len() == 2 && inc.touch(v[0], v[1])) || planar.contains(g)
+                })
+                .cloned()
+                .collect(),
+        }
+    }
+
+    fn in_group(&self, l: usize) -> bool {
+        self.groups.iter().any(|g| g.contains(&l))
+    }
+
+    /// A short description, e.g. `planes {0,1,2} {3,4,5}`.
+    pub fn describe(&self, inc: &Incidence) -> String {
+        if self.groups.len() == 1 && self.groups[0].len() == inc.n_lines() {
+            return "all coplanar".into();
+        }
+        if self.groups.is_empty() {
+            return "lines in general position".into();
+        }
+        let planes: Vec<String> = self
+            .groups
+            .iter()
+            .map(|g| {
+                let v: Vec<String> = g.iter().map(|l| l.to_string()).collect();
+                format!("{{{}}}", v.join(","))
+            })
+            .collect();
+        format!("planes {}", planes.join(" "))
+    }
+}
+
+/// A line `p + t d`.
+#[derive(Clone, Copy, Debug)]
+pub struct Line<S> {
+    pub p: V3<S>,
+    pub d: V3<S>,
+}
+
+/// A plane `q + a u + b v`, normal `n = u x v`.
+#[derive(Clone, Copy, Debug)]
+pub struct Plane<S> {
+    pub q: V3<S>,
+    pub u: V3<S>,
+    pub v: V3<S>,
+}
+
+impl<S: Scalar> Plane<S> {
+    pub fn normal(&self) -> V3<S> {
+        cross(self.u, self.v)
+    }
+}
+
+/// One realization: a point per contact, a line per rod, a plane per group.
+#[derive(Clone, Debug)]
+pub struct Sample<S> {
+    pub points: Vec<V3<S>>,
+    pub lines: Vec<Line<S>>,
+    /// The plane of each line that lies in a group (its first group).
+    pub line_plane: Vec<Option<Plane<S>>>,
+}
+
+/// Random elements of F_p for constructions.
+struct Draw<'r, R: Rng> {
+    rng: &'r mut R,
+}
+
+impl<R: Rng> Draw<'_, R> {
+    fn s(&mut self) -> Fp {
+        Fp::random(self.rng)
+    }
+    fn point(&mut self) -> V3<Fp> {
+        [self.s(), self.s(), self.s()]
+    }
+    fn on_line(&mut self, l: &Line<Fp>) -> V3<Fp> {
+        add(l.p, scale(l.d, self.s()))
+    }
+    fn in_plane(&mut self, pl: &Plane<Fp>) -> V3<Fp> {
+        add(pl.q, add(scale(pl.u, self.s()), scale(pl.v, self.s())))
+    }
+}
+
+/// The point where two coplanar, non-parallel lines meet.
+fn meet(a: &Line<Fp>, b: &Line<Fp>) -> Option<V3<Fp>> {
+    // a.p + s a.d = b.p + t b.d: solve two independent rows, check the third.
+    let r = sub(b.p, a.p);
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        let det = a.d[i] * (-b.d[j]) - (-b.d[i]) * a.d[j];
+        if let Some(inv) = det.inv() {
+            let s = (r[i] * (-b.d[j]) - (-b.d[i]) * r[j]) * inv;
+            let x = add(a.p, scale(a.d, s));
+            let t_ok = is_null(cross(sub(x, b.p), b.d));
+            return t_ok.then_some(x);
+        }
+    }
+    None
+}
+
+fn pierce(l: &Line<Fp>, pl: &Plane<Fp>) -> Option<V3<Fp>> {
+    let n = pl.normal();
+    let t = dot(n, sub(pl.q, l.p)) * dot(n, l.d).inv()?;
+    Some(add(l.p, scale(l.d, t)))
+}
+
+fn on_plane(x: V3<Fp>, pl: &Plane<Fp>) -> bool {
+    dot(pl.normal(), sub(x, pl.q)).is_zero()
+}
+
+fn line_in_plane(l: &Line<Fp>, pl: &Plane<Fp>) -> bool {
+    on_plane(l.p, pl) && dot(pl.normal(), l.d).is_zero()
+}
+
+fn lines_meet(a: &Line<Fp>, b: &Line<Fp>) -> bool {
+    let n = cross(a.d, b.d);
+    !is_null(n) && dot(sub(b.p, a.p), n).is_zero()
+}
+
+fn through(x: V3<Fp>, y: V3<Fp>) -> Option<Line<Fp>> {
+    let d = sub(y, x);
+    (!is_null(d)).then_some(Line { p: x, d })
+}
+
+/// What is placed as one step of a construction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Object {
+    Group(usize),
+    Line(usize),
+}
+
+/// Why a construction did not produce a realization.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Infeasible {
+    /// No order places every object with rational steps.
+    NoOrder,
+    /// Random choices kept producing coincident points.
+    Degenerate,
+}
+
+/// Builds one exact realization of `grouping`, or says why it cannot.
+pub fn construct(
+    inc: &Incidence,
+    grouping: &Grouping,
+    seed: u64,
+) -> Result<Sample<Fp>, Infeasible> {
+    let mut last = Infeasible::NoOrder;
+    for attempt in 0..8u64 {
+        let mut rng =
+            ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9).wrapping_add(attempt));
+        match try_construct(inc, grouping, &mut rng, attempt) {
+            Ok(s) => return Ok(s),
+            Err(e) => last = e,
+        }
+    }
+    Err(last)
+}
+
+fn try_construct(
+    inc: &Incidence,
+    grouping: &Grouping,
+    rng: &mut ChaCha8Rng,
+    attempt: u64,
+) -> Result<Sample<Fp>, Infeasible> {
+    let n_lines = inc.n_lines();
+    let heavy: Vec<usize> = (0..n_lines)
+        .filter(|&l| !grouping.in_group(l) && inc.line_contacts[l].len() >= 3)
+        .collect();
+    let mut objects: Vec<Object> = (0..grouping.groups.len()).map(Object::Group).collect();
+    objects.extend(heavy.iter().map(|&l| Object::Line(l)));
+    // Lines placed so far, and the plane of each group.
+    let mut line: Vec<Option<Line<Fp>>> = vec![None; n_lines];
+    let mut plane: Vec<Option<Plane<Fp>>> = vec![None; grouping.groups.len()];
+    let mut line_plane: Vec<Option<Plane<Fp>>> = vec![None; n_lines];
+    let mut placed = vec![false; objects.len()];
+    let mut draw = Draw { rng };
+    for _ in 0..objects.len() {
+        // Most constrained object first; later attempts break ties differently.
+        let constraints = |o: &Object, line: &Vec<Option<Line<Fp>>>| -> usize {
+            match *o {
+                Object::Line(l) => {
+                    let mut m: Vec<usize> =
+                        inc.touching(l).filter(|&m| line[m].is_some()).collect();
+                    m.sort_unstable();
+                    m.dedup();
+                    m.len()
+                }
+                Object::Group(g) => grouping.groups[g]
+                    .iter()
+                    .map(|&l| inc.touching(l).filter(|&m| line[m].is_some()).count())
+                    .sum(),
+            }
+        };
+        let next = (0..objects.len())
+            .filter(|&k| !placed[k])
+            .max_by_key(|&k| {
+                let c = constraints(&objects[k], &line);
+                let simple = match objects[k] {
+                    Object::Line(_) => c <= 3,
+                    Object::Group(_) => true,
+                };
+                (
+                    simple,
+                    c,
+                    (k as u64).wrapping_mul(attempt + 1) % (objects.len() as u64 + 1),
+                )
+            })
+            .expect("an unplaced object remains");
+        placed[next] = true;
+        match objects[next] {
+            Object::Line(l) => {
+                let mut meets: Vec<Line<Fp>> = Vec::new();
+                let mut seen = BTreeSet::new();
+                for m in inc.touching(l) {
+                    if let Some(lm) = line[m]
+                        && seen.insert(m)
+                    {
+                        meets.push(lm);
+                    }
+                }
+                let new = line_meeting(&meets, &mut draw).ok_or(Infeasible::NoOrder)?;
+                line[l] = Some(new);
+            }
+            Object::Group(g) => {
+                let members = &grouping.groups[g];
+                let shared: Vec<Line<Fp>> = members.iter().filter_map(|&l| line[l]).collect();
+                let pl = plane_through(&shared, &mut draw).ok_or(Infeasible::NoOrder)?;
+                if shared.iter().any(|l| !line_in_plane(l, &pl)) {
+                    return Err(Infeasible::NoOrder);
+                }
+                plane[g] = Some(pl);
+                for &l in members {
+                    if line[l].is_some() {
+                        line_plane[l].get_or_insert(pl);
+                        continue;
+                    }
+                    let mut required: Vec<V3<Fp>> = Vec::new();
+                    for m in inc.touching(l) {
+                        if members.contains(&m) {
+                            continue;
+                        }
+                        if let Some(lm) = line[m] {
+                            let x = pierce(&lm, &pl).ok_or(Infeasible::NoOrder)?;
+                            if !required.contains(&x) {
+                                required.push(x);
+                            }
+                        }
+                    }
+                    let new = match required.as_slice() {
+                        [] => Line {
+                            p: draw.in_plane(&pl),
+                            d: sub(draw.in_plane(&pl), pl.q),
+                        },
+                        [x] => Line {
+                            p: *x,
+                            d: sub(draw.in_plane(&pl), *x),
+                        },
+                        [x, y, rest @ ..] => {
+                            let l2 = through(*x, *y).ok_or(Infeasible::Degenerate)?;
+                            if rest.iter().any(|z| !is_null(cross(sub(*z, l2.p), l2.d))) {
+                                return Err(Infeasible::NoOrder);
+                            }
+                            l2
+                        }
+                    };
+                    if is_null(new.d) {
+                        return Err(Infeasible::Degenerate);
+                    }
+                    line[l] = Some(new);
+                    line_plane[l] = Some(pl);
+                }
+            }
+        }
+    }
+    // Contact points: where two placed lines meet, else a random point on the placed one.
+    let mut points = Vec::with_capacity(inc.n_contacts());
+    for &[a, b] in &inc.contact_lines {
+        let x = match (line[a], line[b]) {
+            (Some(la), Some(lb)) => meet(&la, &lb).ok_or(Infeasible::NoOrder)?,
+            (Some(l), None) | (None, Some(l)) => draw.on_line(&l),
+            (None, None) => draw.point(),
+        };
+        points.push(x);
+    }
+    for i in 0..points.len() {
+        if points[..i].contains(&points[i]) {
+            return Err(Infeasible::Degenerate);
+        }
+    }
+    // Light lines: through their contact points (or one point and a random direction).
+    let lines: Vec<Line<Fp>> = (0..n_lines)
+        .map(|l| {
+            line[l].unwrap_or_else(|| {
+                let cs = &inc.line_contacts[l];
+                let p = cs.first().map_or_else(|| draw.point(), |&c| points[c]);
+                let d = match cs.get(1) {
+                    Some(&c) => sub(points[c], p),
+                    None => draw.point(),
+                };
+                Line { p, d }
+            })
+        })
+        .collect();
+    let sample = Sample {
+        points,
+        lines,
+        line_plane,
+    };
+    check(inc, grouping, &sample).map_err(|_| Infeasible::Degenerate)?;
+    Ok(sample)
+}
+
+/// A line meeting each of `lines` (at most three generic ones; more only when
+/// the line through the first three happens to meet them all).
+fn line_meeting(lines: &[Line<Fp>], draw: &mut Draw<'_, impl Rng>) -> Option<Line<Fp>> {
+    let new = match lines {
+        [] => Line {
+            p: draw.point(),
+            d: draw.point(),
+        },
+        [a] => Line {
+            p: draw.on_line(a),
+            d: draw.point(),
+        },
+        [a, b] => through(draw.on_line(a), draw.on_line(b))?,
+        [a, b, c, ..] => {
+            // Through a random point x of a: the planes (x, b) and (x, c) meet in it.
+            let x = draw.on_line(a);
+            let n1 = cross(b.d, sub(b.p, x));
+            let n2 = cross(c.d, sub(c.p, x));
+            Line {
+                p: x,
+                d: cross(n1, n2),
+            }
+        }
+    };
+    (!is_null(new.d) && lines.iter().all(|l| lines_meet(&new, l))).then_some(new)
+}
+
+/// A plane containing `lines` (random when there are none).
+fn plane_through(lines: &[Line<Fp>], draw: &mut Draw<'_, impl Rng>) -> Option<Plane<Fp>> {
+    let pl = match lines {
+        [] => Plane {
+            q: draw.point(),
+            u: draw.point(),
+            v: draw.point(),
+        },
+        [a] => Plane {
+            q: a.p,
+            u: a.d,
+            v: draw.point(),
+        },
+        [a, b, ..] => {
+            let v = if is_null(cross(a.d, b.d)) {
+                sub(b.p, a.p)
+            } else {
+                b.d
+            };
+            Plane { q: a.p, u: a.d, v }
+        }
+    };
+    (!is_null(pl.normal())).then_some(pl)
+}
+
+/// Verifies a sample: contact points on both their lines, group points in
+/// their planes, distinct points.
+fn check(inc: &Incidence, grouping: &Grouping, s: &Sample<Fp>) -> Result<(), String> {
+    for (c, &[a, b]) in inc.contact_lines.iter().enumerate() {
+        for l in [a, b] {
+            let line = &s.lines[l];
+            if !is_null(cross(sub(s.points[c], line.p), line.d)) {
+                return Err(format!("contact {c} is off line {l}"));
+            }
+        }
+    }
+    for g in &grouping.groups {
+        let cs = inc.group_contacts(g);
+        if let Some(pl) = g.iter().find_map(|&l| s.line_plane[l])
+            && cs.iter().any(|&c| !on_plane(s.points[c], &pl))
+        {
+            return Err("a group point is off its plane".into());
+        }
+    }
+    Ok(())
+}
+
+/// The Jacobian of the incidence constraints at a sample: collinearity of
+/// the contacts of each line, and coplanarity of the contacts of each group
+/// in `planes`. Columns: three per contact point.
+pub fn jacobian(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) -> Matrix<Fp> {
+    let mut j = Matrix::zeros(0, 3 * points.len());
+    let skew = |v: V3<Fp>| -> [[Fp; 3]; 3] {
+        let z = Fp::ZERO;
+        [[z, -v[2], v[1]], [v[2], z, -v[0]], [-v[1], v[0], z]]
+    };
+    for cs in &inc.line_contacts {
+        if cs.len() < 3 {
+            continue;
+        }
+        let (q1, q2) = (cs[0], cs[1]);
+        let b = sub(points[q2], points[q1]);
+        for &qj in &cs[2..] {
+            // f = (qj - q1) x (q2 - q1)
+            let a = sub(points[qj], points[q1]);
+            let (sb, sa) = (skew(b), skew(a));
+            for r in 0..3 {
+                let row = j.push_row();
+                for k in 0..3 {
+                    j.add_to(row, 3 * qj + k, -sb[r][k]);
+                    j.add_to(row, 3 * q2 + k, sa[r][k]);
+                    j.add_to(row, 3 * q1 + k, sb[r][k] - sa[r][k]);
+                }
+            }
+        }
+    }
+    for g in planes {
+        let cs = inc.group_contacts(g);
+        let Some((r1, r2, r3)) = base_triangle(&cs, points) else {
+            continue;
+        };
+        let (a, b) = (sub(points[r2], points[r1]), sub(points[r3], points[r1]));
+        let n = cross(a, b);
+        for &rj in &cs {
+            if rj == r1 || rj == r2 || rj == r3 {
+                continue;
+            }
+            // g = ((r2 - r1) x (r3 - r1)) . (rj - r1)
+            let w = sub(points[rj], points[r1]);
+            let (d2, d3) = (cross(b, w), cross(w, a));
+            let row = j.push_row();
+            for k in 0..3 {
+                j.add_to(row, 3 * r2 + k, d2[k]);
+                j.add_to(row, 3 * r3 + k, d3[k]);
+                j.add_to(row, 3 * rj + k, n[k]);
+                j.add_to(row, 3 * r1 + k, -d2[k] - d3[k] - n[k]);
+            }
+        }
+    }
+    j
+}
+
+/// Three contacts of `cs` whose points are not collinear.
+fn base_triangle(cs: &[usize], points: &[V3<Fp>]) -> Option<(usize, usize, usize)> {
+    let r1 = *cs.first()?;
+    for (i, &r2) in cs.iter().enumerate().skip(1) {
+        for &r3 in &cs[i + 1..] {
+            let n = cross(sub(points[r2], points[r1]), sub(points[r3], points[r1]));
+            if !is_null(n) {
+                return Some((r1, r2, r3));
+            }
+        }
+    }
+    None
+}
+
+/// Dimension of the realizations near a sample: `3C - rank J`.
+pub fn local_dimension(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) -> usize {
+    let j = jacobian(inc, planes, points);
+    3 * points.len() - rank_fp(&j)
+}
+
+/// The planes a pattern's incidences impose by themselves: its planar bodies.
+pub fn body_planes(inc: &Incidence) -> Vec<BTreeSet<usize>> {
+    inc.kinds
+        .iter()
+        .enumerate()
+        .filter(|(_, k)| **k == NodeKind::Planar)
+        .map(|(i, _)| inc.node_lines[i].iter().copied().collect())
+        .collect()
+}
+
+/// A family that was built, with its dimensions.
+#[derive(Clone, Debug)]
+pub struct Family {
+    pub grouping: Grouping,
+    /// Dimension of the family at its sample (nullity of its own constraints).
+    pub dimension: usize,
+    /// Dimension of all realizations at the same sample.
+    pub ambient: usize,
+    pub samples: Vec<Sample<Fp>>,
+}
+
+/// Summary of a family for reports.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct FamilyInfo {
+    pub built: String,
+    pub dimension: usize,
+    /// Whether it is a component (not a special position of a larger family).
+    pub component: bool,
+}
+
+/// Largest number of plane groupings explored per pattern.
+pub const MAX_GROUPINGS: usize = 64;
+
+/// Builds the realization families of a pattern: the forced grouping and
+/// every grouping reachable from it by putting two touching groups or
+/// constrained lines in one plane, plus the all-coplanar one, `samples`
+/// independent realizations each. Returns the families and whether the
+/// forced (most generic) grouping could be built.
+pub fn families(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Family>, bool) {
+    let forced = Grouping::forced(inc);
+    let mut queue = vec![forced.clone()];
+    let all = Grouping::all_coplanar(inc).close(inc);
+    if all != forced {
+        queue.push(all);
+    }
+    let mut seen: BTreeSet<Grouping> = queue.iter().cloned().collect();
+    let mut built: BTreeSet<Grouping> = BTreeSet::new();
+    let mut out: Vec<Family> = Vec::new();
+    let mut forced_built = false;
+    let base_planes = body_planes(inc);
+    let mut k = 0;
+    while k < queue.len() && k < MAX_GROUPINGS {
+        let grouping = queue[k].clone();
+        k += 1;
+        let attempt: Result<Vec<Sample<Fp>>, Infeasible> = if built.insert(grouping.effective(inc))
+        {
+            (0..samples as u64)
+                .map(|s| construct(inc, &grouping, seed.wrapping_add(1000 * k as u64 + s)))
+                .collect()
+        } else {
+            Err(Infeasible::NoOrder)
+        };
+        if let Ok(samples) = attempt {
+            if grouping == forced {
+                forced_built = true;
+            }
+            let pts = &samples[0].points;
+            let dimension = local_dimension(inc, &grouping.groups, pts);
+            let ambient = local_dimension(inc, &base_planes, pts);
+            out.push(Family {
+                grouping: grouping.clone(),
+                dimension,
+                ambient,
+                samples,
+            });
+        }
+        // Blocks that can share a plane: groups, and lines with three or more contacts.
+        let mut blocks: Vec<BTreeSet<usize>> = grouping.groups.clone();
+        blocks.extend(
+            (0..inc.n_lines())
+                .filter(|&l| !grouping.in_group(l) && inc.line_contacts[l].len() >= 3)
+                .map(|l| BTreeSet::from([l])),
+        );
+        for i in 0..blocks.len() {
+            for j in i + 1..blocks.len() {
+                let touching = blocks[i].iter().any(|&a| {
+                    blocks[j].contains(&a) || inc.touching(a).any(|b| blocks[j].contains(&b))
+                });
+                if !touching {
+                    continue;
+                }
+                let mut groups: Vec<BTreeSet<usize>> = grouping
+                    .groups
+                    .iter()
+                    .filter(|g| **g != blocks[i] && **g != blocks[j])
+                    .cloned()
+                    .collect();
+                groups.push(blocks[i].union(&blocks[j]).copied().collect());
+                let merged = Grouping { groups }.close(inc);
+                if seen.insert(merged.clone()) {
+                    queue.push(merged);
+                }
+            }
+        }
+    }
+    (out, forced_built)
+}
+
+/// Whether each family is a component: its sample has no more realization
+/// directions than the family itself, or no larger family was found.
+pub fn components(families: &[Family]) -> Vec<bool> {
+    let largest = families.iter().map(|f| f.dimension).max().unwrap_or(0);
+    families
+        .iter()
+        .map(|f| f.ambient == f.dimension || f.dimension >= largest)
+        .collect()
+}
