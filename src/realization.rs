@@ -23,7 +23,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::{BTreeSet, HashMap};
 
 use crate::motifs::{NodeKind, Pattern};
@@ -287,64 +287,226 @@ pub struct Sample<S> {
     pub line_plane: Vec<Option<Plane<S>>>,
 }
 
-/// Random elements of F_p for constructions.
-struct Draw<'r, R: Rng> {
-    rng: &'r mut R,
+/// Relative tolerance below which two float points are one point, two
+/// directions are parallel, or a direction is null: a few rounding errors of
+/// the terms involved. Exact zero over F_p.
+pub const DISTINCT_TOL: f64 = 16.0 * f64::EPSILON;
+
+/// Relative tolerance within which a float construction must satisfy its
+/// incidences (points on their lines and planes). Looser than
+/// [`DISTINCT_TOL`] because a point where two nearly parallel lines meet
+/// carries their conditioning; tight enough that a violated incidence
+/// (residual of order 1) is never accepted.
+pub const INCIDENCE_TOL: f64 = 1e-9;
+
+/// The size of a vector for relative tests: its largest coordinate magnitude.
+pub fn size<S: Scalar>(v: V3<S>) -> f64 {
+    v.iter().map(|x| x.magnitude()).fold(0.0, f64::max)
 }
 
-impl<R: Rng> Draw<'_, R> {
-    fn s(&mut self) -> Fp {
-        Fp::random(self.rng)
+/// Whether every coordinate of `v` vanishes next to `scale`.
+fn null_rel<S: Scalar>(v: V3<S>, scale: f64, tol: f64) -> bool {
+    v.iter().all(|x| x.vanishes(scale, tol))
+}
+
+/// Whether two points are one (relative to their size).
+pub fn same_point<S: Scalar>(x: V3<S>, y: V3<S>) -> bool {
+    null_rel(sub(x, y), size(x) + size(y), DISTINCT_TOL)
+}
+
+/// Whether two directions are parallel (relative to their sizes).
+pub fn parallel<S: Scalar>(a: V3<S>, b: V3<S>) -> bool {
+    null_rel(cross(a, b), size(a) * size(b), DISTINCT_TOL)
+}
+
+fn finite<S: Scalar>(v: V3<S>) -> bool {
+    v.iter().all(|x| x.magnitude().is_finite())
+}
+
+/// Which degenerate realization a construction approaches (DESIGN §4: where
+/// floats fail). Each puts the free choices of the construction `eps` away
+/// from a degenerate position; the incidences hold exactly (up to rounding)
+/// at every `eps`, so for `eps != 0` the realization is a generic member of
+/// its family and the exact verdict is the reference. Over F_p, `eps = 0`
+/// builds the degenerate limit itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Degeneracy {
+    /// Every free choice uniform.
+    #[default]
+    Generic,
+    /// Free line directions within about `eps` of one common direction (of
+    /// the plane's first direction, inside a plane): nearly parallel rods.
+    Parallel,
+    /// Free points on a line within about `eps` of each other, free points
+    /// within `eps` of one common point: nearly coincident contacts.
+    Coincident,
+    /// Free points within `eps` of one common line: nearly collinear contacts.
+    Collinear,
+}
+
+/// How a construction draws its free choices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Geometry<S> {
+    pub degeneracy: Degeneracy,
+    /// Distance from the degenerate position (unused when generic).
+    pub eps: S,
+}
+
+impl<S: Scalar> Geometry<S> {
+    /// Uniform random choices.
+    pub fn generic() -> Self {
+        Geometry {
+            degeneracy: Degeneracy::Generic,
+            eps: S::zero(),
+        }
     }
-    fn point(&mut self) -> V3<Fp> {
+}
+
+/// The common direction of [`Degeneracy::Parallel`].
+fn common_direction<S: Scalar>() -> V3<S> {
+    [S::one(), S::one(), S::one()]
+}
+
+/// Random elements for constructions, shaped by a [`Geometry`].
+struct Draw<'r, S, R: Rng> {
+    rng: &'r mut R,
+    geometry: Geometry<S>,
+    /// For a twin realization: a second source, and the size of the nudge
+    /// it adds to every free choice (after the geometry shaped it, so the
+    /// nudge is not scaled down with `eps`).
+    nudge: Option<(ChaCha8Rng, S)>,
+}
+
+impl<S: Scalar, R: Rng> Draw<'_, S, R> {
+    fn s(&mut self) -> S {
+        S::random(self.rng)
+    }
+    fn vector(&mut self) -> V3<S> {
         [self.s(), self.s(), self.s()]
     }
-    fn on_line(&mut self, l: &Line<Fp>) -> V3<Fp> {
-        add(l.p, scale(l.d, self.s()))
+    /// A small random vector: `eps` times uniform.
+    fn small(&mut self) -> V3<S> {
+        let v = self.vector();
+        scale(v, self.geometry.eps)
     }
-    fn in_plane(&mut self, pl: &Plane<Fp>) -> V3<Fp> {
-        add(pl.q, add(scale(pl.u, self.s()), scale(pl.v, self.s())))
+    fn nudged(&mut self, x: S) -> S {
+        match &mut self.nudge {
+            Some((rng, eta)) => x + S::random(rng) * *eta,
+            None => x,
+        }
+    }
+    fn nudged_vector(&mut self, v: V3<S>) -> V3<S> {
+        [self.nudged(v[0]), self.nudged(v[1]), self.nudged(v[2])]
+    }
+    /// A free vector (no geometry applies).
+    fn free(&mut self) -> V3<S> {
+        let v = self.vector();
+        self.nudged_vector(v)
+    }
+    /// A free point.
+    fn point(&mut self) -> V3<S> {
+        let p = match self.geometry.degeneracy {
+            Degeneracy::Coincident => self.small(),
+            Degeneracy::Collinear => {
+                let [_, y, z] = self.small();
+                [self.s(), y, z]
+            }
+            Degeneracy::Generic | Degeneracy::Parallel => self.vector(),
+        };
+        self.nudged_vector(p)
+    }
+    /// A free direction.
+    fn direction(&mut self) -> V3<S> {
+        let d = match self.geometry.degeneracy {
+            Degeneracy::Parallel => add(common_direction(), self.small()),
+            _ => self.vector(),
+        };
+        self.nudged_vector(d)
+    }
+    /// A free parameter along a line or in a plane.
+    fn param(&mut self) -> S {
+        let t = match self.geometry.degeneracy {
+            Degeneracy::Coincident => self.s() * self.geometry.eps,
+            _ => self.s(),
+        };
+        self.nudged(t)
+    }
+    fn on_line(&mut self, l: &Line<S>) -> V3<S> {
+        let t = self.param();
+        add(l.p, scale(l.d, t))
+    }
+    fn in_plane(&mut self, pl: &Plane<S>) -> V3<S> {
+        let (a, b) = (self.param(), self.param());
+        add(pl.q, add(scale(pl.u, a), scale(pl.v, b)))
+    }
+    /// A free direction inside a plane: `a u + b v`.
+    fn plane_direction(&mut self, pl: &Plane<S>) -> V3<S> {
+        let (a, b) = (self.s(), self.s());
+        let (a, b) = match self.geometry.degeneracy {
+            Degeneracy::Parallel => (S::one() + a * self.geometry.eps, b * self.geometry.eps),
+            _ => (a, b),
+        };
+        let (a, b) = (self.nudged(a), self.nudged(b));
+        add(scale(pl.u, a), scale(pl.v, b))
     }
 }
 
 /// The point where two coplanar, non-parallel lines meet.
-fn meet(a: &Line<Fp>, b: &Line<Fp>) -> Option<V3<Fp>> {
-    // a.p + s a.d = b.p + t b.d: solve two independent rows, check the third.
-    let r = sub(b.p, a.p);
-    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
-        let det = a.d[i] * (-b.d[j]) - (-b.d[i]) * a.d[j];
-        if let Some(inv) = det.inv() {
-            let s = (r[i] * (-b.d[j]) - (-b.d[i]) * r[j]) * inv;
-            let x = add(a.p, scale(a.d, s));
-            let t_ok = is_null(cross(sub(x, b.p), b.d));
-            return t_ok.then_some(x);
-        }
+fn meet<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<V3<S>> {
+    // a.p + s a.d = b.p + t b.d: solve the two rows with the largest minor, check the third.
+    if parallel(a.d, b.d) {
+        return None;
     }
-    None
+    let r = sub(b.p, a.p);
+    let det = |i: usize, j: usize| a.d[i] * (-b.d[j]) - (-b.d[i]) * a.d[j];
+    let (i, j) = [(0, 1), (0, 2), (1, 2)].into_iter().fold(
+        None,
+        |best: Option<(usize, usize)>, (i, j)| match best {
+            Some((k, l)) if det(k, l).magnitude() >= det(i, j).magnitude() => best,
+            _ => Some((i, j)),
+        },
+    )?;
+    let inv = det(i, j).recip()?;
+    let s = (r[i] * (-b.d[j]) - (-b.d[i]) * r[j]) * inv;
+    let x = add(a.p, scale(a.d, s));
+    on_line(x, b).then_some(x)
 }
 
-fn pierce(l: &Line<Fp>, pl: &Plane<Fp>) -> Option<V3<Fp>> {
+/// Where a line crosses a plane (none when it is parallel to it).
+fn pierce<S: Scalar>(l: &Line<S>, pl: &Plane<S>) -> Option<V3<S>> {
     let n = pl.normal();
-    let t = dot(n, sub(pl.q, l.p)) * dot(n, l.d).inv()?;
+    let across = dot(n, l.d);
+    if across.vanishes(size(pl.u) * size(pl.v) * size(l.d), DISTINCT_TOL) {
+        return None;
+    }
+    let t = dot(n, sub(pl.q, l.p)) * across.recip()?;
     Some(add(l.p, scale(l.d, t)))
 }
 
-fn on_plane(x: V3<Fp>, pl: &Plane<Fp>) -> bool {
-    dot(pl.normal(), sub(x, pl.q)).is_zero()
+fn on_line<S: Scalar>(x: V3<S>, l: &Line<S>) -> bool {
+    let scale = (size(x) + size(l.p)) * size(l.d);
+    null_rel(cross(sub(x, l.p), l.d), scale, INCIDENCE_TOL)
 }
 
-fn line_in_plane(l: &Line<Fp>, pl: &Plane<Fp>) -> bool {
-    on_plane(l.p, pl) && dot(pl.normal(), l.d).is_zero()
+fn on_plane<S: Scalar>(x: V3<S>, pl: &Plane<S>) -> bool {
+    let scale = size(pl.u) * size(pl.v) * (size(x) + size(pl.q));
+    dot(pl.normal(), sub(x, pl.q)).vanishes(scale, INCIDENCE_TOL)
 }
 
-fn lines_meet(a: &Line<Fp>, b: &Line<Fp>) -> bool {
+fn line_in_plane<S: Scalar>(l: &Line<S>, pl: &Plane<S>) -> bool {
+    let scale = size(pl.u) * size(pl.v) * size(l.d);
+    on_plane(l.p, pl) && dot(pl.normal(), l.d).vanishes(scale, INCIDENCE_TOL)
+}
+
+fn lines_meet<S: Scalar>(a: &Line<S>, b: &Line<S>) -> bool {
     let n = cross(a.d, b.d);
-    !is_null(n) && dot(sub(b.p, a.p), n).is_zero()
+    let scale = (size(a.p) + size(b.p)) * size(a.d) * size(b.d);
+    !parallel(a.d, b.d) && dot(sub(b.p, a.p), n).vanishes(scale, INCIDENCE_TOL)
 }
 
-fn through(x: V3<Fp>, y: V3<Fp>) -> Option<Line<Fp>> {
-    let d = sub(y, x);
-    (!is_null(d)).then_some(Line { p: x, d })
+fn through<S: Scalar>(x: V3<S>, y: V3<S>) -> Option<Line<S>> {
+    (!same_point(x, y)).then(|| Line { p: x, d: sub(y, x) })
 }
 
 /// What is placed as one step of a construction.
@@ -359,7 +521,8 @@ enum Object {
 pub enum Infeasible {
     /// No order places every object with rational steps.
     NoOrder,
-    /// Random choices kept producing coincident points.
+    /// Random choices kept producing coincident points (or, for floats,
+    /// points too close to tell apart or incidences lost to rounding).
     Degenerate,
 }
 
@@ -369,24 +532,77 @@ pub fn construct(
     grouping: &Grouping,
     seed: u64,
 ) -> Result<Sample<Fp>, Infeasible> {
+    construct_in(inc, grouping, &Geometry::generic(), seed)
+}
+
+/// Builds one realization of `grouping` over any [`Scalar`], with free
+/// choices drawn by `geometry`: the same construction serves the exact
+/// verdict (F_p) and the float one (f64, relative tolerances).
+pub fn construct_in<S: Scalar>(
+    inc: &Incidence,
+    grouping: &Grouping,
+    geometry: &Geometry<S>,
+    seed: u64,
+) -> Result<Sample<S>, Infeasible> {
+    construct_attempts(inc, grouping, geometry, seed).map(|(s, _)| s)
+}
+
+/// [`construct_in`], and a twin: the same construction with every free
+/// choice nudged by up to `nudge` (after `geometry` shaped it). A rank that
+/// differs between the two is not locally constant: the realization is at
+/// or near a special position, whatever `geometry` did. The twin is `None`
+/// when the nudged construction fails.
+pub fn construct_twins<S: Scalar>(
+    inc: &Incidence,
+    grouping: &Grouping,
+    geometry: &Geometry<S>,
+    seed: u64,
+    nudge: S,
+) -> Result<(Sample<S>, Option<Sample<S>>), Infeasible> {
+    let (base, attempt) = construct_attempts(inc, grouping, geometry, seed)?;
+    let mut rng = attempt_rng(seed, attempt);
+    let mut draw = Draw {
+        rng: &mut rng,
+        geometry: *geometry,
+        nudge: Some((ChaCha8Rng::seed_from_u64(!seed ^ attempt), nudge)),
+    };
+    let twin = try_construct(inc, grouping, &mut draw, attempt).ok();
+    Ok((base, twin))
+}
+
+fn attempt_rng(seed: u64, attempt: u64) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9).wrapping_add(attempt))
+}
+
+/// The first of a few attempts that builds, and its index.
+fn construct_attempts<S: Scalar>(
+    inc: &Incidence,
+    grouping: &Grouping,
+    geometry: &Geometry<S>,
+    seed: u64,
+) -> Result<(Sample<S>, u64), Infeasible> {
     let mut last = Infeasible::NoOrder;
     for attempt in 0..8u64 {
-        let mut rng =
-            ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x9E37_79B9).wrapping_add(attempt));
-        match try_construct(inc, grouping, &mut rng, attempt) {
-            Ok(s) => return Ok(s),
+        let mut rng = attempt_rng(seed, attempt);
+        let mut draw = Draw {
+            rng: &mut rng,
+            geometry: *geometry,
+            nudge: None,
+        };
+        match try_construct(inc, grouping, &mut draw, attempt) {
+            Ok(s) => return Ok((s, attempt)),
             Err(e) => last = e,
         }
     }
     Err(last)
 }
 
-fn try_construct(
+fn try_construct<S: Scalar, R: Rng>(
     inc: &Incidence,
     grouping: &Grouping,
-    rng: &mut ChaCha8Rng,
+    draw: &mut Draw<'_, S, R>,
     attempt: u64,
-) -> Result<Sample<Fp>, Infeasible> {
+) -> Result<Sample<S>, Infeasible> {
     let n_lines = inc.n_lines();
     let heavy: Vec<usize> = (0..n_lines)
         .filter(|&l| !grouping.in_group(l) && inc.line_contacts[l].len() >= 3)
@@ -394,14 +610,12 @@ fn try_construct(
     let mut objects: Vec<Object> = (0..grouping.groups.len()).map(Object::Group).collect();
     objects.extend(heavy.iter().map(|&l| Object::Line(l)));
     // Lines placed so far, and the plane of each group.
-    let mut line: Vec<Option<Line<Fp>>> = vec![None; n_lines];
-    let mut plane: Vec<Option<Plane<Fp>>> = vec![None; grouping.groups.len()];
-    let mut line_plane: Vec<Option<Plane<Fp>>> = vec![None; n_lines];
+    let mut line: Vec<Option<Line<S>>> = vec![None; n_lines];
+    let mut line_plane: Vec<Option<Plane<S>>> = vec![None; n_lines];
     let mut placed = vec![false; objects.len()];
-    let mut draw = Draw { rng };
     for _ in 0..objects.len() {
         // Most constrained object first; later attempts break ties differently.
-        let constraints = |o: &Object, line: &Vec<Option<Line<Fp>>>| -> usize {
+        let constraints = |o: &Object, line: &Vec<Option<Line<S>>>| -> usize {
             match *o {
                 Object::Line(l) => {
                     let mut m: Vec<usize> =
@@ -430,11 +644,11 @@ fn try_construct(
                     (k as u64).wrapping_mul(attempt + 1) % (objects.len() as u64 + 1),
                 )
             })
-            .expect("an unplaced object remains");
+            .ok_or(Infeasible::NoOrder)?;
         placed[next] = true;
         match objects[next] {
             Object::Line(l) => {
-                let mut meets: Vec<Line<Fp>> = Vec::new();
+                let mut meets: Vec<Line<S>> = Vec::new();
                 let mut seen = BTreeSet::new();
                 for m in inc.touching(l) {
                     if let Some(lm) = line[m]
@@ -443,30 +657,29 @@ fn try_construct(
                         meets.push(lm);
                     }
                 }
-                let new = line_meeting(&meets, &mut draw).ok_or(Infeasible::NoOrder)?;
+                let new = line_meeting(&meets, draw).ok_or(Infeasible::NoOrder)?;
                 line[l] = Some(new);
             }
             Object::Group(g) => {
                 let members = &grouping.groups[g];
-                let shared: Vec<Line<Fp>> = members.iter().filter_map(|&l| line[l]).collect();
-                let pl = plane_through(&shared, &mut draw).ok_or(Infeasible::NoOrder)?;
+                let shared: Vec<Line<S>> = members.iter().filter_map(|&l| line[l]).collect();
+                let pl = plane_through(&shared, draw).ok_or(Infeasible::NoOrder)?;
                 if shared.iter().any(|l| !line_in_plane(l, &pl)) {
                     return Err(Infeasible::NoOrder);
                 }
-                plane[g] = Some(pl);
                 for &l in members {
                     if line[l].is_some() {
                         line_plane[l].get_or_insert(pl);
                         continue;
                     }
-                    let mut required: Vec<V3<Fp>> = Vec::new();
+                    let mut required: Vec<V3<S>> = Vec::new();
                     for m in inc.touching(l) {
                         if members.contains(&m) {
                             continue;
                         }
                         if let Some(lm) = line[m] {
                             let x = pierce(&lm, &pl).ok_or(Infeasible::NoOrder)?;
-                            if !required.contains(&x) {
+                            if !required.iter().any(|&y| same_point(x, y)) {
                                 required.push(x);
                             }
                         }
@@ -474,21 +687,21 @@ fn try_construct(
                     let new = match required.as_slice() {
                         [] => Line {
                             p: draw.in_plane(&pl),
-                            d: sub(draw.in_plane(&pl), pl.q),
+                            d: draw.plane_direction(&pl),
                         },
                         [x] => Line {
                             p: *x,
-                            d: sub(draw.in_plane(&pl), *x),
+                            d: draw.plane_direction(&pl),
                         },
                         [x, y, rest @ ..] => {
                             let l2 = through(*x, *y).ok_or(Infeasible::Degenerate)?;
-                            if rest.iter().any(|z| !is_null(cross(sub(*z, l2.p), l2.d))) {
+                            if rest.iter().any(|&z| !on_line(z, &l2)) {
                                 return Err(Infeasible::NoOrder);
                             }
                             l2
                         }
                     };
-                    if is_null(new.d) {
+                    if null_rel(new.d, size(pl.u) + size(pl.v), DISTINCT_TOL) {
                         return Err(Infeasible::Degenerate);
                     }
                     line[l] = Some(new);
@@ -508,19 +721,19 @@ fn try_construct(
         points.push(x);
     }
     for i in 0..points.len() {
-        if points[..i].contains(&points[i]) {
+        if points[..i].iter().any(|&y| same_point(points[i], y)) {
             return Err(Infeasible::Degenerate);
         }
     }
     // Light lines: through their contact points (or one point and a random direction).
-    let lines: Vec<Line<Fp>> = (0..n_lines)
+    let lines: Vec<Line<S>> = (0..n_lines)
         .map(|l| {
             line[l].unwrap_or_else(|| {
                 let cs = &inc.line_contacts[l];
                 let p = cs.first().map_or_else(|| draw.point(), |&c| points[c]);
                 let d = match cs.get(1) {
                     Some(&c) => sub(points[c], p),
-                    None => draw.point(),
+                    None => draw.direction(),
                 };
                 Line { p, d }
             })
@@ -537,15 +750,18 @@ fn try_construct(
 
 /// A line meeting each of `lines` (at most three generic ones; more only when
 /// the line through the first three happens to meet them all).
-fn line_meeting(lines: &[Line<Fp>], draw: &mut Draw<'_, impl Rng>) -> Option<Line<Fp>> {
+fn line_meeting<S: Scalar, R: Rng>(
+    lines: &[Line<S>],
+    draw: &mut Draw<'_, S, R>,
+) -> Option<Line<S>> {
     let new = match lines {
         [] => Line {
             p: draw.point(),
-            d: draw.point(),
+            d: draw.direction(),
         },
         [a] => Line {
             p: draw.on_line(a),
-            d: draw.point(),
+            d: draw.direction(),
         },
         [a, b] => through(draw.on_line(a), draw.on_line(b))?,
         [a, b, c, ..] => {
@@ -553,30 +769,37 @@ fn line_meeting(lines: &[Line<Fp>], draw: &mut Draw<'_, impl Rng>) -> Option<Lin
             let x = draw.on_line(a);
             let n1 = cross(b.d, sub(b.p, x));
             let n2 = cross(c.d, sub(c.p, x));
+            if parallel(n1, n2) {
+                return None;
+            }
             Line {
                 p: x,
                 d: cross(n1, n2),
             }
         }
     };
-    (!is_null(new.d) && lines.iter().all(|l| lines_meet(&new, l))).then_some(new)
+    let null = !finite(new.d) || new.d.iter().all(|x| x.vanishes(0.0, 0.0));
+    (!null && lines.iter().all(|l| lines_meet(&new, l))).then_some(new)
 }
 
 /// A plane containing `lines` (random when there are none).
-fn plane_through(lines: &[Line<Fp>], draw: &mut Draw<'_, impl Rng>) -> Option<Plane<Fp>> {
+fn plane_through<S: Scalar, R: Rng>(
+    lines: &[Line<S>],
+    draw: &mut Draw<'_, S, R>,
+) -> Option<Plane<S>> {
     let pl = match lines {
         [] => Plane {
             q: draw.point(),
-            u: draw.point(),
-            v: draw.point(),
+            u: draw.direction(),
+            v: draw.free(),
         },
         [a] => Plane {
             q: a.p,
             u: a.d,
-            v: draw.point(),
+            v: draw.free(),
         },
         [a, b, ..] => {
-            let v = if is_null(cross(a.d, b.d)) {
+            let v = if parallel(a.d, b.d) {
                 sub(b.p, a.p)
             } else {
                 b.d
@@ -584,16 +807,18 @@ fn plane_through(lines: &[Line<Fp>], draw: &mut Draw<'_, impl Rng>) -> Option<Pl
             Plane { q: a.p, u: a.d, v }
         }
     };
-    (!is_null(pl.normal())).then_some(pl)
+    (!parallel(pl.u, pl.v)).then_some(pl)
 }
 
-/// Verifies a sample: contact points on both their lines, group points in
-/// their planes, distinct points.
-fn check(inc: &Incidence, grouping: &Grouping, s: &Sample<Fp>) -> Result<(), String> {
+/// Verifies a sample: finite, contact points on both their lines, group
+/// points in their planes.
+fn check<S: Scalar>(inc: &Incidence, grouping: &Grouping, s: &Sample<S>) -> Result<(), String> {
+    if !s.points.iter().all(|&p| finite(p)) || !s.lines.iter().all(|l| finite(l.p) && finite(l.d)) {
+        return Err("a coordinate is not finite".into());
+    }
     for (c, &[a, b]) in inc.contact_lines.iter().enumerate() {
         for l in [a, b] {
-            let line = &s.lines[l];
-            if !is_null(cross(sub(s.points[c], line.p), line.d)) {
+            if !on_line(s.points[c], &s.lines[l]) {
                 return Err(format!("contact {c} is off line {l}"));
             }
         }
@@ -800,4 +1025,44 @@ pub fn components(families: &[Family]) -> Vec<bool> {
         .iter()
         .map(|f| f.ambient == f.dimension || f.dimension >= largest)
         .collect()
+}
+
+/// A float sample moved and scaled so that its contact points are centred
+/// on the origin within the unit cube, with unit line and plane directions:
+/// a similarity, so no rank changes, and random auxiliary points in
+/// `[-1, 1]^3` come out at the scale of the contacts.
+pub fn normalized(mut s: Sample<f64>) -> Sample<f64> {
+    let n = s.points.len().max(1) as f64;
+    let c = s
+        .points
+        .iter()
+        .fold([0.0; 3], |acc, &p| add(acc, scale(p, 1.0 / n)));
+    let extent = s
+        .points
+        .iter()
+        .map(|&p| size(sub(p, c)))
+        .fold(0.0, f64::max);
+    let k = if extent > 0.0 { 1.0 / extent } else { 1.0 };
+    let unit = |v: V3<f64>| {
+        let m = size(v);
+        if m > 0.0 { scale(v, 1.0 / m) } else { v }
+    };
+    let place = |p: V3<f64>| scale(sub(p, c), k);
+    for p in &mut s.points {
+        *p = place(*p);
+    }
+    for l in &mut s.lines {
+        *l = Line {
+            p: place(l.p),
+            d: unit(l.d),
+        };
+    }
+    for pl in s.line_plane.iter_mut().flatten() {
+        *pl = Plane {
+            q: place(pl.q),
+            u: unit(pl.u),
+            v: unit(pl.v),
+        };
+    }
+    s
 }
