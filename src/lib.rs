@@ -13,6 +13,8 @@
 //! * [`realization`] — exact realizations of a pattern and their components;
 //! * [`rigidity`] — the rigidity matrix and the exact verdict over components;
 //! * [`rank`] — exact rank over the prime field F_p;
+//! * [`stability`] — where float ranks fail against the exact verdict, and their speed;
+//! * [`plot`] — charts of the stability study (SVG, and PNG with an embedded font);
 //! * [`graphio`] — graph6 and edge-list input and output;
 //! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
@@ -22,11 +24,13 @@ pub mod engine;
 pub mod error;
 pub mod graphio;
 pub mod motifs;
+pub mod plot;
 pub mod rank;
 pub mod realization;
 pub mod rigidity;
 pub mod rods;
 pub mod sample;
 pub mod spanning;
+pub mod stability;
 
 pub use error::{Error, Result};
