@@ -9,6 +9,7 @@
 //! * [`spanning`] — whether a cluster of rods spans the periodic box;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC) with the base motifs;
 //! * [`sample`] — one Monte Carlo sample from rods to rigid clusters;
+//! * [`enumerate`] — non-isomorphic connected graphs and typed patterns, canonical forms;
 //! * [`motifs`] — typed contact patterns: what is enumerated, checked and loaded as rules;
 //! * [`realization`] — exact realizations of a pattern and their components;
 //! * [`rigidity`] — the rigidity matrix and the exact verdict over components;
@@ -16,11 +17,14 @@
 //! * [`stability`] — where float ranks fail against the exact verdict, and their speed;
 //! * [`plot`] — charts of the stability study (SVG, and PNG with an embedded font);
 //! * [`graphio`] — graph6 and edge-list input and output;
+//! * [`audit`] — which rigid motifs the engine misses; base and extended rule sets;
 //! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
+pub mod audit;
 pub mod bench;
 pub mod contacts;
 pub mod engine;
+pub mod enumerate;
 pub mod error;
 pub mod graphio;
 pub mod motifs;

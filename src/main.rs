@@ -8,12 +8,13 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use serde::Serialize;
 
+use rgc::audit::{self, AuditOptions};
 use rgc::contacts::ContactGraph;
 use rgc::engine::{self, Body, Compression, Rules};
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, sample};
 use rgc::spanning::Criterion;
-use rgc::{Error, Result, bench, graphio};
+use rgc::{Error, Result, bench, graphio, motifs};
 
 #[derive(Parser)]
 #[command(
@@ -103,7 +104,28 @@ struct CompressArgs {
 
 #[derive(Args)]
 struct AuditArgs {
-    /// Print the table as JSON.
+    /// Rods-only motifs with up to this many rods.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(2..=10))]
+    max_rods: u64,
+    /// Mixed motifs (rods, planar and spatial bodies) with up to this many components.
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u64).range(0..=5))]
+    max_components: u64,
+    /// The engine's rule set.
+    #[arg(long, value_enum, default_value_t = Rules::Sound)]
+    rules: Rules,
+    /// Motif orders tried per pattern.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    runs: u64,
+    /// Also audit every way a body's contacts can share its rods (mixed motifs).
+    #[arg(long)]
+    rod_sharing: bool,
+    /// Where the tables go (`audit-rods.csv`, `audit-mixed.csv`).
+    #[arg(long, default_value = "results")]
+    results: PathBuf,
+    /// Where the rule files of the missed motifs go.
+    #[arg(long, default_value = "motifs")]
+    motifs: PathBuf,
+    /// Print the tables as JSON.
     #[arg(long)]
     json: bool,
 }
@@ -286,65 +308,111 @@ fn run_compress(a: CompressArgs, out: &mut String) -> Result<()> {
 }
 
 fn run_audit(a: AuditArgs, out: &mut String) -> Result<()> {
-    let table = rgc::engine::examples::check_all(64);
-    if a.json {
-        return print_json(&table, out);
+    let examples = rgc::engine::examples::check_all(16);
+    if let Some(bad) = examples.iter().find(|r| !r.pass) {
+        return Err(Error::Parameter(format!(
+            "base motif example {:?} did not compress as expected",
+            bad.name
+        )));
     }
-    say!(
-        out,
-        "Base motifs of 3D-RGC: nodes left after compression (over 64 random orders)\n"
-    );
-    say!(
-        out,
-        "{:<48} {:>8} {:>8} {:>8} {:>8}  verdict",
-        "example",
-        "sound",
-        "expect",
-        "paper",
-        "expect"
-    );
-    let mut ok = true;
-    for row in &table {
-        ok &= row.pass;
-        say!(
+    let opts = AuditOptions {
+        max_rods: a.max_rods as usize,
+        max_components: a.max_components as usize,
+        rules: a.rules,
+        runs: a.runs,
+        rod_sharing: a.rod_sharing,
+        progress: !a.json,
+    };
+    let started = std::time::Instant::now();
+    let result = audit::run(&opts)?;
+    for dir in [&a.results, &a.motifs] {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    audit::write_csv(&a.results.join("audit-rods.csv"), &result.rods)?;
+    audit::write_csv(&a.results.join("audit-mixed.csv"), &result.mixed)?;
+    let mut written = Vec::new();
+    for (kind, sets) in [("rods", &result.rod_rules), ("mixed", &result.mixed_rules)] {
+        for (size, rules) in sets.iter().filter(|(_, r)| !r.is_empty()) {
+            let path = a.motifs.join(format!("{kind}-{size}.json"));
+            motifs::write_rules(&path, rules)?;
+            written.push(path.display().to_string());
+        }
+    }
+    if a.json {
+        return print_json(
+            &serde_json::json!({ "rods": result.rods, "mixed": result.mixed, "rule_files": written }),
             out,
-            "{:<48} {:>8} {:>8} {:>8} {:>8}  {}",
-            row.name,
-            row.sound,
-            row.expect_sound,
-            row.paper,
-            row.expect_paper,
-            if row.pass { "ok" } else { "MISMATCH" }
         );
     }
-    let params = RodParams::new(23.0, 5.0, 40.0)?;
-    let s = sample(&SampleOptions {
-        params,
-        seed: 1,
-        runs: 10,
-        rules: Rules::Sound,
-        criterion: Criterion::Wrap,
-    });
-    let r = &s.report;
     say!(
         out,
-        "\nDemo: gamma 23, L 5, rho 40 (seed 1, 10 runs, sound, wrap): {} rods, c0 = {:.3} \
-         (Philipse {:.3}), contact spanning {}, rigid spanning {}, largest body {} rods, {:.3} s",
-        r.n_rods,
-        r.c0,
-        r.c0_expected,
-        r.contact_spanning,
-        r.rigid_spanning,
-        r.largest_body_rods,
-        r.seconds
+        "{} base motif examples compress as expected (sound and paper).\n",
+        examples.len()
     );
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::Parameter(
-            "a base motif example did not compress as expected".into(),
-        ))
+    for (title, rows) in [
+        ("Rods-only motifs (size = rods)", &result.rods),
+        ("Mixed motifs (size = components)", &result.mixed),
+    ] {
+        if rows.is_empty() {
+            continue;
+        }
+        say!(
+            out,
+            "{title}, rules {:?}, {} motif orders:",
+            a.rules,
+            a.runs
+        );
+        say!(
+            out,
+            "{:>4} {:>9} {:>8} {:>8} {:>7} {:>9} {:>8} {:>6} {:>10} {:>7} {:>11} {:>8} {:>8}",
+            "size",
+            "connected",
+            "2-core",
+            "Maxwell",
+            "rigid",
+            "comp-dep",
+            "flexible",
+            "undec",
+            "compressed",
+            "missed",
+            "irreducible",
+            "falsely",
+            "seconds"
+        );
+        for r in rows {
+            say!(
+                out,
+                "{:>4} {:>9} {:>8} {:>8} {:>7} {:>9} {:>8} {:>6} {:>10} {:>7} {:>11} {:>8} {:>8.2}",
+                r.size,
+                r.connected,
+                r.two_core,
+                r.maxwell,
+                r.rigid,
+                r.component_dependent,
+                r.flexible,
+                r.undecided,
+                r.compressed,
+                r.missed,
+                r.irreducible,
+                r.falsely_compressed,
+                r.seconds
+            );
+        }
+        say!(out, "");
     }
+    say!(
+        out,
+        "Tables: {}/audit-rods.csv, {}/audit-mixed.csv. Rule files: {}. {:.1} s.",
+        a.results.display(),
+        a.results.display(),
+        if written.is_empty() {
+            "none (nothing missed)".to_string()
+        } else {
+            written.join(", ")
+        },
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
 
 fn run_bench(a: BenchArgs, out: &mut String) -> Result<()> {

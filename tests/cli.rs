@@ -229,26 +229,43 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
 }
 
 #[test]
-fn audit_checks_every_base_motif() {
-    let out = rgc(&["audit"]);
+fn audit_writes_its_tables_and_rule_files() {
+    let dir = std::env::temp_dir().join(format!("rgc-cli-audit-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let out = rgc(&[
+        "audit",
+        "--max-rods",
+        "6",
+        "--max-components",
+        "3",
+        "--results",
+        d,
+        "--motifs",
+        d,
+    ]);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(!text.contains("MISMATCH"));
-    for motif in [
-        "3D3C",
-        "3D2B",
-        "3D2A",
-        "3D3A",
-        "3D3B",
-        "3D4",
-        "3D6",
-        "rod prism",
-    ] {
-        assert!(text.contains(motif), "audit table lacks {motif}");
-    }
-    assert!(text.contains("Demo"));
+    assert!(
+        text.contains("base motif examples compress as expected"),
+        "{text}"
+    );
+    assert!(
+        text.contains("Rods-only motifs") && text.contains("Mixed motifs"),
+        "{text}"
+    );
+    let rods = std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap();
+    let lines: Vec<&str> = rods.lines().collect();
+    assert_eq!(lines.len(), 6, "header and sizes 2..=6: {rods}");
+    // Connected graphs on 6 nodes: 112; with minimum degree 2: 61.
+    assert!(lines[5].starts_with("rods,6,112,61,"), "{}", lines[5]);
+    let mixed = std::fs::read_to_string(dir.join("audit-mixed.csv")).unwrap();
+    assert_eq!(mixed.lines().count(), 3);
+    // Two rods-only motifs of six rods are rigid and missed: written as rules that load.
+    let rules = rgc::motifs::load_rules(&[dir.join("rods-6.json")]).unwrap();
+    assert_eq!(rules.len(), 2);
+    std::fs::remove_dir_all(&dir).unwrap();
 }

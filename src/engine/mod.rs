@@ -7,8 +7,10 @@
 //! instance always contains the merged node and one of those changed pairs,
 //! so nothing is missed and nothing far away is looked at again.
 
+pub mod base;
 pub mod examples;
 mod motifs;
+mod rules;
 mod state;
 
 use rand::{RngExt, SeedableRng};
@@ -19,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use crate::contacts::ContactGraph;
 use crate::{Error, Result};
 use motifs::Found;
+pub use rules::CompiledRule;
 use state::State;
 
 /// Which motif conditions the engine applies.
@@ -85,6 +88,8 @@ pub enum Motif {
     D4,
     /// Two rods touching the same four rods (K_{2,4}).
     D6,
+    /// A rule loaded from a file.
+    Rule,
 }
 
 /// How many instances of each motif one run compressed.
@@ -103,6 +108,8 @@ pub struct MotifCounts {
     pub d4: u32,
     #[serde(rename = "3D6")]
     pub d6: u32,
+    /// Instances of loaded rules.
+    pub rules: u32,
 }
 
 impl MotifCounts {
@@ -115,6 +122,7 @@ impl MotifCounts {
             Motif::D3B => &mut self.d3b,
             Motif::D4 => &mut self.d4,
             Motif::D6 => &mut self.d6,
+            Motif::Rule => &mut self.rules,
         };
         *slot += 1;
     }
@@ -151,19 +159,81 @@ enum Task {
     Pair(u32, u32),
 }
 
+/// What the engine compresses with: the rule set, whether the built-in base
+/// motifs are on, and rules loaded from files.
+#[derive(Clone, Copy, Debug)]
+pub struct Engine<'r> {
+    pub rules: Rules,
+    /// The built-in base motifs (off only to test the same motifs given as rules).
+    pub base: bool,
+    pub extra: &'r [CompiledRule],
+}
+
+impl<'r> Engine<'r> {
+    /// The built-in base motifs only.
+    pub fn base(rules: Rules) -> Self {
+        Engine {
+            rules,
+            base: true,
+            extra: &[],
+        }
+    }
+
+    /// The base motifs plus loaded rules.
+    pub fn with_rules(rules: Rules, extra: &'r [CompiledRule]) -> Self {
+        Engine {
+            rules,
+            base: true,
+            extra,
+        }
+    }
+
+    /// `runs` independent compressions of `graph` (rayon), in run order.
+    pub fn runs(&self, graph: &ContactGraph, seed: u64, runs: usize) -> Vec<Compression> {
+        (0..runs as u64)
+            .into_par_iter()
+            .map(|k| {
+                self.compress(graph, &[], run_seed(seed, k))
+                    .expect("no declared bodies to reject")
+            })
+            .collect()
+    }
+
+    /// Compresses `graph` once, starting from `bodies` declared rigid (rods of
+    /// a body need no contacts among them: the host of a mixed motif), with
+    /// the order of motif application drawn from `seed`.
+    pub fn compress(
+        &self,
+        graph: &ContactGraph,
+        bodies: &[Body],
+        seed: u64,
+    ) -> Result<Compression> {
+        compress_engine(self, graph, bodies, seed)
+    }
+}
+
 /// Compresses `graph` once, with the order of motif application drawn from `seed`.
 pub fn compress(graph: &ContactGraph, rules: Rules, seed: u64) -> Compression {
     compress_from(graph, &[], rules, seed).expect("no declared bodies to reject")
 }
 
-/// Compresses `graph` once, starting from `bodies` declared rigid (rods of a
-/// body need no contacts among them): the host of a mixed motif.
+/// Compresses `graph` once, starting from `bodies` declared rigid.
 pub fn compress_from(
     graph: &ContactGraph,
     bodies: &[Body],
     rules: Rules,
     seed: u64,
 ) -> Result<Compression> {
+    Engine::base(rules).compress(graph, bodies, seed)
+}
+
+fn compress_engine(
+    engine: &Engine,
+    graph: &ContactGraph,
+    bodies: &[Body],
+    seed: u64,
+) -> Result<Compression> {
+    let rules = engine.rules;
     check_bodies(graph, bodies)?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut state = State::new(graph);
@@ -199,10 +269,22 @@ pub fn compress_from(
                 if !state.is_free_rod(r) {
                     continue;
                 }
-                if rng.random::<bool>() {
-                    state.community(r).or_else(|| state.k24(r))
+                let rules_first = rng.random::<bool>();
+                let base = |state: &mut State, rng: &mut ChaCha8Rng| {
+                    if !engine.base {
+                        None
+                    } else if rng.random::<bool>() {
+                        state.community(r).or_else(|| state.k24(r))
+                    } else {
+                        state.k24(r).or_else(|| state.community(r))
+                    }
+                };
+                if rules_first {
+                    rod_rules(&mut state, engine, r, &mut rng)
+                        .or_else(|| base(&mut state, &mut rng))
                 } else {
-                    state.k24(r).or_else(|| state.community(r))
+                    base(&mut state, &mut rng)
+                        .or_else(|| rod_rules(&mut state, engine, r, &mut rng))
                 }
             }
             Task::Pair(x, y) => {
@@ -210,7 +292,20 @@ pub fn compress_from(
                 if x == y {
                     continue;
                 }
-                examine_pair(&mut state, x, y, rules, &mut rng, &mut buf)
+                if rng.random::<bool>() {
+                    pair_rules(&mut state, engine, x, y, &mut rng).or_else(|| {
+                        engine
+                            .base
+                            .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
+                            .flatten()
+                    })
+                } else {
+                    engine
+                        .base
+                        .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
+                        .flatten()
+                        .or_else(|| pair_rules(&mut state, engine, x, y, &mut rng))
+                }
             }
         };
         if let Some(Found {
@@ -288,6 +383,62 @@ fn check_bodies(graph: &ContactGraph, bodies: &[Body]) -> Result<()> {
     Ok(())
 }
 
+/// Tries the rods-only loaded rules with rod `r` on each pattern node, from a random rule on.
+fn rod_rules(state: &mut State, engine: &Engine, r: u32, rng: &mut ChaCha8Rng) -> Option<Found> {
+    let n = engine.extra.len();
+    if n == 0 {
+        return None;
+    }
+    let start = rng.random_range(0..n);
+    (0..n).find_map(|k| {
+        let rule = &engine.extra[(start + k) % n];
+        if !rule.rods_only() {
+            return None;
+        }
+        (0..rule.n_nodes()).find_map(|v| {
+            state
+                .match_rule(rule, v, r, None, engine.rules)
+                .map(|(parts, class)| Found {
+                    motif: rule.motif,
+                    parts,
+                    class,
+                })
+        })
+    })
+}
+
+/// Tries the loaded rules with bodies on the changed pair `x`, `y` mapped onto each pattern contact.
+fn pair_rules(
+    state: &mut State,
+    engine: &Engine,
+    x: u32,
+    y: u32,
+    rng: &mut ChaCha8Rng,
+) -> Option<Found> {
+    let n = engine.extra.len();
+    if n == 0 {
+        return None;
+    }
+    let (cx, cy) = (state.class(x), state.class(y));
+    let m = state.multiplicity(x, y);
+    let start = rng.random_range(0..n);
+    (0..n).find_map(|k| {
+        let rule = &engine.extra[(start + k) % n];
+        if rule.rods_only() {
+            return None;
+        }
+        rule.contact_pairs(cx, cy, m).find_map(|(a, b)| {
+            state
+                .match_rule(rule, a, x, Some((b, y)), engine.rules)
+                .map(|(parts, class)| Found {
+                    motif: rule.motif,
+                    parts,
+                    class,
+                })
+        })
+    })
+}
+
 /// Tries, in random order, every motif with bodies that contains both `x` and `y`.
 fn examine_pair(
     state: &mut State,
@@ -306,13 +457,13 @@ fn examine_pair(
     if state.class(other).is_some() {
         (0..3).find_map(|k| match (start + k) % 3 {
             0 => state.d2a(body, other, rules),
-            1 => state.d3a(body, other),
-            _ => state.d3b_bodies(body, other, buf),
+            1 => state.d3a(body, other, rules),
+            _ => state.d3b_bodies(body, other, rules, buf),
         })
     } else {
         (0..3).find_map(|k| match (start + k) % 3 {
             0 => state.d2b(body, other, buf),
-            1 => state.d3b_rod(body, other, buf),
+            1 => state.d3b_rod(body, other, rules, buf),
             _ => state.d4(body, other, rules, buf),
         })
     }
@@ -334,8 +485,5 @@ pub fn compress_runs(
     seed: u64,
     runs: usize,
 ) -> Vec<Compression> {
-    (0..runs as u64)
-        .into_par_iter()
-        .map(|k| compress(graph, rules, run_seed(seed, k)))
-        .collect()
+    Engine::base(rules).runs(graph, seed, runs)
 }

@@ -7,6 +7,8 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use crate::motifs::{NodeKind, Pattern, PatternContact};
+
 use super::state::{Link, NO_PLANE, State};
 use super::{BodyClass, Motif, Rules};
 
@@ -15,6 +17,95 @@ pub(super) struct Found {
     pub motif: Motif,
     pub parts: Vec<u32>,
     pub class: BodyClass,
+}
+
+/// Exact verdicts of induced patterns, by canonical form, shared by all runs.
+static VERDICTS: std::sync::LazyLock<std::sync::Mutex<FxHashMap<String, bool>>> =
+    std::sync::LazyLock::new(Default::default);
+
+/// Largest induced pattern verified by exact rank; larger ones fall back to
+/// the verified base rules.
+const MAX_VERIFIED_CONTACTS: usize = 24;
+
+impl State<'_> {
+    /// Under `sound`, whether a candidate of 3D3A, 3D3B or 3D4 matches a
+    /// verified base rule: the published conditions admit variants with
+    /// planar bodies that exact rank refutes. (The matcher then also checks
+    /// the induced pattern, see [`State::induced_rigid`].)
+    fn verified(&mut self, motif: Motif, parts: &[u32], rules: Rules) -> bool {
+        rules == Rules::Paper
+            || super::base::sound_rules()
+                .iter()
+                .filter(|r| r.motif == motif)
+                .any(|r| self.matches_nodes(r, parts, rules))
+    }
+
+    /// Under `sound`, whether the pattern `parts` induce (every contact
+    /// among them, on the host's rods, with the host's classes) is rigid by
+    /// exact rank: extra contacts among the parts of a rigid rule can open a
+    /// realization component on which they flex. Patterns too large to check
+    /// pass on the rule alone.
+    pub fn induced_rigid(&mut self, parts: &[u32]) -> bool {
+        let Some(p) = self.induced(parts) else {
+            return true;
+        };
+        let key = crate::motifs::canonical_form(&p);
+        if let Some(&known) = VERDICTS.lock().expect("verdict cache").get(&key) {
+            return known;
+        }
+        let rigid = crate::rigidity::check_exact(&p, crate::motifs::RULE_SEED)
+            .is_ok_and(|v| v.rigid == Some(true));
+        VERDICTS.lock().expect("verdict cache").insert(key, rigid);
+        rigid
+    }
+
+    /// The pattern `parts` induce, or `None` when it is too large to verify
+    /// or a spatial part carries planar parts a pattern cannot express.
+    fn induced(&mut self, parts: &[u32]) -> Option<Pattern> {
+        let mut kinds = Vec::with_capacity(parts.len());
+        for &x in parts {
+            kinds.push(match self.class(x) {
+                None => NodeKind::Rod,
+                Some(BodyClass::Planar) => NodeKind::Planar,
+                Some(BodyClass::Spatial) => {
+                    if self.nodes[x as usize]
+                        .members
+                        .iter()
+                        .any(|&r| self.plane(r) != NO_PLANE)
+                    {
+                        return None;
+                    }
+                    NodeKind::Spatial
+                }
+            });
+        }
+        let mut labels: Vec<Vec<u32>> = vec![Vec::new(); parts.len()];
+        let mut contacts = Vec::new();
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                for l in self.links_between(parts[i], parts[j]) {
+                    let mut label = |k: usize, rod: u32| -> u8 {
+                        match labels[k].iter().position(|&r| r == rod) {
+                            Some(p) => p as u8,
+                            None => {
+                                labels[k].push(rod);
+                                (labels[k].len() - 1) as u8
+                            }
+                        }
+                    };
+                    let rods = [label(i, l.own), label(j, l.other)];
+                    contacts.push(PatternContact {
+                        nodes: [i as u8, j as u8],
+                        rods,
+                    });
+                    if contacts.len() > MAX_VERIFIED_CONTACTS {
+                        return None;
+                    }
+                }
+            }
+        }
+        Some(Pattern { kinds, contacts })
+    }
 }
 
 /// Whether all `links` share one rod on the same side.
@@ -196,7 +287,7 @@ impl State<'_> {
 
     /// 3D3A through bodies `x` and `y`: a third body `z` touching both, in any
     /// assignment of the roles R1, R2, R3 (R3 being the one with two contacts to each).
-    pub fn d3a(&self, x: u32, y: u32) -> Option<Found> {
+    pub fn d3a(&mut self, x: u32, y: u32, rules: Rules) -> Option<Found> {
         let (small, large) = if self.nodes[x as usize].adj.len() <= self.nodes[y as usize].adj.len()
         {
             (x, y)
@@ -218,7 +309,8 @@ impl State<'_> {
         z_candidates.into_iter().find_map(|z| {
             let rigid = [(x, y, z), (x, z, y), (y, z, x)]
                 .into_iter()
-                .any(|(r1, r2, r3)| self.d3a_roles(r1, r2, r3, &mut scratch));
+                .any(|(r1, r2, r3)| self.d3a_roles(r1, r2, r3, &mut scratch))
+                && self.verified(Motif::D3A, &[x, y, z], rules);
             rigid.then(|| Found {
                 motif: Motif::D3A,
                 parts: vec![x, y, z],
@@ -253,7 +345,13 @@ impl State<'_> {
     }
 
     /// 3D3B through bodies `x` and `y` (two or more contacts): a rod touching both.
-    pub fn d3b_bodies(&mut self, x: u32, y: u32, buf: &mut Vec<u32>) -> Option<Found> {
+    pub fn d3b_bodies(
+        &mut self,
+        x: u32,
+        y: u32,
+        rules: Rules,
+        buf: &mut Vec<u32>,
+    ) -> Option<Found> {
         if self.body_links(x, y).len() < 2 {
             return None;
         }
@@ -270,12 +368,12 @@ impl State<'_> {
             .filter(|&r| self.class(r).is_none() && self.nodes[large as usize].adj.contains_key(&r))
             .collect();
         rods.sort_unstable();
-        rods.into_iter().find_map(|r| self.d3b(x, y, r, buf))
+        rods.into_iter().find_map(|r| self.d3b(x, y, r, rules, buf))
     }
 
     /// 3D3B through body `x` and rod `r`: another body `y` with two or more
     /// contacts with `x` that `r` also touches.
-    pub fn d3b_rod(&mut self, x: u32, r: u32, buf: &mut Vec<u32>) -> Option<Found> {
+    pub fn d3b_rod(&mut self, x: u32, r: u32, rules: Rules, buf: &mut Vec<u32>) -> Option<Found> {
         let g = self.g;
         let mut bodies: Vec<u32> = Vec::new();
         for &(nb, _) in g.neighbors(r) {
@@ -286,13 +384,15 @@ impl State<'_> {
         }
         bodies.sort_unstable();
         bodies.dedup();
-        bodies.into_iter().find_map(|y| self.d3b(x, y, r, buf))
+        bodies
+            .into_iter()
+            .find_map(|y| self.d3b(x, y, r, rules, buf))
     }
 
     /// The 3D3B conditions for bodies `x`, `y` and rod `r`: contacts p1, p2 of
     /// x with y, p3 of r with x, p4 of r with y, such that neither p3 nor p4 is
     /// on one rod with both p1 and p2.
-    fn d3b(&mut self, x: u32, y: u32, r: u32, buf: &mut Vec<u32>) -> Option<Found> {
+    fn d3b(&mut self, x: u32, y: u32, r: u32, rules: Rules, buf: &mut Vec<u32>) -> Option<Found> {
         self.rod_contacts_with(r, x, buf);
         let on_x = std::mem::take(buf);
         self.rod_contacts_with(r, y, buf);
@@ -310,7 +410,7 @@ impl State<'_> {
             })
         });
         *buf = on_x;
-        ok.then(|| Found {
+        (ok && self.verified(Motif::D3B, &[x, y, r], rules)).then(|| Found {
             motif: Motif::D3B,
             parts: vec![x, y, r],
             class: BodyClass::Spatial,
@@ -365,12 +465,13 @@ impl State<'_> {
             }
         }
         let path = paths.into_iter().find(|p| {
+            let parts = [x, p[0], p[1], p[2]];
             let rods: Vec<u32> = p.iter().flat_map(|v| touching[v].iter().copied()).collect();
             let plane = self.plane(rods[0]);
             let in_one_plane = plane != NO_PLANE && rods.iter().all(|&q| self.plane(q) == plane);
             let hinge =
                 rules == Rules::Sound && in_one_plane && g.edge_between(p[0], p[2]).is_some();
-            rods.iter().any(|&q| q != rods[0]) && !hinge
+            rods.iter().any(|&q| q != rods[0]) && !hinge && self.verified(Motif::D4, &parts, rules)
         })?;
         let mut parts = vec![x];
         parts.extend(path);

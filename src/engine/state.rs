@@ -89,6 +89,18 @@ impl<'g> State<'g> {
         self.plane[r as usize]
     }
 
+    /// Number of contacts between nodes `x` and `y` (at least one is a body,
+    /// or both rods).
+    pub fn multiplicity(&self, x: u32, y: u32) -> usize {
+        if self.class(x).is_some() {
+            self.body_links(x, y).len()
+        } else if self.class(y).is_some() {
+            self.body_links(y, x).len()
+        } else {
+            usize::from(self.g.edge_between(x, y).is_some())
+        }
+    }
+
     /// Contacts of body `b` with node `y`.
     pub fn body_links(&self, b: u32, y: u32) -> &[Link] {
         self.nodes[b as usize]

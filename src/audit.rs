@@ -1,0 +1,333 @@
+//! Which rigid motifs the engine misses (DESIGN §7), and the rule files that
+//! carry motifs to the engine: the base motifs written as rules, and the
+//! missed motifs the audit finds.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Instant;
+
+use crate::engine::{CompiledRule, Engine, Rules};
+use crate::enumerate::{
+    GraphFilter, TypedFilter, connected_graphs, count_connected, typed_patterns,
+};
+use crate::motifs::{Pattern, Provenance, Rule};
+use crate::rigidity::check_exact;
+use crate::{Error, Result};
+
+/// Whether the engine compresses `pattern` to one node in any of `runs` orders.
+pub fn compresses(engine: &Engine, pattern: &Pattern, runs: u64) -> Result<bool> {
+    let (graph, bodies, _) = pattern.to_host()?;
+    for seed in 0..runs {
+        if engine.compress(&graph, &bodies, seed)?.components == 1 {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// What to audit.
+#[derive(Clone, Debug)]
+pub struct AuditOptions {
+    /// Rods-only motifs with 2 to this many rods.
+    pub max_rods: usize,
+    /// Mixed motifs (rods, planar and spatial bodies) with 2 to this many components.
+    pub max_components: usize,
+    /// The engine's rule set.
+    pub rules: Rules,
+    /// Motif orders tried per pattern (compressed if any of them compresses it).
+    pub runs: u64,
+    /// Also audit every way a body's contacts can share its rods (mixed only).
+    pub rod_sharing: bool,
+    /// Show progress bars.
+    pub progress: bool,
+}
+
+impl Default for AuditOptions {
+    fn default() -> Self {
+        AuditOptions {
+            max_rods: 8,
+            max_components: 4,
+            rules: Rules::Sound,
+            runs: 8,
+            rod_sharing: false,
+            progress: true,
+        }
+    }
+}
+
+/// One row of the audit table: the funnel from all patterns of a size to
+/// the irreducible missed motifs.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AuditRow {
+    /// `rods` or `mixed`.
+    pub kind: String,
+    /// Rods, or components.
+    pub size: usize,
+    /// Connected patterns.
+    pub connected: u64,
+    /// Of those, every node with two or more contacts (the 2-core is everything).
+    pub two_core: u64,
+    /// Of those, passing Maxwell's count.
+    pub maxwell: u64,
+    /// Rigid on every realization component (exact rank).
+    pub rigid: u64,
+    /// Rigid on some components only.
+    pub component_dependent: u64,
+    /// Flexible on every component.
+    pub flexible: u64,
+    /// No exact verdict (a realization family could not be built).
+    pub undecided: u64,
+    /// Compressed to one node by the engine in some motif order.
+    pub compressed: u64,
+    /// Rigid but not compressed.
+    pub missed: u64,
+    /// Missed, and still missed with the smaller missed motifs added as rules.
+    pub irreducible: u64,
+    /// Compressed but not rigid on every component: false rigidity.
+    pub falsely_compressed: u64,
+    pub seconds: f64,
+}
+
+/// The audit's tables and the rules it found.
+#[derive(Clone, Debug, Default)]
+pub struct Audit {
+    pub rods: Vec<AuditRow>,
+    pub mixed: Vec<AuditRow>,
+    /// Irreducible missed rods-only motifs, as verified rules, by size.
+    pub rod_rules: Vec<(usize, Vec<Rule>)>,
+    /// Irreducible missed mixed motifs, as verified rules, by size.
+    pub mixed_rules: Vec<(usize, Vec<Rule>)>,
+    /// Falsely compressed patterns (compressed, not rigid), with their verdict class.
+    pub false_rigidity: Vec<(Pattern, String)>,
+}
+
+/// The verdict and the engine's outcome for one candidate.
+struct Outcome {
+    class: String,
+    compressed: bool,
+}
+
+fn bar(len: u64, label: String, show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new(len);
+    pb.set_style(
+        ProgressStyle::with_template("{msg:>22} [{bar:30}] {pos}/{len} ({eta} left)")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_message(label);
+    pb
+}
+
+/// Checks candidates in parallel: exact verdict and whether the engine compresses each.
+fn outcomes(
+    candidates: &[Pattern],
+    engine: &Engine,
+    runs: u64,
+    pb: &ProgressBar,
+) -> Result<Vec<Outcome>> {
+    candidates
+        .par_iter()
+        .map(|p| {
+            let v = check_exact(p, crate::motifs::RULE_SEED)?;
+            let compressed = compresses(engine, p, runs)?;
+            pb.inc(1);
+            Ok(Outcome {
+                class: v.class,
+                compressed,
+            })
+        })
+        .collect()
+}
+
+/// Fills a row from the outcomes and returns the missed rigid patterns.
+fn tally(
+    row: &mut AuditRow,
+    candidates: &[Pattern],
+    out: &[Outcome],
+    false_rigidity: &mut Vec<(Pattern, String)>,
+) -> Vec<Pattern> {
+    let mut missed = Vec::new();
+    for (p, o) in candidates.iter().zip(out) {
+        match o.class.as_str() {
+            "rigid" => row.rigid += 1,
+            "component-dependent" => row.component_dependent += 1,
+            "flexible" => row.flexible += 1,
+            _ => row.undecided += 1,
+        }
+        if o.compressed {
+            row.compressed += 1;
+        }
+        if o.class == "rigid" && !o.compressed {
+            missed.push(p.clone());
+        }
+        if o.compressed && o.class != "rigid" {
+            row.falsely_compressed += 1;
+            false_rigidity.push((p.clone(), o.class.clone()));
+        }
+    }
+    row.missed = missed.len() as u64;
+    missed
+}
+
+/// Of the missed patterns, those the engine still misses with `known` rules
+/// added; returned as verified rules.
+fn irreducible(
+    missed: &[Pattern],
+    opts: &AuditOptions,
+    known: &[CompiledRule],
+    id: &str,
+    enumeration: &str,
+) -> Result<Vec<Rule>> {
+    let engine = Engine::with_rules(opts.rules, known);
+    let still: Vec<bool> = missed
+        .par_iter()
+        .map(|p| compresses(&engine, p, opts.runs).map(|c| !c))
+        .collect::<Result<_>>()?;
+    missed
+        .iter()
+        .zip(still)
+        .filter(|(_, s)| *s)
+        .enumerate()
+        .map(|(k, (p, _))| {
+            let provenance = Provenance {
+                source: "audit".into(),
+                enumeration: Some(enumeration.to_string()),
+                audited_against: Some(
+                    format!(
+                        "{:?} base motifs and the smaller irreducible motifs",
+                        opts.rules
+                    )
+                    .to_lowercase(),
+                ),
+                command: Some(
+                    format!(
+                        "rgc audit --max-rods {} --max-components {} --rules {:?}",
+                        opts.max_rods, opts.max_components, opts.rules
+                    )
+                    .to_lowercase(),
+                ),
+                version: Some(env!("CARGO_PKG_VERSION").into()),
+            };
+            Rule::new(format!("{id}-{k}"), p.clone(), provenance)
+        })
+        .collect()
+}
+
+/// Audits rods-only motifs of 2 to `max_rods` rods and mixed motifs of 2 to
+/// `max_components` components against the engine.
+pub fn run(opts: &AuditOptions) -> Result<Audit> {
+    let mut audit = Audit::default();
+    let base = Engine::base(opts.rules);
+    let mut known: Vec<CompiledRule> = Vec::new();
+    for n in 2..=opts.max_rods {
+        let t = Instant::now();
+        let mut row = AuditRow {
+            kind: "rods".into(),
+            size: n,
+            connected: count_connected(n, &GraphFilter::all())?,
+            two_core: count_connected(n, &GraphFilter::all().with_min_degree(2))?,
+            ..AuditRow::default()
+        };
+        let graphs = connected_graphs(n, &GraphFilter::maxwell_rods(n).with_min_degree(2))?;
+        row.maxwell = graphs.len() as u64;
+        let candidates: Vec<Pattern> = graphs
+            .iter()
+            .map(Pattern::from_graph)
+            .collect::<Result<_>>()?;
+        let pb = bar(
+            candidates.len() as u64,
+            format!("rods n={n}"),
+            opts.progress,
+        );
+        let out = outcomes(&candidates, &base, opts.runs, &pb)?;
+        pb.finish_and_clear();
+        let missed = tally(&mut row, &candidates, &out, &mut audit.false_rigidity);
+        let enumeration = format!("connected rods-only graphs, n={n}, min degree 2, Maxwell");
+        let rules = irreducible(&missed, opts, &known, &format!("rods-{n}"), &enumeration)?;
+        row.irreducible = rules.len() as u64;
+        known.extend(rules.iter().map(CompiledRule::new));
+        audit.rod_rules.push((n, rules));
+        row.seconds = t.elapsed().as_secs_f64();
+        audit.rods.push(row);
+    }
+    let mut known_mixed: Vec<CompiledRule> = Vec::new();
+    for k in 2..=opts.max_components {
+        let t = Instant::now();
+        let filter = |min_contacts: usize, maxwell: bool| TypedFilter {
+            min_contacts_per_node: min_contacts,
+            maxwell,
+            rod_sharing: opts.rod_sharing,
+            ..TypedFilter::new(k)
+        };
+        let mut row = AuditRow {
+            kind: "mixed".into(),
+            size: k,
+            connected: typed_patterns(&filter(0, false))?.len() as u64,
+            two_core: typed_patterns(&filter(2, false))?.len() as u64,
+            ..AuditRow::default()
+        };
+        let candidates = typed_patterns(&filter(2, true))?;
+        row.maxwell = candidates.len() as u64;
+        let pb = bar(
+            candidates.len() as u64,
+            format!("mixed k={k}"),
+            opts.progress,
+        );
+        let out = outcomes(&candidates, &base, opts.runs, &pb)?;
+        pb.finish_and_clear();
+        let missed = tally(&mut row, &candidates, &out, &mut audit.false_rigidity);
+        let enumeration = format!(
+            "connected typed patterns, {k} components, rod-body <= 2 and body-body <= 3 contacts, \
+             >= 2 contacts per node, Maxwell{}",
+            if opts.rod_sharing {
+                ", every rod sharing"
+            } else {
+                ", contacts on distinct rods"
+            }
+        );
+        let rules = irreducible(
+            &missed,
+            opts,
+            &known_mixed,
+            &format!("mixed-{k}"),
+            &enumeration,
+        )?;
+        row.irreducible = rules.len() as u64;
+        known_mixed.extend(rules.iter().map(CompiledRule::new));
+        audit.mixed_rules.push((k, rules));
+        row.seconds = t.elapsed().as_secs_f64();
+        audit.mixed.push(row);
+    }
+    Ok(audit)
+}
+
+/// Writes a table as CSV.
+pub fn write_csv(path: &std::path::Path, rows: &[AuditRow]) -> Result<()> {
+    let mut text = String::from(
+        "kind,size,connected,two_core,maxwell,rigid,component_dependent,flexible,undecided,compressed,missed,irreducible,falsely_compressed,seconds\n",
+    );
+    for r in rows {
+        text += &format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3}\n",
+            r.kind,
+            r.size,
+            r.connected,
+            r.two_core,
+            r.maxwell,
+            r.rigid,
+            r.component_dependent,
+            r.flexible,
+            r.undecided,
+            r.compressed,
+            r.missed,
+            r.irreducible,
+            r.falsely_compressed,
+            r.seconds
+        );
+    }
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}

@@ -1,0 +1,123 @@
+//! Motif rules: the base motifs written as rules, loaded and matched by the
+//! generic matcher, compress like the built-in engine.
+
+use rgc::contacts::{ContactGraph, detect};
+use rgc::engine::base::base_rules;
+use rgc::engine::{CompiledRule, Compression, Engine, Rules};
+use rgc::rods::{RodParams, RodSystem};
+
+fn random_graph(n: usize, p: f64, seed: u64) -> ContactGraph {
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut e = Vec::new();
+    for i in 0..n as u32 {
+        for j in i + 1..n as u32 {
+            if rng.random::<f64>() < p {
+                e.push([i, j]);
+            }
+        }
+    }
+    ContactGraph::new(n, e).unwrap()
+}
+
+fn generic() -> Vec<CompiledRule> {
+    base_rules()
+        .unwrap()
+        .0
+        .iter()
+        .map(CompiledRule::new)
+        .collect()
+}
+
+/// Each engine's result is a fixpoint of the other: neither finds a motif the other left.
+fn agree(g: &ContactGraph, rules: &[CompiledRule], seed: u64) -> (Compression, Compression) {
+    let builtin = Engine::base(Rules::Sound);
+    let by_rules = Engine {
+        rules: Rules::Sound,
+        base: false,
+        extra: rules,
+    };
+    let a = builtin.compress(g, &[], seed).unwrap();
+    let b = by_rules.compress(g, &[], seed).unwrap();
+    let a_then_rules = by_rules.compress(g, &a.bodies, seed).unwrap();
+    let b_then_builtin = builtin.compress(g, &b.bodies, seed).unwrap();
+    assert_eq!(
+        a_then_rules.components, a.components,
+        "the rules compress what the built-in engine left"
+    );
+    assert_eq!(
+        b_then_builtin.components, b.components,
+        "the built-in engine compresses what the rules left"
+    );
+    (a, b)
+}
+
+#[test]
+fn base_motifs_as_rules_compress_like_the_builtin_engine() {
+    let rules = generic();
+    let (mut sum_a, mut sum_b) = (0, 0);
+    for s in 0..12 {
+        let g = random_graph(220, 0.010 + 0.0006 * s as f64, 900 + s);
+        let (a, b) = agree(&g, &rules, s);
+        sum_a += a.components;
+        sum_b += b.components;
+    }
+    for (k, density) in [35.0, 45.0].into_iter().enumerate() {
+        let system = RodSystem::generate(RodParams::new(23.0, 5.0, density).unwrap(), k as u64);
+        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+        let (a, b) = agree(&g, &rules, 3 + k as u64);
+        sum_a += a.components;
+        sum_b += b.components;
+    }
+    println!("nodes left: built-in {sum_a}, rules {sum_b}");
+}
+
+#[test]
+#[ignore]
+fn large_system_agreement() {
+    let rules = generic();
+    let system = RodSystem::generate(RodParams::new(23.0, 10.0, 40.0).unwrap(), 1);
+    let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+    let t = std::time::Instant::now();
+    let (a, b) = agree(&g, &rules, 1);
+    println!(
+        "largest: built-in {} rules {}; nodes {} {}; {:.1}s",
+        a.largest_rods(),
+        b.largest_rods(),
+        a.components,
+        b.components,
+        t.elapsed().as_secs_f64()
+    );
+}
+
+#[test]
+#[ignore]
+fn show_false_rigidity() {
+    let opts = rgc::audit::AuditOptions {
+        max_rods: 7,
+        max_components: 3,
+        progress: false,
+        ..Default::default()
+    };
+    let a = rgc::audit::run(&opts).unwrap();
+    for (p, class) in &a.false_rigidity {
+        let v = rgc::rigidity::check_exact(p, 5).unwrap();
+        println!(
+            "{class}: kinds {:?} contacts {:?}",
+            p.kinds,
+            p.contacts
+                .iter()
+                .map(|c| (c.nodes, c.rods))
+                .collect::<Vec<_>>()
+        );
+        for c in &v.components {
+            println!(
+                "     {} dim {} amb {} comp {} dof {}",
+                c.built, c.dimension, c.ambient, c.component, c.dof
+            );
+        }
+        let (g, b, _) = p.to_host().unwrap();
+        let c = rgc::engine::compress_from(&g, &b, Rules::Sound, 0).unwrap();
+        println!("     engine motifs {:?}", c.motifs);
+    }
+}
