@@ -10,9 +10,12 @@ use serde::Serialize;
 
 use rgc::audit::{self, AuditOptions};
 use rgc::contacts::ContactGraph;
-use rgc::engine::{self, Body, Compression, Rules};
+use rgc::engine::{self, Body, CompiledRule, Compression, Engine, Rules};
+use rgc::enumerate::GraphFilter;
+use rgc::motifs::{Pattern, RuleFile};
+use rgc::rigidity::{Method, Verdict};
 use rgc::rods::RodParams;
-use rgc::sample::{SampleOptions, sample};
+use rgc::sample::{SampleOptions, sample_with};
 use rgc::spanning::Criterion;
 use rgc::{Error, Result, bench, graphio, motifs};
 
@@ -37,6 +40,76 @@ enum Command {
     Audit(AuditArgs),
     /// Time contact detection and compression on the reference systems (single thread).
     Bench(BenchArgs),
+    /// Decide whether a contact pattern is rigid (exact rank on every realization component, or floats).
+    Check(CheckArgs),
+    /// Non-isomorphic connected graphs as graph6 lines on stdout.
+    Enumerate(EnumerateArgs),
+    /// Write the base motifs as a verified rule file.
+    Rules(RulesArgs),
+    /// Push the float ranks to failure against the exact verdict; write the report.
+    Stability(StabilityArgs),
+}
+
+#[derive(Args)]
+#[group(id = "pattern", required = true, multiple = false)]
+struct PatternInput {
+    /// A rods-only contact graph as graph6.
+    #[arg(long, group = "pattern")]
+    graph6: Option<String>,
+    /// A pattern (JSON `Pattern`) or a rule file (every rule is checked).
+    #[arg(long, group = "pattern")]
+    motif: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct CheckArgs {
+    #[command(flatten)]
+    input: PatternInput,
+    /// `exact` (rank over F_p), `svd` or `qr` (floats, undecided when the gap is small).
+    #[arg(long, value_enum, default_value_t = Method::Exact)]
+    method: Method,
+    /// Seed of the realizations.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Print JSON instead of a summary.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct EnumerateArgs {
+    /// Number of nodes.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=12))]
+    nodes: u64,
+    /// Smallest degree.
+    #[arg(long, default_value_t = 0)]
+    min_degree: usize,
+    /// Maxwell's count for rods: at least ceil((5n - 6) / 3) edges.
+    #[arg(long)]
+    maxwell: bool,
+    /// Fewest edges.
+    #[arg(long)]
+    min_edges: Option<usize>,
+    /// Most edges.
+    #[arg(long)]
+    max_edges: Option<usize>,
+    /// Print only the count.
+    #[arg(long)]
+    count: bool,
+}
+
+#[derive(Args)]
+struct RulesArgs {
+    /// Where the base motif rules go.
+    #[arg(long, default_value = "motifs/base.json")]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct StabilityArgs {
+    /// Where `rank-stability.{csv,svg,png}` go.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
 }
 
 /// How to compress: shared by the subcommands that run the engine.
@@ -75,6 +148,9 @@ struct SampleArgs {
     /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
     #[arg(long)]
     save_bodies: Option<PathBuf>,
+    /// Motif rule files (a file or a directory of `*.json`), used with the base motifs.
+    #[arg(long)]
+    motifs: Vec<PathBuf>,
     /// Print one JSON object instead of a summary.
     #[arg(long)]
     json: bool,
@@ -95,6 +171,9 @@ struct GraphInput {
 struct CompressArgs {
     #[command(flatten)]
     input: GraphInput,
+    /// Motif rule files (a file or a directory of `*.json`), used with the base motifs.
+    #[arg(long)]
+    motifs: Vec<PathBuf>,
     #[command(flatten)]
     engine: EngineArgs,
     /// Print one JSON object instead of a summary.
@@ -177,6 +256,10 @@ fn run(cli: Cli, out: &mut String) -> Result<()> {
         Command::Compress(a) => run_compress(a, out),
         Command::Audit(a) => run_audit(a, out),
         Command::Bench(a) => run_bench(a, out),
+        Command::Check(a) => run_check(a, out),
+        Command::Enumerate(a) => run_enumerate(a),
+        Command::Rules(a) => run_rules(a, out),
+        Command::Stability(a) => run_stability(a, out),
     }
 }
 
@@ -194,7 +277,8 @@ fn run_sample(a: SampleArgs, out: &mut String) -> Result<()> {
         rules: a.engine.rules,
         criterion: a.criterion,
     };
-    let s = sample(&opts);
+    let rules = load(&a.motifs)?;
+    let s = sample_with(&opts, &rules);
     if let Some(path) = &a.save_contacts {
         let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
         let mut w = std::io::BufWriter::new(file);
@@ -268,9 +352,9 @@ fn run_compress(a: CompressArgs, out: &mut String) -> Result<()> {
         (None, Some(path)) => graphio::read_edge_list(path)?,
         (None, None) => unreachable!("clap requires one input"),
     };
-    let runs = engine::compress_runs(
+    let rules = load(&a.motifs)?;
+    let runs = Engine::with_rules(a.engine.rules, &rules).runs(
         &graph,
-        a.engine.rules,
         a.engine.seed,
         a.engine.runs as usize,
     );
@@ -449,5 +533,153 @@ fn run_bench(a: BenchArgs, out: &mut String) -> Result<()> {
         let text = serde_json::to_string_pretty(&rows).expect("bench rows serialize");
         std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))?;
     }
+    Ok(())
+}
+
+/// Loads and verifies rule files, ready for the engine.
+fn load(paths: &[PathBuf]) -> Result<Vec<CompiledRule>> {
+    Ok(motifs::load_rules(paths)?
+        .iter()
+        .map(CompiledRule::new)
+        .collect())
+}
+
+fn verdict(p: &Pattern, method: Method, seed: u64) -> Result<Verdict> {
+    match method {
+        Method::Exact => rgc::rigidity::check_exact(p, seed),
+        _ => rgc::rigidity::check_float(p, method, seed),
+    }
+}
+
+fn run_check(a: CheckArgs, out: &mut String) -> Result<()> {
+    let patterns: Vec<(String, Pattern)> = match (&a.input.graph6, &a.input.motif) {
+        (Some(s), _) => vec![(s.clone(), Pattern::from_graph(&graphio::parse_graph6(s)?)?)],
+        (None, Some(path)) => {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+            let bad = |e: serde_json::Error| {
+                Error::Parameter(format!(
+                    "{}: neither a pattern nor a rule file: {e}",
+                    path.display()
+                ))
+            };
+            match serde_json::from_str::<RuleFile>(&text) {
+                Ok(file) => file.rules.into_iter().map(|r| (r.id, r.pattern)).collect(),
+                Err(_) => vec![(
+                    path.display().to_string(),
+                    serde_json::from_str::<Pattern>(&text).map_err(bad)?,
+                )],
+            }
+        }
+        (None, None) => unreachable!("clap requires one input"),
+    };
+    let mut verdicts = Vec::new();
+    for (name, p) in &patterns {
+        let v = verdict(p, a.method, a.seed)?;
+        if !a.json {
+            say!(
+                out,
+                "{name}: {} (DOF {}, rank {}, {:?})",
+                v.class,
+                v.dof.map_or("?".into(), |d| d.to_string()),
+                v.rank,
+                v.method
+            );
+            for c in &v.components {
+                say!(
+                    out,
+                    "  {:<34} dimension {:>3}{} DOF {}",
+                    c.built,
+                    c.dimension,
+                    if c.component {
+                        "            "
+                    } else {
+                        " (special)  "
+                    },
+                    c.dof
+                );
+            }
+            if let Some(note) = &v.note {
+                say!(out, "  note: {note}");
+            }
+        }
+        verdicts.push(v);
+    }
+    if a.json {
+        return if verdicts.len() == 1 {
+            print_json(&verdicts[0], out)
+        } else {
+            print_json(&verdicts, out)
+        };
+    }
+    Ok(())
+}
+
+fn run_enumerate(a: EnumerateArgs) -> Result<()> {
+    let n = a.nodes as usize;
+    let mut filter = if a.maxwell {
+        GraphFilter::maxwell_rods(n)
+    } else {
+        GraphFilter::all()
+    };
+    filter = filter.with_min_degree(a.min_degree);
+    if let Some(m) = a.min_edges {
+        filter.min_edges = filter.min_edges.max(m);
+    }
+    if let Some(m) = a.max_edges {
+        filter.max_edges = m;
+    }
+    if a.count {
+        println!("{}", rgc::enumerate::count_connected(n, &filter)?);
+        return Ok(());
+    }
+    let stdout = std::io::stdout();
+    let mut w = std::io::BufWriter::new(stdout.lock());
+    match rgc::enumerate::write_connected_graph6(n, &filter, &mut w).and_then(|_| w.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Error::io("stdout", e)),
+        _ => Ok(()),
+    }
+}
+
+fn run_rules(a: RulesArgs, out: &mut String) -> Result<()> {
+    let (rules, refuted) = engine::base::base_rules()?;
+    if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    motifs::write_rules(&a.out, &rules)?;
+    say!(
+        out,
+        "{} base motif rules written to {}; {} variants the published conditions accept are refuted by exact rank:",
+        rules.len(),
+        a.out.display(),
+        refuted.len()
+    );
+    for r in &refuted {
+        say!(
+            out,
+            "  {} {} (DOF {:?}): {}",
+            r.motif,
+            r.class,
+            r.dof,
+            serde_json::to_string(&r.pattern).expect("patterns serialize")
+        );
+    }
+    Ok(())
+}
+
+fn run_stability(a: StabilityArgs, out: &mut String) -> Result<()> {
+    let rows = rgc::stability::run(&rgc::stability::StudyConfig::full())?;
+    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
+    rgc::stability::write_csv(&rows, &a.out.join("rank-stability.csv"))?;
+    rgc::plot::stability_chart(
+        &rows,
+        &a.out.join("rank-stability.svg"),
+        &a.out.join("rank-stability.png"),
+    )?;
+    say!(
+        out,
+        "{} rows written to {}/rank-stability.{{csv,svg,png}}",
+        rows.len(),
+        a.out.display()
+    );
     Ok(())
 }

@@ -117,6 +117,11 @@ impl Sample {
 
 /// Generates, detects, compresses and measures one rod system.
 pub fn sample(opts: &SampleOptions) -> Sample {
+    sample_with(opts, &[])
+}
+
+/// [`sample`] with loaded motif rules in addition to the base motifs.
+pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Sample {
     let start = Instant::now();
     let system = RodSystem::generate(opts.params, opts.seed);
     let contacts = contacts::detect(&system);
@@ -131,7 +136,7 @@ pub fn sample(opts: &SampleOptions) -> Sample {
     let contact_spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
 
     let t = Instant::now();
-    let runs = engine::compress_runs(&graph, opts.rules, opts.seed, opts.runs);
+    let runs = engine::Engine::with_rules(opts.rules, extra).runs(&graph, opts.seed, opts.runs);
     let seconds_compression = t.elapsed().as_secs_f64();
     let mut checker = SpanChecker::new();
     let spans: Vec<bool> = runs
