@@ -283,8 +283,11 @@ impl<S: Scalar> Plane<S> {
 pub struct Sample<S> {
     pub points: Vec<V3<S>>,
     pub lines: Vec<Line<S>>,
-    /// The plane of each line that lies in a group (its first group).
-    pub line_plane: Vec<Option<Plane<S>>>,
+    /// The plane of each group of the grouping, by index.
+    pub group_planes: Vec<Option<Plane<S>>>,
+    /// The plane of each planar body: its group's (the one holding all its
+    /// rods; a rod it shares with a rod triangle is in two planes).
+    pub node_planes: Vec<Option<Plane<S>>>,
 }
 
 /// Relative tolerance below which two float points are one point, two
@@ -611,7 +614,7 @@ fn try_construct<S: Scalar, R: Rng>(
     objects.extend(heavy.iter().map(|&l| Object::Line(l)));
     // Lines placed so far, and the plane of each group.
     let mut line: Vec<Option<Line<S>>> = vec![None; n_lines];
-    let mut line_plane: Vec<Option<Plane<S>>> = vec![None; n_lines];
+    let mut group_planes: Vec<Option<Plane<S>>> = vec![None; grouping.groups.len()];
     let mut placed = vec![false; objects.len()];
     for _ in 0..objects.len() {
         // Most constrained object first; later attempts break ties differently.
@@ -667,9 +670,9 @@ fn try_construct<S: Scalar, R: Rng>(
                 if shared.iter().any(|l| !line_in_plane(l, &pl)) {
                     return Err(Infeasible::NoOrder);
                 }
+                group_planes[g] = Some(pl);
                 for &l in members {
                     if line[l].is_some() {
-                        line_plane[l].get_or_insert(pl);
                         continue;
                     }
                     let mut required: Vec<V3<S>> = Vec::new();
@@ -705,7 +708,6 @@ fn try_construct<S: Scalar, R: Rng>(
                         return Err(Infeasible::Degenerate);
                     }
                     line[l] = Some(new);
-                    line_plane[l] = Some(pl);
                 }
             }
         }
@@ -739,10 +741,26 @@ fn try_construct<S: Scalar, R: Rng>(
             })
         })
         .collect();
+    let node_planes = inc
+        .kinds
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            if *k != NodeKind::Planar {
+                return None;
+            }
+            grouping
+                .groups
+                .iter()
+                .position(|g| inc.node_lines[i].iter().all(|l| g.contains(l)))
+                .and_then(|gi| group_planes[gi])
+        })
+        .collect();
     let sample = Sample {
         points,
         lines,
-        line_plane,
+        group_planes,
+        node_planes,
     };
     check(inc, grouping, &sample).map_err(|_| Infeasible::Degenerate)?;
     Ok(sample)
@@ -823,10 +841,10 @@ fn check<S: Scalar>(inc: &Incidence, grouping: &Grouping, s: &Sample<S>) -> Resu
             }
         }
     }
-    for g in &grouping.groups {
+    for (g, plane) in grouping.groups.iter().zip(&s.group_planes) {
         let cs = inc.group_contacts(g);
-        if let Some(pl) = g.iter().find_map(|&l| s.line_plane[l])
-            && cs.iter().any(|&c| !on_plane(s.points[c], &pl))
+        if let Some(pl) = plane
+            && cs.iter().any(|&c| !on_plane(s.points[c], pl))
         {
             return Err("a group point is off its plane".into());
         }
@@ -1057,7 +1075,12 @@ pub fn normalized(mut s: Sample<f64>) -> Sample<f64> {
             d: unit(l.d),
         };
     }
-    for pl in s.line_plane.iter_mut().flatten() {
+    for pl in s
+        .group_planes
+        .iter_mut()
+        .chain(s.node_planes.iter_mut())
+        .flatten()
+    {
         *pl = Plane {
             q: place(pl.q),
             u: unit(pl.u),

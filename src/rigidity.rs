@@ -131,7 +131,7 @@ pub fn try_framework<S: Scalar>(
             }
             NodeKind::Planar | NodeKind::Spatial => {
                 let planar = *kind == NodeKind::Planar;
-                let plane: Option<Plane<S>> = lines.iter().find_map(|&l| sample.line_plane[l]);
+                let plane: Option<Plane<S>> = sample.node_planes[node];
                 let want = if planar { 3 } else { 4 };
                 let mut anchors: Vec<usize> = Vec::with_capacity(want);
                 for &c in &own {

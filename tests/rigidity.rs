@@ -284,3 +284,33 @@ fn verdicts_do_not_depend_on_the_seed() {
         assert_eq!((a.class, a.dof), (b.class, b.dof), "{}", e.name);
     }
 }
+
+/// A planar body sharing a rod with a rod triangle: that rod lies in two
+/// planes. The body's points must be checked against the body's own plane,
+/// not the triangle's (a bug that left this motif undecided).
+#[test]
+fn a_rod_in_two_planes_keeps_each_plane_apart() {
+    use rgc::motifs::{NodeKind, PatternContact};
+    let c = |a: u8, ra: u8, b: u8, rb: u8| PatternContact {
+        nodes: [a, b],
+        rods: [ra, rb],
+    };
+    let p = Pattern {
+        kinds: vec![NodeKind::Planar, NodeKind::Spatial, NodeKind::Spatial],
+        contacts: vec![
+            c(0, 0, 1, 0),
+            c(0, 0, 2, 0),
+            c(0, 1, 2, 1),
+            c(1, 0, 2, 0),
+            c(1, 1, 2, 1),
+        ],
+    };
+    let v = verdict(&p);
+    assert_eq!(v.class, "rigid", "{v:?}");
+    assert!(v.note.is_none());
+    assert!(
+        v.components
+            .iter()
+            .any(|c| c.built == "planes {0,1} {0,2,4}" && c.component)
+    );
+}
