@@ -6,13 +6,13 @@
 //! connected graph always has a vertex whose removal leaves it connected (a
 //! non-cut vertex), so every intermediate graph is connected: a graph `H` is
 //! accepted from its parent `G = H - v` only when the new vertex `v` lies in
-//! the orbit of `H`'s canonical deletion vertex, chosen among the non-cut
-//! vertices of maximum degree and then by the canonical labelling of
-//! [`canon`]. Parents extend by one neighbourhood per orbit of their
-//! automorphism group, so each isomorphism class comes out exactly once.
-//! Most candidates are settled by degrees alone; the canonical labelling runs
-//! only when another non-cut vertex ties with `v`, and then only as far as
-//! refinement leaves the tie open.
+//! the orbit of `H`'s canonical deletion vertex: a non-cut vertex of
+//! maximum degree, among those one with the largest sum of neighbour
+//! degrees, among those the last one in the canonical labelling (the
+//! `canon` submodule). Parents extend by one neighbourhood per orbit of
+//! their automorphism group, so each isomorphism class comes out exactly
+//! once. Most candidates are settled by these invariants alone; refinement
+//! runs only on ties, and the full search only when refinement leaves one.
 //!
 //! Filters prune whole subtrees and never change the set: with `rem`
 //! vertices still to come, a vertex of degree `d` ends with at most
@@ -34,11 +34,13 @@ use crate::contacts::ContactGraph;
 use crate::{Error, Result};
 use canon::{Canon, DenseRows, Rows16, Rows64, canonical_order};
 
-pub use typed::{TypedFilter, canonical_pattern, typed_patterns};
+pub use typed::{
+    MAX_MULTIPLICITY, MAX_TYPED_NODES, TypedFilter, canonical_pattern, typed_patterns,
+};
 
 /// Largest order the generator handles (adjacency rows are 16-bit masks).
-/// Orders above 11 are supported but take hours to years, as with any
-/// generator: there are 1.0e9 connected graphs on 11 vertices.
+/// The counts decide what is practical: 1.0e9 connected graphs on 11
+/// vertices take minutes, 1.6e11 on 12 about a day, larger orders longer.
 pub const MAX_ORDER: usize = 16;
 
 /// Filters applied inside generation; a graph is produced iff it passes all.
@@ -527,10 +529,9 @@ fn subsets() -> &'static Subsets {
         for k in 0..MAX_ORDER {
             let mut s: Vec<u16> = (0..1u32 << k).map(|x| x as u16).collect();
             s.sort_by_key(|&x| (x.count_ones(), x));
-            let mut st = vec![0usize; k + 2];
-            for size in 0..=k + 1 {
-                st[size] = s.partition_point(|&x| (x.count_ones() as usize) < size);
-            }
+            let st: Vec<usize> = (0..=k + 1)
+                .map(|size| s.partition_point(|&x| (x.count_ones() as usize) < size))
+                .collect();
             sets.push(s);
             starts.push(st);
         }
@@ -918,4 +919,3 @@ fn union_masks(uf: &mut [u16], a: u16, b: u16) {
         uf[ra as usize] = rb;
     }
 }
-

@@ -23,7 +23,9 @@ fn canonical_set(graphs: &[ContactGraph]) -> BTreeSet<String> {
 }
 
 fn reference(name: &str) -> Vec<ContactGraph> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("graphs")
+        .join(name);
     read_graph6_file(&path).unwrap()
 }
 
@@ -38,7 +40,10 @@ fn connected_counts_up_to_nine() {
 #[test]
 #[ignore = "11.7 million graphs: a few seconds in release"]
 fn connected_count_ten() {
-    assert_eq!(count_connected(10, &GraphFilter::all()).unwrap(), CONNECTED[9]);
+    assert_eq!(
+        count_connected(10, &GraphFilter::all()).unwrap(),
+        CONNECTED[9]
+    );
 }
 
 #[test]
@@ -50,7 +55,11 @@ fn every_graph_is_connected_distinct_and_filtered() {
             assert_eq!(g.n_nodes(), n);
             assert!(connected(g), "{}", to_graph6(g));
         }
-        assert_eq!(canonical_set(&graphs).len(), graphs.len(), "duplicates at n = {n}");
+        assert_eq!(
+            canonical_set(&graphs).len(),
+            graphs.len(),
+            "duplicates at n = {n}"
+        );
     }
 }
 
@@ -143,7 +152,11 @@ fn filters_in_generation_equal_filtering_afterwards() {
     for n in 1..=8 {
         let everything = connected_small_graphs(n, &GraphFilter::all()).unwrap();
         for f in filters(n.max(2)) {
-            let kept: Vec<SmallGraph> = everything.iter().filter(|g| f.accepts(g)).copied().collect();
+            let kept: Vec<SmallGraph> = everything
+                .iter()
+                .filter(|g| f.accepts(g))
+                .copied()
+                .collect();
             let generated = connected_small_graphs(n, &f).unwrap();
             assert_eq!(generated, kept, "n = {n}, {f:?}");
             assert_eq!(count_connected(n, &f).unwrap(), kept.len() as u64);
@@ -184,9 +197,21 @@ fn agrees_with_geng_reference_files() {
     let cases = [
         ("connected-n6.g6", 6, GraphFilter::all()),
         ("connected-n7.g6", 7, GraphFilter::all()),
-        ("maxwell-mindeg2-n5.g6", 5, GraphFilter::maxwell_rods(5).with_min_degree(2)),
-        ("maxwell-mindeg2-n6.g6", 6, GraphFilter::maxwell_rods(6).with_min_degree(2)),
-        ("maxwell-mindeg2-n7.g6", 7, GraphFilter::maxwell_rods(7).with_min_degree(2)),
+        (
+            "maxwell-mindeg2-n5.g6",
+            5,
+            GraphFilter::maxwell_rods(5).with_min_degree(2),
+        ),
+        (
+            "maxwell-mindeg2-n6.g6",
+            6,
+            GraphFilter::maxwell_rods(6).with_min_degree(2),
+        ),
+        (
+            "maxwell-mindeg2-n7.g6",
+            7,
+            GraphFilter::maxwell_rods(7).with_min_degree(2),
+        ),
     ];
     for (file, n, filter) in cases {
         let geng = reference(file);
@@ -238,7 +263,10 @@ fn writer_lists_and_callbacks_agree() {
     })
     .unwrap();
     assert_eq!(par, list.len() as u64);
-    assert_eq!(par_seen.into_inner().unwrap(), list.iter().copied().collect());
+    assert_eq!(
+        par_seen.into_inner().unwrap(),
+        list.iter().copied().collect()
+    );
 }
 
 #[test]
@@ -281,7 +309,9 @@ fn canonical_graph6_of_symmetric_graphs() {
     let petersen = "IheA@GUAo";
     let k44 = ContactGraph::new(
         8,
-        (0..4u32).flat_map(|a| (4..8u32).map(move |b| [a, b])).collect(),
+        (0..4u32)
+            .flat_map(|a| (4..8u32).map(move |b| [a, b]))
+            .collect(),
     )
     .unwrap();
     let cycle = ContactGraph::new(18, (0..18u32).map(|i| [i, (i + 1) % 18]).collect()).unwrap();
@@ -296,7 +326,10 @@ fn canonical_graph6_of_symmetric_graphs() {
     for g in [parse_graph6(petersen).unwrap(), k44, cycle, cube] {
         let c = canonical_graph6(&g);
         for seed in 0..20u64 {
-            assert_eq!(canonical_graph6(&relabel(&g, &shuffle(g.n_nodes(), seed))), c);
+            assert_eq!(
+                canonical_graph6(&relabel(&g, &shuffle(g.n_nodes(), seed))),
+                c
+            );
         }
     }
 }
@@ -393,6 +426,7 @@ fn sharing_patterns() -> &'static Vec<Pattern> {
         f.nodes = 4;
         f.kinds = vec![NodeKind::Rod, NodeKind::Spatial];
         f.max_mult_rod_body = 1;
+        f.max_mult_body_body = 1;
         all.extend(typed_patterns(&f).unwrap());
         all
     })
@@ -410,7 +444,7 @@ fn scramble(p: &Pattern, seed: u64) -> Pattern {
     let label_perms: Vec<Vec<u32>> = (0..n)
         .map(|i| {
             if p.kinds[i].is_body() {
-                shuffle(2 * p.contacts.len() + 1, seed ^ (i as u64 + 1) * 7919)
+                shuffle(2 * p.contacts.len() + 1, seed ^ ((i as u64 + 1) * 7919))
             } else {
                 vec![0]
             }
@@ -424,9 +458,16 @@ fn scramble(p: &Pattern, seed: u64) -> Pattern {
             let c = p.contacts[c as usize];
             let end = |s: usize| {
                 let node = c.nodes[s] as usize;
-                (perm[node] as u8, label_perms[node][c.rods[s] as usize] as u8)
+                (
+                    perm[node] as u8,
+                    label_perms[node][c.rods[s] as usize] as u8,
+                )
             };
-            let (a, b) = if (seed >> (k % 64)) & 1 == 1 { (end(1), end(0)) } else { (end(0), end(1)) };
+            let (a, b) = if (seed >> (k % 64)) & 1 == 1 {
+                (end(1), end(0))
+            } else {
+                (end(0), end(1))
+            };
             PatternContact {
                 nodes: [a.0, b.0],
                 rods: [a.1, b.1],
@@ -474,13 +515,25 @@ fn rods_only_match_simple_graphs_with_min_degree_two() {
         let mut f = TypedFilter::new(n);
         f.kinds = vec![NodeKind::Rod];
         let simple = GraphFilter::all().with_min_degree(2);
-        assert_eq!(count(&f) as u64, count_connected(n, &simple).unwrap(), "n = {n}");
+        assert_eq!(
+            count(&f) as u64,
+            count_connected(n, &simple).unwrap(),
+            "n = {n}"
+        );
         f.maxwell = true;
         let maxwell = GraphFilter::maxwell_rods(n).with_min_degree(2);
-        assert_eq!(count(&f) as u64, count_connected(n, &maxwell).unwrap(), "n = {n}");
+        assert_eq!(
+            count(&f) as u64,
+            count_connected(n, &maxwell).unwrap(),
+            "n = {n}"
+        );
         // Rods have one rod each: nothing to share.
         f.rod_sharing = true;
-        assert_eq!(count(&f) as u64, count_connected(n, &maxwell).unwrap(), "n = {n}");
+        assert_eq!(
+            count(&f) as u64,
+            count_connected(n, &maxwell).unwrap(),
+            "n = {n}"
+        );
     }
 }
 
@@ -501,19 +554,35 @@ fn three_nodes_against_brute_force() {
             _ => rb,
         };
         let pairs = [(0, 1), (0, 2), (1, 2)];
-        let perms = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+        let perms = [
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [2, 1, 0],
+        ];
         let mut classes = BTreeSet::new();
         for k in 0..27 {
             let kinds = [all[k % 3], all[k / 3 % 3], all[k / 9]];
             for m in 0..(bb.max(rb) + 1).pow(3) {
-                let mult = [m % (bb.max(rb) + 1), m / (bb.max(rb) + 1) % (bb.max(rb) + 1), m / (bb.max(rb) + 1).pow(2)];
+                let mult = [
+                    m % (bb.max(rb) + 1),
+                    m / (bb.max(rb) + 1) % (bb.max(rb) + 1),
+                    m / (bb.max(rb) + 1).pow(2),
+                ];
                 let ok = pairs
                     .iter()
                     .zip(&mult)
                     .all(|(&(a, b), &x)| x <= bound(kinds[a], kinds[b]));
                 let edges = mult.iter().filter(|&&x| x > 0).count();
                 let at = |v: usize| -> usize {
-                    pairs.iter().zip(&mult).filter(|((a, b), _)| *a == v || *b == v).map(|(_, &x)| x).sum()
+                    pairs
+                        .iter()
+                        .zip(&mult)
+                        .filter(|((a, b), _)| *a == v || *b == v)
+                        .map(|(_, &x)| x)
+                        .sum()
                 };
                 if !ok || edges < 2 || (0..3).any(|v| at(v) < min) {
                     continue;
@@ -537,7 +606,11 @@ fn three_nodes_against_brute_force() {
                 classes.insert(key);
             }
         }
-        assert_eq!(count(&f), classes.len(), "rod-body {rb}, body-body {bb}, min {min}");
+        assert_eq!(
+            count(&f),
+            classes.len(),
+            "rod-body {rb}, body-body {bb}, min {min}"
+        );
     }
 }
 

@@ -81,8 +81,16 @@ macro_rules! word_rows {
     };
 }
 
-word_rows!(Rows16, u16, "Rows of at most 16 vertices: the generator's graphs.");
-word_rows!(Rows64, u64, "Rows of at most 64 vertices: motifs and patterns.");
+word_rows!(
+    Rows16,
+    u16,
+    "Rows of at most 16 vertices: the generator's graphs."
+);
+word_rows!(
+    Rows64,
+    u64,
+    "Rows of at most 64 vertices: motifs and patterns."
+);
 
 /// Adjacency rows as multi-word bitsets: any order.
 pub(crate) struct DenseRows {
@@ -702,8 +710,8 @@ impl Canon {
             &self.best_lab
         };
         // gamma(from[i]) = lab[i]; keep it in `inv` (no longer needed).
-        for i in 0..n {
-            self.inv[from[i] as usize] = self.lab[i];
+        for (&f, &l) in from[..n].iter().zip(&self.lab[..n]) {
+            self.inv[f as usize] = l;
         }
         if self.keep_gens {
             self.gens.extend_from_slice(&self.inv[..n]);

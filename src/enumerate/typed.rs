@@ -196,7 +196,10 @@ fn multiplicities(
                 contacts_at[a] += m;
                 contacts_at[b] += m;
             }
-            if contacts_at.iter().all(|&c| c >= filter.min_contacts_per_node) {
+            if contacts_at
+                .iter()
+                .all(|&c| c >= filter.min_contacts_per_node)
+            {
                 let base = labelled(kinds, edges, &mult);
                 if !filter.maxwell || base.maxwell() {
                     bases.push(base);
