@@ -394,7 +394,7 @@ pub fn canonical_form(p: &Pattern) -> String {
 /// The exact verdict of a rule's pattern; an error unless rigid everywhere.
 fn verify(pattern: &Pattern, id: &str) -> Result<RuleVerdict> {
     let v = crate::rigidity::check_exact(pattern, RULE_SEED)
-        .map_err(|e| Error::Parameter(format!("rule {id}: {e}")))?;
+        .map_err(|e| Error::Parameter(format!("rule {id}: {}", detail(&e))))?;
     if v.rigid != Some(true) {
         return Err(Error::Parameter(format!(
             "rule {id} is not rigid on every realization component (exact rank: {}, {} DOF): \
@@ -459,7 +459,7 @@ pub fn load_rules(paths: &[std::path::PathBuf]) -> Result<Vec<Rule>> {
             }
             rule.pattern
                 .validate()
-                .map_err(|e| bad(format!("rule {}: {e}", rule.id)))?;
+                .map_err(|e| bad(format!("rule {}: {}", rule.id, detail(&e))))?;
             let canonical = canonical_form(&rule.pattern);
             if canonical != rule.canonical {
                 return Err(bad(format!(
@@ -467,11 +467,19 @@ pub fn load_rules(paths: &[std::path::PathBuf]) -> Result<Vec<Rule>> {
                     rule.id, rule.canonical
                 )));
             }
-            verify(&rule.pattern, &rule.id).map_err(|e| bad(e.to_string()))?;
+            verify(&rule.pattern, &rule.id).map_err(|e| bad(detail(&e)))?;
             rules.push(rule);
         }
     }
     Ok(rules)
+}
+
+/// An error's message without the "invalid parameter" prefix, for nesting.
+fn detail(e: &Error) -> String {
+    match e {
+        Error::Parameter(m) => m.clone(),
+        other => other.to_string(),
+    }
 }
 
 /// Writes rules as one rule file.
