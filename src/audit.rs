@@ -305,29 +305,53 @@ pub fn run(opts: &AuditOptions) -> Result<Audit> {
     Ok(audit)
 }
 
+impl AuditRow {
+    /// Column names, as in the CSV header.
+    pub const COLUMNS: [&'static str; 13] = [
+        "size",
+        "connected",
+        "two_core",
+        "maxwell",
+        "rigid",
+        "component_dependent",
+        "flexible",
+        "undecided",
+        "compressed",
+        "missed",
+        "irreducible",
+        "falsely_compressed",
+        "seconds",
+    ];
+
+    /// The row's values in [`AuditRow::COLUMNS`] order.
+    pub fn cells(&self) -> [String; 13] {
+        let counts = [
+            self.size as u64,
+            self.connected,
+            self.two_core,
+            self.maxwell,
+            self.rigid,
+            self.component_dependent,
+            self.flexible,
+            self.undecided,
+            self.compressed,
+            self.missed,
+            self.irreducible,
+            self.falsely_compressed,
+        ];
+        std::array::from_fn(|k| {
+            counts
+                .get(k)
+                .map_or_else(|| format!("{:.3}", self.seconds), u64::to_string)
+        })
+    }
+}
+
 /// Writes a table as CSV.
 pub fn write_csv(path: &std::path::Path, rows: &[AuditRow]) -> Result<()> {
-    let mut text = String::from(
-        "kind,size,connected,two_core,maxwell,rigid,component_dependent,flexible,undecided,compressed,missed,irreducible,falsely_compressed,seconds\n",
-    );
+    let mut text = format!("kind,{}\n", AuditRow::COLUMNS.join(","));
     for r in rows {
-        text += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3}\n",
-            r.kind,
-            r.size,
-            r.connected,
-            r.two_core,
-            r.maxwell,
-            r.rigid,
-            r.component_dependent,
-            r.flexible,
-            r.undecided,
-            r.compressed,
-            r.missed,
-            r.irreducible,
-            r.falsely_compressed,
-            r.seconds
-        );
+        text += &format!("{},{}\n", r.kind, r.cells().join(","));
     }
     std::fs::write(path, text).map_err(|e| Error::io(path, e))
 }

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use serde::Serialize;
 
-use rgc::audit::{self, AuditOptions};
+use rgc::audit::{self, AuditOptions, AuditRow};
 use rgc::contacts::ContactGraph;
 use rgc::engine::{self, Body, CompiledRule, Compression, Engine, Rules};
 use rgc::enumerate::GraphFilter;
@@ -446,41 +446,18 @@ fn run_audit(a: AuditArgs, out: &mut String) -> Result<()> {
             a.rules,
             a.runs
         );
-        say!(
-            out,
-            "{:>4} {:>9} {:>8} {:>8} {:>7} {:>9} {:>8} {:>6} {:>10} {:>7} {:>11} {:>8} {:>8}",
-            "size",
-            "connected",
-            "2-core",
-            "Maxwell",
-            "rigid",
-            "comp-dep",
-            "flexible",
-            "undec",
-            "compressed",
-            "missed",
-            "irreducible",
-            "falsely",
-            "seconds"
-        );
+        let width = |k: usize| AuditRow::COLUMNS[k].len().max(7);
+        let line = |cells: &[String]| -> String {
+            cells
+                .iter()
+                .enumerate()
+                .map(|(k, c)| format!("{c:>w$}", w = width(k)))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        say!(out, "{}", line(&AuditRow::COLUMNS.map(String::from)));
         for r in rows {
-            say!(
-                out,
-                "{:>4} {:>9} {:>8} {:>8} {:>7} {:>9} {:>8} {:>6} {:>10} {:>7} {:>11} {:>8} {:>8.2}",
-                r.size,
-                r.connected,
-                r.two_core,
-                r.maxwell,
-                r.rigid,
-                r.component_dependent,
-                r.flexible,
-                r.undecided,
-                r.compressed,
-                r.missed,
-                r.irreducible,
-                r.falsely_compressed,
-                r.seconds
-            );
+            say!(out, "{}", line(&r.cells()));
         }
         say!(out, "");
     }
