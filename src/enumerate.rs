@@ -331,7 +331,8 @@ pub fn count_connected(n: usize, filter: &GraphFilter) -> Result<u64> {
 
 /// Calls `f` on every graph of [`connected_graphs`], in the same order, on
 /// the calling thread (generation runs on rayon's threads, a batch of
-/// subtrees at a time). Returns the number of graphs.
+/// subtrees at a time, holding at most about 64 MB of graphs). Returns the
+/// number of graphs.
 pub fn for_each_connected(
     n: usize,
     filter: &GraphFilter,
@@ -390,6 +391,10 @@ pub fn write_connected_graph6(
 /// Where a generator puts the graphs it accepts.
 trait Sink: Send {
     fn emit(&mut self, g: &SmallGraph);
+    /// Memory the sink holds, which sizes the batches.
+    fn bytes(&self) -> usize {
+        0
+    }
 }
 
 impl Sink for u64 {
@@ -403,6 +408,9 @@ impl Sink for Vec<SmallGraph> {
     #[inline]
     fn emit(&mut self, g: &SmallGraph) {
         self.push(*g);
+    }
+    fn bytes(&self) -> usize {
+        self.len() * std::mem::size_of::<SmallGraph>()
     }
 }
 
@@ -418,6 +426,9 @@ impl Sink for Graph6Lines {
         g.write_graph6(&mut self.bytes);
         self.bytes.push(b'\n');
         self.count += 1;
+    }
+    fn bytes(&self) -> usize {
+        self.bytes.len()
     }
 }
 
@@ -447,12 +458,15 @@ impl From<RunError<Error>> for Error {
     }
 }
 
-/// Subtrees handed to rayon per batch: enough to keep the threads busy,
-/// few enough that a batch's output stays small.
-const BATCH: usize = 64;
+/// Output a batch of subtrees may hold before it is handed on, in bytes.
+const BATCH_BYTES: usize = 64 << 20;
 
 /// Generates everything, one sink per subtree, and hands the sinks to
 /// `consume` in generation order.
+///
+/// Subtrees go to rayon in batches. A batch's size follows the output its
+/// predecessor produced per subtree, so that a batch holds about
+/// [`BATCH_BYTES`]; sinks that hold nothing (counters) get one batch.
 fn run<S: Sink, E>(
     n: usize,
     filter: &GraphFilter,
@@ -464,15 +478,19 @@ fn run<S: Sink, E>(
             "graphs are enumerated on 1 to {MAX_ORDER} vertices, got {n}"
         ))));
     }
-    // Subtrees below this order are independent tasks: a few hundred to a
-    // few thousand of them for the orders that take long.
-    let split = if n <= 6 { n } else { n - 3 };
+    // Subtrees rooted at this order are the tasks: thousands of small ones
+    // for the orders that take long (11117 for n = 10), at most 261080.
+    let split = if n <= 6 { n } else { (n - 2).min(9) };
     let mut head = Worker::new(n, *filter, make(), Some(split));
     head.start();
     consume(head.sink).map_err(RunError::Consumer)?;
     let tasks = head.tasks;
-    for batch in tasks.chunks(BATCH) {
-        let sinks: Vec<S> = batch
+    let threads = rayon::current_num_threads().max(1);
+    let mut batch = 4 * threads;
+    let mut next = 0;
+    while next < tasks.len() {
+        let end = tasks.len().min(next.saturating_add(batch));
+        let sinks: Vec<S> = tasks[next..end]
             .par_iter()
             .map_init(
                 || Worker::new(n, *filter, make(), None),
@@ -486,6 +504,12 @@ fn run<S: Sink, E>(
                 },
             )
             .collect();
+        let per_task = sinks.iter().map(Sink::bytes).sum::<usize>() / (end - next);
+        batch = match per_task {
+            0 => usize::MAX,
+            b => (BATCH_BYTES / b).max(4 * threads),
+        };
+        next = end;
         for s in sinks {
             consume(s).map_err(RunError::Consumer)?;
         }

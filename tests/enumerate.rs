@@ -662,6 +662,12 @@ fn typed_filter_errors() {
     let mut f = TypedFilter::new(2);
     f.kinds.clear();
     assert!(typed_patterns(&f).is_err());
+    // Past what a pattern holds: 21 pairs of 7 nodes with up to 5 contacts.
+    let mut f = TypedFilter::new(7);
+    f.max_mult_body_body = 5;
+    assert!(typed_patterns(&f).is_err());
+    f.max_mult_body_body = 99;
+    assert!(typed_patterns(&TypedFilter { nodes: 2, ..f }).is_err());
 }
 
 #[test]

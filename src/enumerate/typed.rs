@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::canon::{Canon, DenseRows, Rows64, canonical_order};
 use super::{GraphFilter, connected_small_graphs};
-use crate::motifs::{NodeKind, Pattern, PatternContact};
+use crate::motifs::{MAX_PATTERN_CONTACTS, NodeKind, Pattern, PatternContact};
 use crate::{Error, Result};
 
 /// Most nodes [`typed_patterns`] accepts: node permutations are listed
@@ -87,6 +87,15 @@ impl TypedFilter {
         }
         if self.kinds.is_empty() {
             return bad("no node kind allowed".into());
+        }
+        let most = self.nodes * (self.nodes - 1) / 2
+            * self.max_mult_rod_body.max(self.max_mult_body_body).max(1);
+        if most > MAX_PATTERN_CONTACTS {
+            return bad(format!(
+                "{} nodes with multiplicities up to {} could need {most} contacts, more than a pattern holds ({MAX_PATTERN_CONTACTS})",
+                self.nodes,
+                self.max_mult_rod_body.max(self.max_mult_body_body)
+            ));
         }
         Ok(())
     }
