@@ -295,6 +295,17 @@ fn canonical_graph6_separates_every_class() {
         .map(|g| ContactGraph::new(20, g.edges().to_vec()).unwrap())
         .collect();
     assert_eq!(canonical_set(&padded).len(), graphs.len());
+    // Past 64 vertices (multi-word rows), on the classes of order 6.
+    let six = connected_graphs(6, &GraphFilter::all()).unwrap();
+    let wide: Vec<ContactGraph> = six
+        .iter()
+        .map(|g| ContactGraph::new(70, g.edges().to_vec()).unwrap())
+        .collect();
+    assert_eq!(canonical_set(&wide).len(), six.len());
+    for (k, g) in wide.iter().enumerate().step_by(10) {
+        let moved = relabel(g, &shuffle(70, k as u64));
+        assert_eq!(canonical_graph6(&moved), canonical_graph6(g));
+    }
     // A canonical string is its own canonical form.
     for g in graphs.iter().chain(&padded) {
         let c = canonical_graph6(g);
@@ -315,6 +326,8 @@ fn canonical_graph6_of_symmetric_graphs() {
     )
     .unwrap();
     let cycle = ContactGraph::new(18, (0..18u32).map(|i| [i, (i + 1) % 18]).collect()).unwrap();
+    let long_cycle =
+        ContactGraph::new(70, (0..70u32).map(|i| [i, (i + 1) % 70]).collect()).unwrap();
     let cube = ContactGraph::new(
         8,
         (0..8u32)
@@ -323,7 +336,13 @@ fn canonical_graph6_of_symmetric_graphs() {
             .collect(),
     )
     .unwrap();
-    for g in [parse_graph6(petersen).unwrap(), k44, cycle, cube] {
+    for g in [
+        parse_graph6(petersen).unwrap(),
+        k44,
+        cycle,
+        long_cycle,
+        cube,
+    ] {
         let c = canonical_graph6(&g);
         for seed in 0..20u64 {
             assert_eq!(
@@ -331,6 +350,40 @@ fn canonical_graph6_of_symmetric_graphs() {
                 c
             );
         }
+    }
+}
+
+/// Two strongly regular graphs with the same parameters (16, 6, 2, 2):
+/// refinement cannot tell them apart, the search must.
+#[test]
+fn canonical_graph6_separates_rook_and_shrikhande() {
+    let on_z4 = |adjacent: &dyn Fn(i32, i32) -> bool| {
+        let mut edges = Vec::new();
+        for u in 0..16u32 {
+            for v in u + 1..16 {
+                let (du, dv) = (
+                    (v / 4) as i32 - (u / 4) as i32,
+                    (v % 4) as i32 - (u % 4) as i32,
+                );
+                if adjacent(du.rem_euclid(4), dv.rem_euclid(4)) {
+                    edges.push([u, v]);
+                }
+            }
+        }
+        ContactGraph::new(16, edges).unwrap()
+    };
+    let rook = on_z4(&|a, b| (a == 0) != (b == 0));
+    let shrikhande =
+        on_z4(&|a, b| matches!((a, b), (0, 1) | (0, 3) | (1, 0) | (3, 0) | (1, 1) | (3, 3)));
+    assert!((0..16).all(|v| rook.degree(v) == 6 && shrikhande.degree(v) == 6));
+    let (r, s) = (canonical_graph6(&rook), canonical_graph6(&shrikhande));
+    assert_ne!(r, s);
+    for seed in 0..10 {
+        assert_eq!(canonical_graph6(&relabel(&rook, &shuffle(16, seed))), r);
+        assert_eq!(
+            canonical_graph6(&relabel(&shrikhande, &shuffle(16, seed))),
+            s
+        );
     }
 }
 
