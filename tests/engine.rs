@@ -3,7 +3,7 @@
 //! not, whatever the random order (checked over many seeds).
 
 use rgc::contacts::ContactGraph;
-use rgc::engine::examples::{self, Example};
+use rgc::engine::examples::{self, Example, random_graph};
 use rgc::engine::{Body, BodyClass, Compression, Rules, compress, compress_from, compress_runs};
 
 const SEEDS: u64 = 64;
@@ -164,21 +164,6 @@ fn declared_bodies_are_validated() {
         ])
         .contains("rod 1 is declared in body 0 and body 1")
     );
-}
-
-/// A random graph with enough structure to exercise every motif.
-fn random_graph(n: usize, p: f64, seed: u64) -> ContactGraph {
-    use rand::{RngExt, SeedableRng};
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let mut e = Vec::new();
-    for i in 0..n as u32 {
-        for j in i + 1..n as u32 {
-            if rng.random::<f64>() < p {
-                e.push([i, j]);
-            }
-        }
-    }
-    ContactGraph::new(n, e).unwrap()
 }
 
 #[test]

@@ -3,22 +3,9 @@
 
 use rgc::contacts::{ContactGraph, detect};
 use rgc::engine::base::base_rules;
+use rgc::engine::examples::random_graph;
 use rgc::engine::{CompiledRule, Compression, Engine, Rules};
 use rgc::rods::{RodParams, RodSystem};
-
-fn random_graph(n: usize, p: f64, seed: u64) -> ContactGraph {
-    use rand::{RngExt, SeedableRng};
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let mut e = Vec::new();
-    for i in 0..n as u32 {
-        for j in i + 1..n as u32 {
-            if rng.random::<f64>() < p {
-                e.push([i, j]);
-            }
-        }
-    }
-    ContactGraph::new(n, e).unwrap()
-}
 
 fn generic() -> Vec<CompiledRule> {
     base_rules()
@@ -88,36 +75,4 @@ fn large_system_agreement() {
         b.components,
         t.elapsed().as_secs_f64()
     );
-}
-
-#[test]
-#[ignore]
-fn show_false_rigidity() {
-    let opts = rgc::audit::AuditOptions {
-        max_rods: 7,
-        max_components: 3,
-        progress: false,
-        ..Default::default()
-    };
-    let a = rgc::audit::run(&opts).unwrap();
-    for (p, class) in &a.false_rigidity {
-        let v = rgc::rigidity::check_exact(p, 5).unwrap();
-        println!(
-            "{class}: kinds {:?} contacts {:?}",
-            p.kinds,
-            p.contacts
-                .iter()
-                .map(|c| (c.nodes, c.rods))
-                .collect::<Vec<_>>()
-        );
-        for c in &v.components {
-            println!(
-                "     {} dim {} amb {} comp {} dof {}",
-                c.built, c.dimension, c.ambient, c.component, c.dof
-            );
-        }
-        let (g, b, _) = p.to_host().unwrap();
-        let c = rgc::engine::compress_from(&g, &b, Rules::Sound, 0).unwrap();
-        println!("     engine motifs {:?}", c.motifs);
-    }
 }

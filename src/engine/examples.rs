@@ -314,3 +314,19 @@ pub fn check_all(seeds: u64) -> Vec<ExampleRow> {
         })
         .collect()
 }
+
+/// A seeded random graph (each pair joined with probability `p`): dense
+/// enough, near `p = 1/80`, to exercise every motif in engine checks.
+pub fn random_graph(n: usize, p: f64, seed: u64) -> ContactGraph {
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut edges = Vec::new();
+    for i in 0..n as u32 {
+        for j in i + 1..n as u32 {
+            if rng.random::<f64>() < p {
+                edges.push([i, j]);
+            }
+        }
+    }
+    ContactGraph::new(n, edges).expect("pairs are distinct")
+}
