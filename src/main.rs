@@ -36,7 +36,7 @@ enum Command {
     Sample(SampleArgs),
     /// Compress a rods-only contact graph given as graph6 or as an edge list.
     Compress(CompressArgs),
-    /// Check the engine on every base motif and its excluded variants, then run a demo system.
+    /// Audit the engine against every small rigid motif (exact rank) and write the missed ones as rule files.
     Audit(AuditArgs),
     /// Time contact detection and compression on the reference systems (single thread).
     Bench(BenchArgs),
@@ -412,8 +412,18 @@ fn run_audit(a: AuditArgs, out: &mut String) -> Result<()> {
     for dir in [&a.results, &a.motifs] {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
-    audit::write_csv(&a.results.join("audit-rods.csv"), &result.rods)?;
-    audit::write_csv(&a.results.join("audit-mixed.csv"), &result.mixed)?;
+    // A part that did not run (size 0) keeps its previous table.
+    let mut tables = Vec::new();
+    for (name, rows) in [
+        ("audit-rods.csv", &result.rods),
+        ("audit-mixed.csv", &result.mixed),
+    ] {
+        if !rows.is_empty() {
+            let path = a.results.join(name);
+            audit::write_csv(&path, rows)?;
+            tables.push(path.display().to_string());
+        }
+    }
     let mut written = Vec::new();
     for (kind, sets) in [("rods", &result.rod_rules), ("mixed", &result.mixed_rules)] {
         for (size, rules) in sets.iter().filter(|(_, r)| !r.is_empty()) {
@@ -463,9 +473,8 @@ fn run_audit(a: AuditArgs, out: &mut String) -> Result<()> {
     }
     say!(
         out,
-        "Tables: {}/audit-rods.csv, {}/audit-mixed.csv. Rule files: {}. {:.1} s.",
-        a.results.display(),
-        a.results.display(),
+        "Tables: {}. Rule files: {}. {:.1} s.",
+        tables.join(", "),
         if written.is_empty() {
             "none (nothing missed)".to_string()
         } else {

@@ -379,6 +379,9 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
             if r > best.0 || best.1 == usize::MAX {
                 best = (r.max(best.0), dof(&f, r).min(best.1));
             }
+            if best.1 == 0 {
+                break; // no sample can have a larger rank
+            }
         }
         components.push(ComponentReport {
             built: fam.grouping.describe(&inc),

@@ -273,5 +273,24 @@ fn audit_writes_its_tables_and_rule_files() {
     );
     let rules = rgc::motifs::load_rules(&[dir.join("rods-6.json")]).unwrap();
     assert_eq!(rules.len(), irreducible);
+    // A rods-only rerun rewrites the rods table and keeps the mixed one.
+    let out = rgc(&[
+        "audit",
+        "--max-rods",
+        "4",
+        "--max-components",
+        "0",
+        "--results",
+        d,
+        "--motifs",
+        d,
+    ]);
+    assert!(out.status.success());
+    let rods = std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap();
+    assert_eq!(rods.lines().count(), 4, "header and sizes 2..=4: {rods}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("audit-mixed.csv")).unwrap(),
+        mixed
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
