@@ -19,6 +19,14 @@ pub enum Error {
         line: usize,
         reason: String,
     },
+    /// Data a finite-size-scaling analysis cannot use (all spanning, too few
+    /// box sizes, a fit that does not converge ...).
+    #[error("cannot analyse: {0}")]
+    Analysis(String),
+    /// A threshold study directory that does not match the command (another
+    /// study's checkpoint, overlapping shards, a corrupt record ...).
+    #[error("study {path}: {reason}")]
+    Study { path: PathBuf, reason: String },
     /// A file that cannot be read or written.
     #[error("{path}: {source}")]
     Io {

@@ -18,6 +18,7 @@
 //! * [`plot`] — charts of the stability study (SVG, and PNG with an embedded font);
 //! * [`graphio`] — graph6 and edge-list input and output;
 //! * [`audit`] — which rigid motifs the engine misses; base and extended rule sets;
+//! * [`threshold`] — Monte Carlo critical densities and finite-size scaling;
 //! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
 pub mod audit;
@@ -36,5 +37,6 @@ pub mod rods;
 pub mod sample;
 pub mod spanning;
 pub mod stability;
+pub mod threshold;
 
 pub use error::{Error, Result};

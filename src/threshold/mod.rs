@@ -1,0 +1,4 @@
+//! Percolation thresholds (DESIGN §8, §9): Monte Carlo rod sequences, their
+//! critical densities, and finite-size scaling to `L -> inf`.
+
+pub mod fss;
