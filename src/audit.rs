@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use crate::engine::{CompiledRule, Engine, Rules};
 use crate::enumerate::{
-    GraphFilter, TypedFilter, connected_graphs, count_connected, typed_patterns,
+    GraphFilter, TypedFilter, connected_small_graphs, count_connected, typed_patterns,
 };
 use crate::motifs::{Pattern, Provenance, Rule};
 use crate::rigidity::check_exact;
@@ -169,7 +169,6 @@ fn tally(
             false_rigidity.push((p.clone(), o.class.clone()));
         }
     }
-    row.missed = missed.len() as u64;
     missed
 }
 
@@ -217,6 +216,9 @@ fn irreducible(
         .collect()
 }
 
+/// Candidates checked at a time.
+const CHUNK: usize = 1 << 16;
+
 /// Audits rods-only motifs of 2 to `max_rods` rods and mixed motifs of 2 to
 /// `max_components` components against the engine.
 pub fn run(opts: &AuditOptions) -> Result<Audit> {
@@ -232,20 +234,27 @@ pub fn run(opts: &AuditOptions) -> Result<Audit> {
             two_core: count_connected(n, &GraphFilter::all().with_min_degree(2))?,
             ..AuditRow::default()
         };
-        let graphs = connected_graphs(n, &GraphFilter::maxwell_rods(n).with_min_degree(2))?;
+        // Candidates as 34-byte graphs, checked a chunk at a time: at n = 10
+        // there are 9 million, too many to hold as patterns.
+        let graphs = connected_small_graphs(n, &GraphFilter::maxwell_rods(n).with_min_degree(2))?;
         row.maxwell = graphs.len() as u64;
-        let candidates: Vec<Pattern> = graphs
-            .iter()
-            .map(Pattern::from_graph)
-            .collect::<Result<_>>()?;
-        let pb = bar(
-            candidates.len() as u64,
-            format!("rods n={n}"),
-            opts.progress,
-        );
-        let out = outcomes(&candidates, &base, opts.runs, &pb)?;
+        let pb = bar(row.maxwell, format!("rods n={n}"), opts.progress);
+        let mut missed = Vec::new();
+        for chunk in graphs.chunks(CHUNK) {
+            let candidates: Vec<Pattern> = chunk
+                .iter()
+                .map(|g| Pattern::from_graph(&g.to_contact_graph()))
+                .collect::<Result<_>>()?;
+            let out = outcomes(&candidates, &base, opts.runs, &pb)?;
+            missed.extend(tally(
+                &mut row,
+                &candidates,
+                &out,
+                &mut audit.false_rigidity,
+            ));
+        }
+        row.missed = missed.len() as u64;
         pb.finish_and_clear();
-        let missed = tally(&mut row, &candidates, &out, &mut audit.false_rigidity);
         let enumeration = format!("connected rods-only graphs, n={n}, min degree 2, Maxwell");
         let rules = irreducible(&missed, opts, &known, &format!("rods-{n}"), &enumeration)?;
         row.irreducible = rules.len() as u64;
@@ -280,6 +289,7 @@ pub fn run(opts: &AuditOptions) -> Result<Audit> {
         let out = outcomes(&candidates, &base, opts.runs, &pb)?;
         pb.finish_and_clear();
         let missed = tally(&mut row, &candidates, &out, &mut audit.false_rigidity);
+        row.missed = missed.len() as u64;
         let enumeration = format!(
             "connected typed patterns, {k} components, rod-body <= 2 and body-body <= 3 contacts, \
              >= 2 contacts per node, Maxwell{}",

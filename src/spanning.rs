@@ -328,3 +328,197 @@ fn for_each_cluster(
         }
     }
 }
+
+/// Contact spanning of a growing rod sequence (DESIGN §8, Newman–Ziff): rods
+/// and then their contacts are added in sequence order, and a union-find
+/// tells in near-constant time per contact whether some cluster spans.
+///
+/// `Wrap` keeps each rod's image offset relative to its root, so a contact
+/// closing a loop with a non-zero net offset is a wrap. `Faces` keeps one
+/// union-find per axis over the contacts that do not cross the periodic
+/// boundary along it, with whether each root's cluster pokes out of the low
+/// and the high face. Both agree with [`contact_spanning`] on every prefix.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    criterion: Criterion,
+    /// Wrap: union-find parents and each rod's offset from its parent.
+    parent: Vec<u32>,
+    offset: Vec<[i32; 3]>,
+    /// Faces: per axis, union-find parents, and per root which faces its cluster reaches.
+    axis_parent: [Vec<u32>; 3],
+    faces: [Vec<(bool, bool)>; 3],
+    /// Faces: each rod's description, for the boundary-crossing test.
+    members: Vec<Member>,
+    size: Vec<u32>,
+    axis_size: [Vec<u32>; 3],
+    spans: bool,
+}
+
+impl Sweep {
+    pub fn new(criterion: Criterion) -> Self {
+        Sweep {
+            criterion,
+            parent: Vec::new(),
+            offset: Vec::new(),
+            axis_parent: Default::default(),
+            faces: Default::default(),
+            members: Vec::new(),
+            size: Vec::new(),
+            axis_size: Default::default(),
+            spans: false,
+        }
+    }
+
+    /// Whether some cluster of what was added spans.
+    pub fn spans(&self) -> bool {
+        self.spans
+    }
+
+    /// Rods added so far.
+    pub fn len(&self) -> usize {
+        self.parent.len().max(self.members.len())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Adds the next rod of `system` (rods must come in index order) and
+    /// returns whether some cluster spans.
+    pub fn add_rod(&mut self, system: &RodSystem) -> bool {
+        let rod = self.len() as u32;
+        match self.criterion {
+            Criterion::Wrap => {
+                self.parent.push(rod);
+                self.offset.push([0; 3]);
+                self.size.push(1);
+            }
+            Criterion::Faces => {
+                let m = Member::of(system, rod);
+                for d in 0..3 {
+                    self.axis_parent[d].push(rod);
+                    self.axis_size[d].push(1);
+                    self.faces[d].push((m.low[d], m.high[d]));
+                    self.spans |= m.low[d] && m.high[d];
+                }
+                self.members.push(m);
+            }
+        }
+        self.spans
+    }
+
+    /// Adds a contact between two rods already added and returns whether
+    /// some cluster spans.
+    pub fn add_contact(&mut self, contact: &Contact) -> bool {
+        let [a, b] = contact.rods;
+        assert!(
+            (b as usize) < self.len(),
+            "contact {a}-{b} added before its rods"
+        );
+        match self.criterion {
+            Criterion::Wrap => self.join_wrap(a, b, contact.shift),
+            Criterion::Faces => {
+                for d in 0..3 {
+                    let (here, there) = (self.members[a as usize], self.members[b as usize]);
+                    if !crosses(contact, a, &here, &there, d) {
+                        self.join_axis(d, a, b);
+                    }
+                }
+            }
+        }
+        self.spans
+    }
+
+    /// Root of `x` and the offset of `x` from it, compressing the path.
+    fn find_wrap(&mut self, x: u32) -> (u32, [i32; 3]) {
+        let p = self.parent[x as usize];
+        if p == x {
+            return (x, [0; 3]);
+        }
+        let (root, to_parent) = self.find_wrap(p);
+        let o = &mut self.offset[x as usize];
+        *o = std::array::from_fn(|d| o[d] + to_parent[d]);
+        self.parent[x as usize] = root;
+        (root, *o)
+    }
+
+    fn join_wrap(&mut self, a: u32, b: u32, shift: [i32; 3]) {
+        let (ra, oa) = self.find_wrap(a);
+        let (rb, ob) = self.find_wrap(b);
+        // Through this contact, b's image sits at a's offset plus `shift`.
+        let want: [i32; 3] = std::array::from_fn(|d| oa[d] + shift[d]);
+        if ra == rb {
+            self.spans |= want != ob;
+            return;
+        }
+        // Offset of rb from ra, so that b lands at `want`.
+        let rb_from_ra: [i32; 3] = std::array::from_fn(|d| want[d] - ob[d]);
+        let (child, root, off) = if self.size[ra as usize] >= self.size[rb as usize] {
+            (rb, ra, rb_from_ra)
+        } else {
+            (ra, rb, rb_from_ra.map(|v| -v))
+        };
+        self.parent[child as usize] = root;
+        self.offset[child as usize] = off;
+        self.size[root as usize] += self.size[child as usize];
+    }
+
+    fn find_axis(&mut self, d: usize, mut x: u32) -> u32 {
+        let mut root = x;
+        while self.axis_parent[d][root as usize] != root {
+            root = self.axis_parent[d][root as usize];
+        }
+        while self.axis_parent[d][x as usize] != root {
+            let next = self.axis_parent[d][x as usize];
+            self.axis_parent[d][x as usize] = root;
+            x = next;
+        }
+        root
+    }
+
+    fn join_axis(&mut self, d: usize, a: u32, b: u32) {
+        let (ra, rb) = (self.find_axis(d, a), self.find_axis(d, b));
+        if ra == rb {
+            return;
+        }
+        let (child, root) = if self.axis_size[d][ra as usize] >= self.axis_size[d][rb as usize] {
+            (rb, ra)
+        } else {
+            (ra, rb)
+        };
+        self.axis_parent[d][child as usize] = root;
+        self.axis_size[d][root as usize] += self.axis_size[d][child as usize];
+        let (cl, ch) = self.faces[d][child as usize];
+        let f = &mut self.faces[d][root as usize];
+        *f = (f.0 || cl, f.1 || ch);
+        self.spans |= f.0 && f.1;
+    }
+}
+
+/// The smallest number of leading rods of `system` whose contacts span, or
+/// `None` if all of them do not. `contacts` must hold every contact of the
+/// system sorted by their larger rod ([`sort_by_sequence`]).
+pub fn critical_rods(
+    system: &RodSystem,
+    contacts: &[Contact],
+    criterion: Criterion,
+) -> Option<usize> {
+    let mut sweep = Sweep::new(criterion);
+    let mut next = contacts.iter().peekable();
+    for n in 0..system.len() {
+        let mut spans = sweep.add_rod(system);
+        while let Some(c) = next.next_if(|c| c.rods[1] as usize == n) {
+            spans = sweep.add_contact(c);
+        }
+        if spans {
+            return Some(n + 1);
+        }
+    }
+    None
+}
+
+/// Sorts contacts in the order their rods appear in the sequence (by larger
+/// rod, then smaller), so the contacts of the first `n` rods are a prefix.
+pub fn sort_by_sequence(contacts: &mut [Contact]) {
+    contacts.sort_unstable_by_key(|c| (c.rods[1], c.rods[0]));
+}

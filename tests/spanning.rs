@@ -352,3 +352,77 @@ fn criterion_names() {
         Criterion::Faces
     );
 }
+
+/// The first `n` rods of `system` with their contacts.
+fn prefix(system: &RodSystem, contacts: &[Contact], n: usize) -> (RodSystem, Vec<Contact>) {
+    let rods = system.rods[..n].to_vec();
+    let contacts = contacts
+        .iter()
+        .copied()
+        .filter(|c| (c.rods[1] as usize) < n)
+        .collect();
+    (RodSystem::from_rods(system.params, rods), contacts)
+}
+
+#[test]
+fn the_sweep_finds_the_first_spanning_prefix() {
+    use rgc::spanning::{critical_rods, sort_by_sequence};
+    // Around the contact threshold of gamma 10 in small boxes, both criteria.
+    for (seed, l) in [(1, 3.0), (2, 3.0), (3, 3.5), (4, 4.0)] {
+        let system = RodSystem::generate(RodParams::new(10.0, l, 12.0).unwrap(), seed);
+        let mut contacts = detect(&system);
+        sort_by_sequence(&mut contacts);
+        for criterion in [Criterion::Wrap, Criterion::Faces] {
+            let critical = critical_rods(&system, &contacts, criterion);
+            let n_star = critical.expect("dense enough to span");
+            assert!(n_star > 1, "seed {seed}");
+            // Spanning of prefixes is monotone, and the sweep's n is the first.
+            for n in [n_star - 1, n_star, (n_star + system.len()) / 2] {
+                let (sub, cs) = prefix(&system, &contacts, n);
+                let graph = ContactGraph::from_contacts(n, &cs);
+                assert_eq!(
+                    contact_spanning(&sub, &cs, &graph, criterion),
+                    n >= n_star,
+                    "seed {seed}, {criterion:?}, n {n}, n* {n_star}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_sweep_agrees_with_the_cluster_walk_on_every_prefix() {
+    use rgc::spanning::{Sweep, sort_by_sequence};
+    let system = RodSystem::generate(RodParams::new(8.0, 3.0, 9.0).unwrap(), 11);
+    let mut contacts = detect(&system);
+    sort_by_sequence(&mut contacts);
+    for criterion in [Criterion::Wrap, Criterion::Faces] {
+        let mut sweep = Sweep::new(criterion);
+        let mut next = 0;
+        let mut changes = 0;
+        for n in 1..=system.len() {
+            sweep.add_rod(&system);
+            while next < contacts.len() && contacts[next].rods[1] as usize == n - 1 {
+                sweep.add_contact(&contacts[next]);
+                next += 1;
+            }
+            let (sub, cs) = prefix(&system, &contacts, n);
+            let graph = ContactGraph::from_contacts(n, &cs);
+            let walk = contact_spanning(&sub, &cs, &graph, criterion);
+            assert_eq!(sweep.spans(), walk, "{criterion:?}, n {n}");
+            changes += usize::from(
+                walk && n > 1
+                    && !{
+                        let (sub, cs) = prefix(&system, &contacts, n - 1);
+                        contact_spanning(
+                            &sub,
+                            &cs,
+                            &ContactGraph::from_contacts(n - 1, &cs),
+                            criterion,
+                        )
+                    },
+            );
+        }
+        assert_eq!(changes, 1, "{criterion:?}: spans from one n on");
+    }
+}
