@@ -1,7 +1,23 @@
 //! Finite-size scaling (DESIGN §8, the paper's numerics protocol): from the
 //! observations of each box size to the threshold, `nu` and their intervals.
+//!
+//! Per box size `L` a cumulative logistic `F(rho; mu, s)` is fitted by
+//! maximum likelihood, `Delta rho = s pi / sqrt(3)` gives `nu` through
+//! `Delta rho ~ L^(-1/nu)`, and the inverse predictions `rho_x(L)` are
+//! extrapolated against `L^(-1/nu)` with one intercept shared by every `x`:
+//! the threshold. Intervals come from a case bootstrap over realizations.
 
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+use crate::{Error, Result};
 
 /// Contact numbers measured on one system of a realization.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -29,4 +45,1031 @@ pub struct Observation {
 pub struct BoxData {
     pub box_len: f64,
     pub observations: Vec<Observation>,
+}
+
+/// Which observations of a realization the logistic fit uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Protocol {
+    /// Each realization's exact critical density: a sample of the
+    /// distribution whose CDF is `pi(rho, L)`, fitted as a logistic distribution.
+    Nested,
+    /// Spanning or not at a grid of densities (the paper's protocol),
+    /// fitted as a logistic regression of the spanning indicators.
+    Fixed,
+}
+
+/// How [`analyse`] runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FssOptions {
+    pub protocol: Protocol,
+    /// Spanning probabilities whose densities `rho_x(L)` are extrapolated.
+    pub xs: Vec<f64>,
+    /// Bootstrap resamples; 0 gives point estimates without intervals.
+    pub bootstrap: usize,
+    /// Seed of the bootstrap (resample `b` uses stream `b` of this seed).
+    pub seed: u64,
+    /// Coverage of the percentile intervals.
+    pub confidence: f64,
+}
+
+impl Default for FssOptions {
+    fn default() -> Self {
+        FssOptions {
+            protocol: Protocol::Nested,
+            xs: vec![0.25, 0.4, 0.5, 0.6, 0.75],
+            bootstrap: 200,
+            seed: 0,
+            confidence: 0.95,
+        }
+    }
+}
+
+/// A point estimate with its bootstrap percentile interval (absent without
+/// bootstrap or when no resample succeeded).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    pub value: f64,
+    pub lo: Option<f64>,
+    pub hi: Option<f64>,
+}
+
+impl Estimate {
+    fn with(value: f64, interval: Option<(f64, f64)>) -> Self {
+        Estimate {
+            value,
+            lo: interval.map(|i| i.0),
+            hi: interval.map(|i| i.1),
+        }
+    }
+}
+
+/// A fitted cumulative logistic `F(rho) = 1 / (1 + exp(-(rho - mu) / s))`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Logistic {
+    pub mu: f64,
+    pub s: f64,
+    /// Log-likelihood at the optimum: of the critical densities (nested,
+    /// densities in rods per unit volume) or of the spanning indicators (fixed).
+    pub log_likelihood: f64,
+}
+
+impl Logistic {
+    /// The fitted spanning probability at `rho`.
+    pub fn cdf(&self, rho: f64) -> f64 {
+        1.0 / (1.0 + (-(rho - self.mu) / self.s).exp())
+    }
+
+    /// The density where the fitted spanning probability is `x` (inverse prediction).
+    pub fn quantile(&self, x: f64) -> f64 {
+        self.mu + self.s * (x / (1.0 - x)).ln()
+    }
+
+    /// The standard deviation of the logistic distribution, the paper's `Delta rho`.
+    pub fn delta_rho(&self) -> f64 {
+        self.s * PI / 3f64.sqrt()
+    }
+}
+
+/// The fit of one box size.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoxFit {
+    pub box_len: f64,
+    /// Realizations that entered the fit.
+    pub realizations: usize,
+    pub mu: f64,
+    pub s: f64,
+    pub delta_rho: f64,
+    /// `rho_x(L)` for each of [`Fss::xs`].
+    pub rho_x: Vec<f64>,
+    pub log_likelihood: f64,
+    pub mu_interval: Option<(f64, f64)>,
+    pub delta_rho_interval: Option<(f64, f64)>,
+    /// Bootstrap intervals of `rho_x(L)` (empty without bootstrap).
+    pub rho_x_intervals: Vec<(f64, f64)>,
+}
+
+/// `Delta rho = prefactor * L^(-1/nu)`, fitted in log-log.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NuFit {
+    pub nu: f64,
+    pub prefactor: f64,
+    pub r2: f64,
+    /// Root mean square residual of `ln Delta rho`.
+    pub rms: f64,
+}
+
+/// `rho_x(L) = threshold + slopes[x] * L^(-1/nu)`, one intercept for every `x`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Extrapolation {
+    pub threshold: f64,
+    pub slopes: Vec<f64>,
+    pub r2: f64,
+    /// Root mean square residual of `rho_x`, in rods per unit volume.
+    pub rms: f64,
+}
+
+/// A straight line `c = intercept + slope * rho` and its prediction at the threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LinearFit {
+    pub intercept: f64,
+    pub slope: f64,
+    pub r2: f64,
+    /// The line at the threshold; the interval is the line at the ends of
+    /// the threshold's interval (the paper's way).
+    pub at_threshold: Estimate,
+}
+
+/// Contact numbers against density over the contact points of one box
+/// size (`box_len`) or of all box sizes pooled (`box_len = None`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactFits {
+    pub box_len: Option<f64>,
+    pub points: usize,
+    pub c0: LinearFit,
+    pub c1: LinearFit,
+    pub c2: LinearFit,
+}
+
+/// Contact numbers at the threshold: the pooled fit is the headline.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactNumbers {
+    pub pooled: ContactFits,
+    pub per_box: Vec<ContactFits>,
+}
+
+/// The finite-size-scaling result.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fss {
+    pub protocol: Protocol,
+    /// One fit per box size, by increasing `L`.
+    pub boxes: Vec<BoxFit>,
+    pub nu: Estimate,
+    pub threshold: Estimate,
+    /// Slope of `rho_x` against `L^(-1/nu)` for each of `xs`.
+    pub slopes: Vec<f64>,
+    pub xs: Vec<f64>,
+    /// `f` of `Delta rho = f L^(-1/nu)`.
+    pub delta_rho_prefactor: f64,
+    pub r2_nu: f64,
+    pub r2_extrapolation: f64,
+    /// Root mean square residual of `ln Delta rho` in the `nu` fit.
+    pub rms_nu: f64,
+    /// Root mean square residual of `rho_x` in the extrapolation.
+    pub rms_extrapolation: f64,
+    pub contact_numbers: Option<ContactNumbers>,
+    pub bootstrap: usize,
+    pub bootstrap_failures: usize,
+    pub confidence: f64,
+    pub seed: u64,
+    pub warnings: Vec<String>,
+}
+
+/// Fewest realizations with a critical density the nested fit accepts.
+const MIN_NESTED: usize = 5;
+/// Above this fraction of failed resamples the intervals get a warning.
+const MAX_FAILED: f64 = 0.1;
+const MAX_NEWTON: usize = 100;
+
+fn analysis(msg: impl Into<String>) -> Error {
+    Error::Analysis(msg.into())
+}
+
+/// Puts the box size in front of an analysis message.
+fn in_box(box_len: f64, e: Error) -> Error {
+    match e {
+        Error::Analysis(m) => analysis(format!("box L={box_len}: {m}")),
+        e => e,
+    }
+}
+
+/// Runs the whole finite-size-scaling analysis: per-L logistic fits, `nu`,
+/// the common-intercept extrapolation, bootstrap intervals and contact
+/// numbers at the threshold. Degenerate data is an [`Error::Analysis`] that
+/// names the box and the problem; recoverable gaps are in `warnings`.
+pub fn analyse(data: &[BoxData], opts: &FssOptions) -> Result<Fss> {
+    check_options(opts)?;
+    let data = sorted_boxes(data)?;
+    let lens: Vec<f64> = data.iter().map(|b| b.box_len).collect();
+    if data.len() < 3 {
+        return Err(analysis(format!(
+            "nu needs at least 3 box sizes, got {}",
+            data.len()
+        )));
+    }
+    let all: Vec<Vec<&Observation>> = data
+        .iter()
+        .map(|b| b.observations.iter().collect())
+        .collect();
+    let point = pipeline(&lens, &all, opts.protocol, &opts.xs)?;
+    let mut warnings = Vec::new();
+    for (b, fit) in data.iter().zip(&point.fits) {
+        warnings.extend(box_warnings(b, fit, opts));
+    }
+
+    let samples = bootstrap(&lens, &all, opts);
+    let failures = samples.iter().filter(|s| s.is_err()).count();
+    let good: Vec<&Pipeline> = samples.iter().filter_map(|s| s.as_ref().ok()).collect();
+    if opts.bootstrap > 0 {
+        if good.is_empty() {
+            warnings.push(format!(
+                "all {} bootstrap resamples failed (first: {}): no intervals",
+                opts.bootstrap,
+                first_failure(&samples)
+            ));
+        } else if failures as f64 > MAX_FAILED * opts.bootstrap as f64 {
+            warnings.push(format!(
+                "{failures} of {} bootstrap resamples failed (first: {}): the intervals come from the rest and may be too narrow",
+                opts.bootstrap,
+                first_failure(&samples)
+            ));
+        }
+    }
+    let interval = |f: &dyn Fn(&Pipeline) -> f64| -> Option<(f64, f64)> {
+        let mut v: Vec<f64> = good.iter().map(|p| f(p)).collect();
+        percentile_interval(&mut v, opts.confidence)
+    };
+
+    let boxes: Vec<BoxFit> = point
+        .fits
+        .iter()
+        .enumerate()
+        .map(|(i, fit)| {
+            let rho_x_intervals = if good.is_empty() {
+                Vec::new()
+            } else {
+                opts.xs
+                    .iter()
+                    .filter_map(|&x| interval(&|p| p.fits[i].logistic.quantile(x)))
+                    .collect()
+            };
+            BoxFit {
+                box_len: lens[i],
+                realizations: fit.realizations,
+                mu: fit.logistic.mu,
+                s: fit.logistic.s,
+                delta_rho: fit.logistic.delta_rho(),
+                rho_x: opts.xs.iter().map(|&x| fit.logistic.quantile(x)).collect(),
+                log_likelihood: fit.logistic.log_likelihood,
+                mu_interval: interval(&|p| p.fits[i].logistic.mu),
+                delta_rho_interval: interval(&|p| p.fits[i].logistic.delta_rho()),
+                rho_x_intervals,
+            }
+        })
+        .collect();
+    let threshold = Estimate::with(point.ext.threshold, interval(&|p| p.ext.threshold));
+    let contact_numbers = contact_numbers(&data, &threshold, &mut warnings);
+    Ok(Fss {
+        protocol: opts.protocol,
+        boxes,
+        nu: Estimate::with(point.nu.nu, interval(&|p| p.nu.nu)),
+        threshold,
+        slopes: point.ext.slopes,
+        xs: opts.xs.clone(),
+        delta_rho_prefactor: point.nu.prefactor,
+        r2_nu: point.nu.r2,
+        r2_extrapolation: point.ext.r2,
+        rms_nu: point.nu.rms,
+        rms_extrapolation: point.ext.rms,
+        contact_numbers,
+        bootstrap: opts.bootstrap,
+        bootstrap_failures: failures,
+        confidence: opts.confidence,
+        seed: opts.seed,
+        warnings,
+    })
+}
+
+fn check_options(opts: &FssOptions) -> Result<()> {
+    if opts.xs.is_empty() {
+        return Err(Error::Parameter(
+            "no spanning probabilities x to extrapolate".into(),
+        ));
+    }
+    if let Some(x) = opts.xs.iter().find(|x| !(**x > 0.0 && **x < 1.0)) {
+        return Err(Error::Parameter(format!(
+            "spanning probability x={x} is not strictly between 0 and 1"
+        )));
+    }
+    if !(opts.confidence > 0.0 && opts.confidence < 1.0) {
+        return Err(Error::Parameter(format!(
+            "confidence {} is not strictly between 0 and 1",
+            opts.confidence
+        )));
+    }
+    Ok(())
+}
+
+/// The boxes by increasing `L`, refusing sizes that are not positive or repeat.
+fn sorted_boxes(data: &[BoxData]) -> Result<Vec<&BoxData>> {
+    if let Some(b) = data
+        .iter()
+        .find(|b| !(b.box_len.is_finite() && b.box_len > 0.0))
+    {
+        return Err(analysis(format!(
+            "box size L={} is not a positive number",
+            b.box_len
+        )));
+    }
+    let mut sorted: Vec<&BoxData> = data.iter().collect();
+    sorted.sort_by(|a, b| a.box_len.total_cmp(&b.box_len));
+    if let Some(w) = sorted.windows(2).find(|w| w[0].box_len == w[1].box_len) {
+        return Err(analysis(format!(
+            "box size L={} appears twice; merge its observations",
+            w[0].box_len
+        )));
+    }
+    Ok(sorted)
+}
+
+struct BoxResult {
+    logistic: Logistic,
+    realizations: usize,
+}
+
+/// One pass of the analysis on one set of observations (the data or a resample).
+struct Pipeline {
+    fits: Vec<BoxResult>,
+    nu: NuFit,
+    ext: Extrapolation,
+}
+
+fn pipeline(
+    lens: &[f64],
+    boxes: &[Vec<&Observation>],
+    protocol: Protocol,
+    xs: &[f64],
+) -> Result<Pipeline> {
+    let fits = lens
+        .iter()
+        .zip(boxes)
+        .map(|(&l, obs)| fit_box(obs, protocol).map_err(|e| in_box(l, e)))
+        .collect::<Result<Vec<_>>>()?;
+    let delta: Vec<f64> = fits.iter().map(|f| f.logistic.delta_rho()).collect();
+    let nu = fit_nu(lens, &delta)?;
+    let t: Vec<f64> = lens.iter().map(|l| l.powf(-1.0 / nu.nu)).collect();
+    let rho_x: Vec<Vec<f64>> = xs
+        .iter()
+        .map(|&x| fits.iter().map(|f| f.logistic.quantile(x)).collect())
+        .collect();
+    let ext = extrapolate(&t, &rho_x)?;
+    Ok(Pipeline { fits, nu, ext })
+}
+
+fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
+    match protocol {
+        Protocol::Nested => {
+            let sample: Vec<f64> = obs.iter().filter_map(|o| o.critical).collect();
+            if sample.is_empty() && obs.iter().any(|o| !o.fixed.is_empty()) {
+                return Err(analysis(
+                    "no critical densities, only fixed-density observations (use the fixed protocol)",
+                ));
+            }
+            Ok(BoxResult {
+                logistic: fit_logistic_sample(&sample)?,
+                realizations: sample.len(),
+            })
+        }
+        Protocol::Fixed => {
+            let used = obs.iter().filter(|o| !o.fixed.is_empty()).count();
+            if used == 0 {
+                let hint = if obs.iter().any(|o| o.critical.is_some()) {
+                    " (the data are from the nested protocol)"
+                } else {
+                    ""
+                };
+                return Err(analysis(format!("no fixed-density observations{hint}")));
+            }
+            let grid = pooled_grid(obs.iter().copied());
+            Ok(BoxResult {
+                logistic: fit_logistic_binomial(&grid)?,
+                realizations: used,
+            })
+        }
+    }
+}
+
+/// The fixed-protocol indicators pooled per density: `(density, spanning, trials)`.
+fn pooled_grid<'a>(obs: impl Iterator<Item = &'a Observation>) -> Vec<(f64, usize, usize)> {
+    let mut all: Vec<(f64, bool)> = obs.flat_map(|o| o.fixed.iter().copied()).collect();
+    all.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut grid: Vec<(f64, usize, usize)> = Vec::new();
+    for (rho, spans) in all {
+        match grid.last_mut() {
+            Some(last) if last.0 == rho => {
+                last.1 += spans as usize;
+                last.2 += 1;
+            }
+            _ => grid.push((rho, spans as usize, 1)),
+        }
+    }
+    grid
+}
+
+/// What the data lets through but a reader should know.
+fn box_warnings(b: &BoxData, fit: &BoxResult, opts: &FssOptions) -> Vec<String> {
+    let l = b.box_len;
+    let mut out = Vec::new();
+    match opts.protocol {
+        Protocol::Nested => {
+            let censored = b.observations.len() - fit.realizations;
+            if censored > 0 {
+                out.push(format!(
+                    "box L={l}: {censored} of {} realizations never spanned and are left out of the fit (biases the threshold low)",
+                    b.observations.len()
+                ));
+            }
+        }
+        Protocol::Fixed => {
+            let grid = pooled_grid(b.observations.iter());
+            let (lo, hi) = (grid[0].0, grid[grid.len() - 1].0);
+            let outside: Vec<String> = opts
+                .xs
+                .iter()
+                .filter(|&&x| {
+                    let r = fit.logistic.quantile(x);
+                    r < lo || r > hi
+                })
+                .map(|x| x.to_string())
+                .collect();
+            if !outside.is_empty() {
+                out.push(format!(
+                    "box L={l}: rho_x for x in {{{}}} lies outside the density grid [{lo}, {hi}]; the logistic is extrapolated there",
+                    outside.join(", ")
+                ));
+            }
+            let sparse = grid.iter().filter(|g| g.2 < 10).count();
+            if sparse > 0 {
+                out.push(format!(
+                    "box L={l}: {sparse} grid densities have fewer than 10 realizations"
+                ));
+            }
+        }
+    }
+    out
+}
+
+fn first_failure(samples: &[Result<Pipeline>]) -> String {
+    samples
+        .iter()
+        .find_map(|s| s.as_ref().err())
+        .map(|e| e.to_string())
+        .unwrap_or_default()
+}
+
+/// The bootstrap resamples in order; resample `b` draws from stream `b` of
+/// the seed, so the result does not depend on the number of threads.
+fn bootstrap(lens: &[f64], all: &[Vec<&Observation>], opts: &FssOptions) -> Vec<Result<Pipeline>> {
+    (0..opts.bootstrap)
+        .into_par_iter()
+        .map(|b| {
+            let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+            rng.set_stream(b as u64);
+            let resampled: Vec<Vec<&Observation>> = all
+                .iter()
+                .map(|obs| {
+                    (0..obs.len())
+                        .map(|_| obs[rng.random_range(0..obs.len())])
+                        .collect()
+                })
+                .collect();
+            pipeline(lens, &resampled, opts.protocol, &opts.xs)
+        })
+        .collect()
+}
+
+/// The central `confidence` percentile interval (linear interpolation
+/// between order statistics); `None` for no values.
+fn percentile_interval(v: &mut [f64], confidence: f64) -> Option<(f64, f64)> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| {
+        let h = (v.len() - 1) as f64 * p;
+        let (i, f) = (h.floor() as usize, h.fract());
+        let j = (i + 1).min(v.len() - 1);
+        v[i] + f * (v[j] - v[i])
+    };
+    let tail = (1.0 - confidence) / 2.0;
+    Some((q(tail), q(1.0 - tail)))
+}
+
+/// Maximum-likelihood logistic distribution of a sample of critical
+/// densities: its CDF is the fitted spanning probability.
+pub fn fit_logistic_sample(sample: &[f64]) -> Result<Logistic> {
+    if sample.iter().any(|x| !x.is_finite()) {
+        return Err(analysis("a critical density is not a finite number"));
+    }
+    if sample.len() < MIN_NESTED {
+        return Err(analysis(format!(
+            "fewer than {MIN_NESTED} realizations with a critical density (got {})",
+            sample.len()
+        )));
+    }
+    let n = sample.len() as f64;
+    let mean = sample.iter().sum::<f64>() / n;
+    let sd = (sample.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+    if sd <= 1e-12 * mean.abs().max(1.0) {
+        return Err(analysis(format!(
+            "fewer than 2 distinct critical densities (all {} at {mean})",
+            sample.len()
+        )));
+    }
+    let y: Vec<f64> = sample.iter().map(|x| (x - mean) / sd).collect();
+    // In (a, b) = (1/s, mu/s) of the standardized sample the log-likelihood
+    // is concave, so Newton with a line search finds the unique maximum.
+    let eval = |p: Vector2<f64>| {
+        let (a, b) = (p[0], p[1]);
+        if a <= 0.0 {
+            return None;
+        }
+        let (mut ll, mut g, mut h) = (n * a.ln(), Vector2::new(n / a, 0.0), Matrix2::zeros());
+        h[(0, 0)] = -n / (a * a);
+        for &yi in &y {
+            let z = a * yi - b;
+            let az = z.abs();
+            ll -= az + 2.0 * (-az).exp().ln_1p();
+            let t = (z / 2.0).tanh();
+            let w = 0.5 * (1.0 - t * t);
+            g[0] -= t * yi;
+            g[1] += t;
+            h[(0, 0)] -= w * yi * yi;
+            h[(0, 1)] += w * yi;
+            h[(1, 1)] -= w;
+        }
+        h[(1, 0)] = h[(0, 1)];
+        Some((ll, g, h))
+    };
+    let (p, ll) = maximize(Vector2::new(PI / 3f64.sqrt(), 0.0), eval)?;
+    Ok(Logistic {
+        mu: mean + sd * p[1] / p[0],
+        s: sd / p[0],
+        log_likelihood: ll - n * sd.ln(),
+    })
+}
+
+/// Maximum-likelihood logistic regression of spanning indicators pooled
+/// per density, `(density, spanning, trials)`.
+pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
+    if grid.iter().any(|g| !g.0.is_finite()) {
+        return Err(analysis("a grid density is not a finite number"));
+    }
+    if grid.iter().any(|g| g.1 > g.2) {
+        return Err(analysis("more spanning systems than trials at a density"));
+    }
+    let grid: Vec<(f64, usize, usize)> = grid.iter().copied().filter(|g| g.2 > 0).collect();
+    let (span, trials): (usize, usize) = grid.iter().fold((0, 0), |(k, n), g| (k + g.1, n + g.2));
+    let (lo, hi) = match (grid.first(), grid.last()) {
+        (Some(f), Some(l)) => (
+            grid.iter().map(|g| g.0).fold(f.0, f64::min),
+            grid.iter().map(|g| g.0).fold(l.0, f64::max),
+        ),
+        _ => return Err(analysis("no fixed-density observations")),
+    };
+    if span == trials {
+        return Err(analysis(format!(
+            "every realization spans at every grid density ({lo} to {hi}); add lower densities"
+        )));
+    }
+    if span == 0 {
+        return Err(analysis(format!(
+            "no realization spans at any grid density ({lo} to {hi}); add higher densities"
+        )));
+    }
+    // Without a spanning system below a non-spanning one the likelihood
+    // grows without bound as s -> 0 (separation): the width is unresolved.
+    let first_span = grid
+        .iter()
+        .filter(|g| g.1 > 0)
+        .map(|g| g.0)
+        .fold(f64::INFINITY, f64::min);
+    let last_miss = grid
+        .iter()
+        .filter(|g| g.1 < g.2)
+        .map(|g| g.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    if first_span >= last_miss {
+        return Err(analysis(format!(
+            "spanning jumps from none to all at density {first_span}..{last_miss} (perfect separation): \
+             the logistic width is unresolved; add grid densities around it or more realizations"
+        )));
+    }
+    let n: f64 = trials as f64;
+    let mean = grid.iter().map(|g| g.0 * g.2 as f64).sum::<f64>() / n;
+    let sd = (grid
+        .iter()
+        .map(|g| (g.0 - mean).powi(2) * g.2 as f64)
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let pts: Vec<(f64, f64, f64)> = grid
+        .iter()
+        .map(|g| ((g.0 - mean) / sd, g.1 as f64, g.2 as f64))
+        .collect();
+    let eval = |p: Vector2<f64>| {
+        let (a, b) = (p[0], p[1]);
+        let (mut ll, mut g, mut h) = (0.0, Vector2::zeros(), Matrix2::zeros());
+        for &(y, k, m) in &pts {
+            let z = a * y - b;
+            ll += k * ln_sigmoid(z) + (m - k) * ln_sigmoid(-z);
+            let prob = 1.0 / (1.0 + (-z).exp());
+            let r = k - m * prob;
+            let v = m * prob * (1.0 - prob);
+            g[0] += r * y;
+            g[1] -= r;
+            h[(0, 0)] -= v * y * y;
+            h[(0, 1)] += v * y;
+            h[(1, 1)] -= v;
+        }
+        h[(1, 0)] = h[(0, 1)];
+        Some((ll, g, h))
+    };
+    let (p, ll) = maximize(Vector2::new(PI / 3f64.sqrt(), 0.0), eval)?;
+    if p[0] <= 0.0 {
+        return Err(analysis(
+            "the fitted spanning probability decreases with density",
+        ));
+    }
+    Ok(Logistic {
+        mu: mean + sd * p[1] / p[0],
+        s: sd / p[0],
+        log_likelihood: ll,
+    })
+}
+
+fn ln_sigmoid(z: f64) -> f64 {
+    if z > 0.0 {
+        -(-z).exp().ln_1p()
+    } else {
+        z - z.exp().ln_1p()
+    }
+}
+
+type Evaluation = Option<(f64, Vector2<f64>, Matrix2<f64>)>;
+
+/// Maximizes a concave function of two parameters by Newton's method with
+/// a backtracking line search; `f` gives value, gradient and Hessian, or
+/// `None` outside its domain.
+fn maximize(
+    start: Vector2<f64>,
+    f: impl Fn(Vector2<f64>) -> Evaluation,
+) -> Result<(Vector2<f64>, f64)> {
+    let mut p = start;
+    let (mut val, mut g, mut h) =
+        f(p).ok_or_else(|| analysis("the logistic fit starts outside its domain"))?;
+    for _ in 0..MAX_NEWTON {
+        let step = match (-h).cholesky() {
+            Some(c) => c.solve(&g),
+            None => g,
+        };
+        let decrement = g.dot(&step);
+        if !decrement.is_finite() {
+            break;
+        }
+        if decrement <= 1e-14 * (1.0 + val.abs()) {
+            return Ok((p, val));
+        }
+        let mut t = 1.0;
+        let mut moved = false;
+        for _ in 0..60 {
+            let q = p + step * t;
+            if let Some((v, gq, hq)) = f(q)
+                && v.is_finite()
+                && v >= val + 1e-4 * t * decrement
+            {
+                (p, val, g, h) = (q, v, gq, hq);
+                moved = true;
+                break;
+            }
+            t /= 2.0;
+        }
+        if !moved {
+            if decrement <= 1e-8 * (1.0 + val.abs()) {
+                return Ok((p, val));
+            }
+            break;
+        }
+        if p.iter().any(|x| x.abs() > 1e12) {
+            break;
+        }
+    }
+    Err(analysis(format!(
+        "the logistic fit did not converge in {MAX_NEWTON} Newton steps"
+    )))
+}
+
+/// Least squares `y ~ x beta` through the normal equations; `None` when the
+/// columns are linearly dependent. Returns `beta`, R² and the RMS residual.
+pub(crate) fn least_squares(
+    x: &DMatrix<f64>,
+    y: &DVector<f64>,
+) -> Option<(DVector<f64>, f64, f64)> {
+    let xt = x.transpose();
+    let beta = (&xt * x).cholesky()?.solve(&(&xt * y));
+    if beta.iter().any(|b| !b.is_finite()) {
+        return None;
+    }
+    let resid = y - x * &beta;
+    let ss_res = resid.norm_squared();
+    let mean = y.mean();
+    let ss_tot = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
+    let r2 = if ss_tot > 0.0 {
+        1.0 - ss_res / ss_tot
+    } else {
+        1.0
+    };
+    Some((beta, r2, (ss_res / y.len() as f64).sqrt()))
+}
+
+/// `nu` from the least-squares line of `ln Delta rho` against `ln L`
+/// (slope `-1/nu`).
+pub fn fit_nu(box_lens: &[f64], delta_rho: &[f64]) -> Result<NuFit> {
+    if box_lens.len() != delta_rho.len() {
+        return Err(analysis("as many Delta rho as box sizes are needed"));
+    }
+    if box_lens.len() < 3 {
+        return Err(analysis(format!(
+            "nu needs at least 3 box sizes, got {}",
+            box_lens.len()
+        )));
+    }
+    if let Some(d) = delta_rho.iter().find(|d| !(d.is_finite() && **d > 0.0)) {
+        return Err(analysis(format!("Delta rho {d} is not positive")));
+    }
+    let x = DMatrix::from_fn(box_lens.len(), 2, |i, j| {
+        if j == 0 { 1.0 } else { box_lens[i].ln() }
+    });
+    let y = DVector::from_iterator(delta_rho.len(), delta_rho.iter().map(|d| d.ln()));
+    let (beta, r2, rms) =
+        least_squares(&x, &y).ok_or_else(|| analysis("nu needs at least 2 distinct box sizes"))?;
+    let nu = -1.0 / beta[1];
+    if !(nu.is_finite() && nu > 0.0) {
+        return Err(analysis(format!(
+            "Delta rho does not shrink with L (log-log slope {:.4} >= 0): nu would be <= 0 or infinite",
+            beta[1]
+        )));
+    }
+    Ok(NuFit {
+        nu,
+        prefactor: beta[0].exp(),
+        r2,
+        rms,
+    })
+}
+
+/// Least squares of `rho_x[j][i]` (x number `j`, box `i`) against `t[i] =
+/// L_i^(-1/nu)`: one slope per `x`, one intercept (the threshold) for all.
+pub fn extrapolate(t: &[f64], rho_x: &[Vec<f64>]) -> Result<Extrapolation> {
+    if rho_x.is_empty() || rho_x.iter().any(|r| r.len() != t.len()) {
+        return Err(analysis(
+            "the extrapolation needs one rho_x per box size for each x",
+        ));
+    }
+    if t.iter()
+        .chain(rho_x.iter().flatten())
+        .any(|v| !v.is_finite())
+    {
+        return Err(analysis("a rho_x or L^(-1/nu) is not a finite number"));
+    }
+    let (m, n) = (rho_x.len(), t.len());
+    let x = DMatrix::from_fn(m * n, m + 1, |row, col| {
+        let (j, i) = (row / n, row % n);
+        match col {
+            0 => 1.0,
+            c if c == j + 1 => t[i],
+            _ => 0.0,
+        }
+    });
+    let y = DVector::from_iterator(m * n, rho_x.iter().flatten().copied());
+    let (beta, r2, rms) = least_squares(&x, &y).ok_or_else(|| {
+        analysis("the common-intercept fit needs at least 2 distinct values of L^(-1/nu)")
+    })?;
+    Ok(Extrapolation {
+        threshold: beta[0],
+        slopes: beta.iter().skip(1).copied().collect(),
+        r2,
+        rms,
+    })
+}
+
+/// A straight line through `(rho, c)` points, `None` with fewer than two
+/// distinct densities.
+fn line(points: &[(f64, f64)], threshold: &Estimate) -> Option<LinearFit> {
+    let x = DMatrix::from_fn(
+        points.len(),
+        2,
+        |i, j| if j == 0 { 1.0 } else { points[i].0 },
+    );
+    let y = DVector::from_iterator(points.len(), points.iter().map(|p| p.1));
+    let (beta, r2, _) = least_squares(&x, &y)?;
+    let at = |rho: f64| beta[0] + beta[1] * rho;
+    let interval = threshold
+        .lo
+        .zip(threshold.hi)
+        .map(|(lo, hi)| (at(lo).min(at(hi)), at(lo).max(at(hi))));
+    Some(LinearFit {
+        intercept: beta[0],
+        slope: beta[1],
+        r2,
+        at_threshold: Estimate::with(at(threshold.value), interval),
+    })
+}
+
+fn contact_fits(
+    box_len: Option<f64>,
+    points: &[ContactPoint],
+    threshold: &Estimate,
+) -> Option<ContactFits> {
+    let col = |f: fn(&ContactPoint) -> f64| -> Vec<(f64, f64)> {
+        points.iter().map(|p| (p.density, f(p))).collect()
+    };
+    Some(ContactFits {
+        box_len,
+        points: points.len(),
+        c0: line(&col(|p| p.c0), threshold)?,
+        c1: line(&col(|p| p.c1), threshold)?,
+        c2: line(&col(|p| p.c2), threshold)?,
+    })
+}
+
+/// Linear fits of `c0, c1, c2` against density, pooled and per box size;
+/// missing or unusable contact points are warnings, not errors.
+fn contact_numbers(
+    data: &[&BoxData],
+    threshold: &Estimate,
+    warnings: &mut Vec<String>,
+) -> Option<ContactNumbers> {
+    let finite = |p: &&ContactPoint| [p.density, p.c0, p.c1, p.c2].iter().all(|v| v.is_finite());
+    let points = |b: &BoxData| -> Vec<ContactPoint> {
+        b.observations
+            .iter()
+            .flat_map(|o| o.contacts.iter())
+            .filter(finite)
+            .copied()
+            .collect()
+    };
+    let mut per_box = Vec::new();
+    let mut pooled = Vec::new();
+    for b in data {
+        let pts = points(b);
+        if pts.is_empty() {
+            continue;
+        }
+        match contact_fits(Some(b.box_len), &pts, threshold) {
+            Some(f) => per_box.push(f),
+            None => warnings.push(format!(
+                "box L={}: contact points at fewer than 2 distinct densities; no contact-number fit",
+                b.box_len
+            )),
+        }
+        pooled.extend(pts);
+    }
+    if pooled.is_empty() {
+        warnings
+            .push("no contact points: contact numbers at the threshold are not reported".into());
+        return None;
+    }
+    match contact_fits(None, &pooled, threshold) {
+        Some(pooled) => Some(ContactNumbers { pooled, per_box }),
+        None => {
+            warnings.push(
+                "contact points at fewer than 2 distinct densities: contact numbers at the threshold are not reported"
+                    .into(),
+            );
+            None
+        }
+    }
+}
+
+/// The empirical spanning probability of one box size as `(density,
+/// fraction spanning, realizations)`: the empirical CDF at each distinct
+/// critical density (nested; realizations that never span count as not
+/// spanning) or the fraction at each grid density (fixed).
+pub fn pi_curve(data: &BoxData, protocol: Protocol) -> Vec<(f64, f64, usize)> {
+    match protocol {
+        Protocol::Nested => {
+            let n = data.observations.len();
+            let mut crit: Vec<f64> = data
+                .observations
+                .iter()
+                .filter_map(|o| o.critical)
+                .collect();
+            crit.sort_by(f64::total_cmp);
+            let mut out: Vec<(f64, f64, usize)> = Vec::new();
+            for (i, &c) in crit.iter().enumerate() {
+                let frac = (i + 1) as f64 / n as f64;
+                match out.last_mut() {
+                    Some(last) if last.0 == c => last.1 = frac,
+                    _ => out.push((c, frac, n)),
+                }
+            }
+            out
+        }
+        Protocol::Fixed => pooled_grid(data.observations.iter())
+            .into_iter()
+            .map(|(rho, k, n)| (rho, k as f64 / n as f64, n))
+            .collect(),
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|v| v.to_string()).unwrap_or_default()
+}
+
+fn write_file(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+/// Writes `boxes.csv` (one row per box size), `pi.csv` (empirical and
+/// fitted spanning probability) and `rho_x.csv` (the extrapolated points)
+/// into `dir`, which must exist.
+pub fn write_csv(fss: &Fss, data: &[BoxData], dir: &Path) -> Result<()> {
+    let mut boxes = String::from(
+        "box_len,realizations,mu,mu_lo,mu_hi,s,delta_rho,delta_rho_lo,delta_rho_hi,log_likelihood",
+    );
+    for x in &fss.xs {
+        let _ = write!(boxes, ",rho_x_{x}");
+    }
+    boxes.push('\n');
+    for b in &fss.boxes {
+        let _ = write!(
+            boxes,
+            "{},{},{},{},{},{},{},{},{},{}",
+            b.box_len,
+            b.realizations,
+            b.mu,
+            opt(b.mu_interval.map(|i| i.0)),
+            opt(b.mu_interval.map(|i| i.1)),
+            b.s,
+            b.delta_rho,
+            opt(b.delta_rho_interval.map(|i| i.0)),
+            opt(b.delta_rho_interval.map(|i| i.1)),
+            b.log_likelihood
+        );
+        for r in &b.rho_x {
+            let _ = write!(boxes, ",{r}");
+        }
+        boxes.push('\n');
+    }
+    write_file(&dir.join("boxes.csv"), &boxes)?;
+
+    let mut pi = String::from("box_len,density,pi,n,fitted\n");
+    for b in &fss.boxes {
+        let Some(d) = data.iter().find(|d| d.box_len == b.box_len) else {
+            continue;
+        };
+        let fit = b.logistic();
+        for (rho, frac, n) in pi_curve(d, fss.protocol) {
+            let _ = writeln!(pi, "{},{rho},{frac},{n},{}", b.box_len, fit.cdf(rho));
+        }
+    }
+    write_file(&dir.join("pi.csv"), &pi)?;
+
+    let mut rx = String::from("box_len,x,rho_x,rho_x_lo,rho_x_hi,l_pow_minus_inv_nu,fitted\n");
+    for b in &fss.boxes {
+        let t = fss.scaled(b.box_len);
+        for (j, (x, r)) in fss.xs.iter().zip(&b.rho_x).enumerate() {
+            let iv = b.rho_x_intervals.get(j);
+            let _ = writeln!(
+                rx,
+                "{},{x},{r},{},{},{t},{}",
+                b.box_len,
+                opt(iv.map(|i| i.0)),
+                opt(iv.map(|i| i.1)),
+                fss.threshold.value + fss.slopes[j] * t
+            );
+        }
+    }
+    write_file(&dir.join("rho_x.csv"), &rx)
+}
+
+impl BoxFit {
+    /// The fitted logistic of this box size.
+    pub fn logistic(&self) -> Logistic {
+        Logistic {
+            mu: self.mu,
+            s: self.s,
+            log_likelihood: self.log_likelihood,
+        }
+    }
+}
+
+impl Fss {
+    /// `L^(-1/nu)` of a box size, the abscissa of the extrapolation.
+    pub fn scaled(&self, box_len: f64) -> f64 {
+        box_len.powf(-1.0 / self.nu.value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentile_interval_interpolates() {
+        let mut v: Vec<f64> = (0..=100).map(f64::from).rev().collect();
+        assert_eq!(percentile_interval(&mut v, 0.9), Some((5.0, 95.0)));
+        assert_eq!(percentile_interval(&mut [], 0.9), None);
+    }
 }

@@ -1,19 +1,15 @@
-//! Charts of the float-rank stability study (SVG and PNG).
-//!
-//! Text is rendered with a font compiled into the binary (Ubuntu Light from
-//! `epaint_default_fonts`, through plotters' `ab_glyph` feature), so PNG
-//! output needs no system font library: it works on any machine with cargo.
+//! The chart of the float-rank stability study.
 
 use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
+use super::{Chart, Drawn, render};
+use crate::Result;
 use crate::rank::RankRule;
 use crate::rigidity::Method;
 use crate::stability::{Axis, StabilityRow};
-use crate::{Error, Result};
 
 /// Pixel size of the stability chart.
 const SIZE: (u32, u32) = (1400, 1000);
@@ -23,21 +19,16 @@ const SIZE: (u32, u32) = (1400, 1000);
 /// the tolerance alone and one realization without its twin), and one for
 /// the size axis (median singular-value gap against the number of rods).
 pub fn stability_chart(rows: &[StabilityRow], svg: &Path, png: &Path) -> Result<()> {
-    plotters::style::register_font(
-        "sans-serif",
-        FontStyle::Normal,
-        epaint_default_fonts::UBUNTU_LIGHT,
-    )
-    .map_err(|_| Error::Parameter("the embedded chart font does not load".into()))?;
-    let fail = |path: &Path, e: String| Error::io(path, std::io::Error::other(e));
-    draw(SVGBackend::new(svg, SIZE).into_drawing_area(), rows)
-        .map_err(|e| fail(svg, e.to_string()))?;
-    draw(BitMapBackend::new(png, SIZE).into_drawing_area(), rows)
-        .map_err(|e| fail(png, e.to_string()))?;
-    Ok(())
+    render(&Stability(rows), SIZE, svg, png)
 }
 
-type Drawn<DB> = std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+struct Stability<'a>(&'a [StabilityRow]);
+
+impl Chart for Stability<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
+        draw(root, self.0)
+    }
+}
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, rows: &[StabilityRow]) -> Drawn<DB> {
     root.fill(&WHITE)?;
