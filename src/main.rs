@@ -17,6 +17,10 @@ use rgc::rigidity::{Method, Verdict};
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, sample_with};
 use rgc::spanning::Criterion;
+use rgc::threshold::fss::Protocol;
+use rgc::threshold::montecarlo::Kind;
+use rgc::threshold::report::{self, Summary};
+use rgc::threshold::study::{self, MotifSet, RunOptions, STUDY_FORMAT, Shard, StudySpec};
 use rgc::{Error, Result, bench, graphio, motifs};
 
 #[derive(Parser)]
@@ -48,6 +52,10 @@ enum Command {
     Rules(RulesArgs),
     /// Push the float ranks to failure against the exact verdict; write the report.
     Stability(StabilityArgs),
+    /// Percolation threshold by Monte Carlo and finite-size scaling (resumable; shardable).
+    Threshold(ThresholdArgs),
+    /// Combine the shards of a threshold study and analyse it.
+    Merge(MergeArgs),
 }
 
 #[derive(Args)]
@@ -124,6 +132,73 @@ struct EngineArgs {
     /// Motif conditions: `sound` never joins two planar bodies by 3D2A; `paper` is verbatim.
     #[arg(long, value_enum, default_value_t = Rules::Sound)]
     rules: Rules,
+}
+
+#[derive(Args)]
+struct ThresholdArgs {
+    /// Which spanning cluster: connected (`contact`) or rigid (`rigid`).
+    #[arg(long, value_enum, default_value_t = Kind::Rigid)]
+    kind: Kind,
+    /// Aspect ratio l / (2r).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 23.0)]
+    gamma: f64,
+    /// Box sides, in rod lengths, comma-separated (at least 3 for the scaling fit).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        default_value = "5,6,7,8,10"
+    )]
+    boxes: Vec<f64>,
+    /// Realizations (random rod sequences) per box.
+    #[arg(long, default_value_t = 200)]
+    realizations: u64,
+    /// Motif conditions: `sound` never joins two planar bodies by 3D2A; `paper` is verbatim.
+    #[arg(long, value_enum, default_value_t = Rules::Sound)]
+    rules: Rules,
+    /// Motif rule files (a file or a directory of `*.json`), used with the base motifs.
+    #[arg(long)]
+    motifs: Vec<PathBuf>,
+    /// Independent compressions per system; it spans if any run finds a spanning body.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    runs: u64,
+    /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
+    #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
+    criterion: Criterion,
+    /// `nested`: each sequence's exact critical number of rods; `fixed`: the paper's grid of densities.
+    #[arg(long, value_enum, default_value_t = Protocol::Nested)]
+    method: Protocol,
+    /// Densities per box in the fixed protocol's grid (found by a pilot run).
+    #[arg(long, default_value_t = 12)]
+    grid_points: usize,
+    /// Seed of the rods (realization seeds derive from it, the box and the index).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Bootstrap resamples for the intervals.
+    #[arg(long, default_value_t = 200)]
+    bootstrap: usize,
+    /// Run only slice i of n (`i/n`, from 0); combine the slices with `rgc merge`.
+    #[arg(long)]
+    shard: Option<String>,
+    /// Study directory: checkpoints, tables and charts. Run the same command again to resume.
+    #[arg(long)]
+    out: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct MergeArgs {
+    /// Study directories holding the shards (one directory may hold them all).
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Where the merged records and the analysis go (default: the first directory).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Bootstrap resamples for the intervals.
+    #[arg(long, default_value_t = 200)]
+    bootstrap: usize,
 }
 
 #[derive(Args)]
@@ -260,6 +335,8 @@ fn run(cli: Cli, out: &mut String) -> Result<()> {
         Command::Enumerate(a) => run_enumerate(a),
         Command::Rules(a) => run_rules(a, out),
         Command::Stability(a) => run_stability(a, out),
+        Command::Threshold(a) => run_threshold(a, out),
+        Command::Merge(a) => run_merge(a, out),
     }
 }
 
@@ -668,4 +745,168 @@ fn run_stability(a: StabilityArgs, out: &mut String) -> Result<()> {
         a.out.display()
     );
     Ok(())
+}
+
+fn run_threshold(a: ThresholdArgs, out: &mut String) -> Result<()> {
+    let rules = motifs::load_rules(&a.motifs)?;
+    let compiled: Vec<CompiledRule> = rules.iter().map(CompiledRule::new).collect();
+    let spec = StudySpec {
+        format: STUDY_FORMAT.into(),
+        kind: a.kind,
+        gamma: a.gamma,
+        boxes: a.boxes,
+        realizations: a.realizations,
+        rules: a.rules,
+        motifs: MotifSet::of(&rules, &a.motifs),
+        runs: a.runs as usize,
+        criterion: a.criterion,
+        method: a.method,
+        grid_points: a.grid_points,
+        seed: a.seed,
+    };
+    let shard = a
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()?
+        .unwrap_or(Shard::WHOLE);
+    let opts = RunOptions {
+        out: a.out.clone(),
+        shard,
+        progress: !a.quiet,
+    };
+    let done = study::run(&spec, &compiled, &opts)?;
+    say!(
+        out,
+        "{} realizations run in {:.1} s ({} found done).",
+        done.ran,
+        done.seconds,
+        done.resumed
+    );
+    if !done.complete {
+        say!(
+            out,
+            "Shard {}/{} is done; when every shard is, run `rgc merge {}`.",
+            shard.index,
+            shard.count,
+            a.out.display()
+        );
+        return Ok(());
+    }
+    let records = study::in_study_order(&spec, study::read_records(&a.out, &spec)?);
+    analyse_study(&a.out, &spec, &records, a.bootstrap, out)
+}
+
+fn run_merge(a: MergeArgs, out: &mut String) -> Result<()> {
+    let dest = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
+    let (spec, records) = study::merge(&a.dirs, &dest)?;
+    say!(
+        out,
+        "Merged {} realizations from {} director{}.",
+        records.len(),
+        a.dirs.len(),
+        if a.dirs.len() == 1 { "y" } else { "ies" }
+    );
+    analyse_study(&dest, &spec, &records, a.bootstrap, out)
+}
+
+fn analyse_study(
+    dir: &std::path::Path,
+    spec: &StudySpec,
+    records: &[rgc::threshold::montecarlo::Record],
+    bootstrap: usize,
+    out: &mut String,
+) -> Result<()> {
+    let (s, files) = report::write_study(dir, spec, records, bootstrap)?;
+    print_summary(&s, out);
+    say!(
+        out,
+        "Files: {}",
+        files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}
+
+fn print_summary(s: &Summary, out: &mut String) {
+    let f = &s.fss;
+    let interval = |e: &rgc::threshold::fss::Estimate| match (e.lo, e.hi) {
+        (Some(lo), Some(hi)) => format!("[{lo:.4}, {hi:.4}]"),
+        _ => "(no interval)".into(),
+    };
+    say!(
+        out,
+        "{:>6} {:>6} {:>10} {:>10} {:>10}",
+        "box",
+        "n",
+        "mu",
+        "s",
+        "delta_rho"
+    );
+    for b in &f.boxes {
+        say!(
+            out,
+            "{:>6} {:>6} {:>10.4} {:>10.4} {:>10.4}",
+            b.box_len,
+            b.realizations,
+            b.mu,
+            b.s,
+            b.delta_rho
+        );
+    }
+    say!(
+        out,
+        "threshold rho_c = {:.4} {} ({:.0}% interval, {} resamples); rho_c V_ex = {:.4}",
+        f.threshold.value,
+        interval(&f.threshold),
+        100.0 * f.confidence,
+        f.bootstrap,
+        s.threshold_times_vex
+    );
+    say!(out, "nu = {:.4} {}", f.nu.value, interval(&f.nu));
+    if let Some(c) = &f.contact_numbers {
+        for (name, fit) in [
+            ("c0", &c.pooled.c0),
+            ("c1", &c.pooled.c1),
+            ("c2", &c.pooled.c2),
+        ] {
+            say!(
+                out,
+                "{name} at threshold = {:.4} {}",
+                fit.at_threshold.value,
+                interval(&fit.at_threshold)
+            );
+        }
+    }
+    let o = &s.order;
+    if let Some(rate) = o.single_run_miss_rate {
+        say!(
+            out,
+            "single runs miss {:.1}% of the spanning bodies that {} runs find",
+            100.0 * rate,
+            s.study.runs
+        );
+    }
+    if o.fresh_checks > 0 {
+        say!(
+            out,
+            "fresh compression at the critical number misses the spanning body in {} of {} realizations (found only with carried bodies)",
+            o.fresh_misses,
+            o.fresh_checks
+        );
+    }
+    if o.nonmonotone_steps > 0 {
+        say!(
+            out,
+            "non-monotone spanning: {} steps in {} realizations",
+            o.nonmonotone_steps,
+            o.nonmonotone_realizations
+        );
+    }
+    for w in &f.warnings {
+        say!(out, "warning: {w}");
+    }
 }

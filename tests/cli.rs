@@ -294,3 +294,112 @@ fn audit_writes_its_tables_and_rule_files() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A small threshold study's arguments, with some options replaced or added.
+fn threshold_args<'a>(out: &'a str, changes: &[(&'a str, &'a str)]) -> Vec<&'a str> {
+    let mut options = vec![
+        ("--gamma", "10"),
+        ("--boxes", "3,3.5,4"),
+        ("--realizations", "40"),
+        ("--runs", "2"),
+        ("--bootstrap", "40"),
+        ("--out", out),
+    ];
+    for &(flag, value) in changes {
+        match options.iter_mut().find(|o| o.0 == flag) {
+            Some(o) => o.1 = value,
+            None => options.push((flag, value)),
+        }
+    }
+    let mut args = vec!["threshold", "--quiet"];
+    args.extend(options.into_iter().flat_map(|(f, v)| [f, v]));
+    args
+}
+
+#[test]
+fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
+    let base = std::env::temp_dir().join(format!("rgc-cli-kill-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let (whole, killed) = (base.join("whole"), base.join("killed"));
+    let (w, k) = (whole.to_str().unwrap(), killed.to_str().unwrap());
+    let out = rgc(&threshold_args(w, &[]));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("threshold rho_c = ") && text.contains("nu = "),
+        "{text}"
+    );
+
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(threshold_args(k, &[]))
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let records = killed.join("records.jsonl");
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(&records).map_or(0, |t| t.lines().count()) < 5 {
+        assert!(started.elapsed().as_secs() < 120, "no records appear");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let before = std::fs::read_to_string(&records).unwrap().lines().count();
+    let out = rgc(&threshold_args(k, &[]));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains(&format!("({before} found done)")) || before == 120,
+        "{text}"
+    );
+    let read = |d: &std::path::Path| std::fs::read_to_string(d.join("summary.json")).unwrap();
+    assert_eq!(read(&whole), read(&killed));
+    assert_eq!(
+        std::fs::read_to_string(&records).unwrap().lines().count(),
+        120
+    );
+
+    // The same directory with another study is refused, naming the difference.
+    fails(&threshold_args(k, &[("--runs", "3")]), "runs 2 vs 3");
+    std::fs::remove_dir_all(&base).unwrap();
+}
+
+#[test]
+fn threshold_rejects_bad_parameters() {
+    let dir = std::env::temp_dir().join(format!("rgc-cli-bad-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    fails(&threshold_args(d, &[("--shard", "3/2")]), "shard \"3/2\"");
+    fails(
+        &threshold_args(d, &[("--boxes", "1,2,3")]),
+        "box 1 is too small",
+    );
+    fails(
+        &threshold_args(d, &[("--realizations", "0")]),
+        "--realizations must be at least 1",
+    );
+    fails(
+        &threshold_args(d, &[("--gamma", "-4")]),
+        "gamma must be a positive",
+    );
+    fails(
+        &threshold_args(d, &[("--boxes", "4,4,5")]),
+        "box sizes repeat",
+    );
+    // Two box sizes cannot give nu: a clear message, not NaN.
+    fails(
+        &threshold_args(d, &[("--boxes", "3,4"), ("--realizations", "8")]),
+        "nu needs at least 3 box sizes, got 2",
+    );
+    // The analysis failed, but the realizations are kept for a rerun.
+    assert!(dir.join("records.jsonl").exists());
+    let missing = dir.join("no-such-study");
+    fails(&["merge", missing.to_str().unwrap()], "study.json");
+    let _ = std::fs::remove_dir_all(&dir);
+}

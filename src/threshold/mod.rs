@@ -2,3 +2,6 @@
 //! critical densities, and finite-size scaling to `L -> inf`.
 
 pub mod fss;
+pub mod montecarlo;
+pub mod report;
+pub mod study;

@@ -1,0 +1,292 @@
+//! From a finished study's records to its answers: finite-size scaling,
+//! what motif order did, and the files a person reads (`summary.json`, CSV
+//! tables, charts). Everything here is a function of the records alone, so
+//! a resumed or sharded study reports exactly what an uninterrupted one does.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+use super::fss::{self, BoxData, Fss, FssOptions, Observation, Protocol};
+use super::montecarlo::{Kind, Record};
+use super::study::StudySpec;
+use crate::rods::excluded_volume;
+use crate::{Error, Result};
+
+/// What motif order did to a study's compressions (DESIGN §8: where
+/// compression order breaks monotonicity).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct OrderEffects {
+    /// Compressions that found a spanning body with some run.
+    pub spanning_compressions: usize,
+    /// Fraction of single runs of those that found none: how often one run
+    /// misses what `runs` runs find (0 with one run).
+    pub single_run_miss_rate: Option<f64>,
+    /// Nested: realizations checked by a fresh compression (no carried
+    /// bodies) at their rigid critical number, and how many of those fresh
+    /// compressions did not span although the bisection's did: the
+    /// spanning body was found only thanks to bodies carried from a smaller
+    /// system, a non-monotone step of a memoryless engine.
+    pub fresh_checks: usize,
+    pub fresh_misses: usize,
+    /// Fixed: realizations whose spanning goes from yes back to no as the
+    /// density grows, and the number of such steps.
+    pub nonmonotone_realizations: usize,
+    pub nonmonotone_steps: usize,
+}
+
+/// The contact critical density of a box: its mean and spread over realizations.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoxSummary {
+    #[serde(rename = "box")]
+    pub box_len: f64,
+    pub realizations: usize,
+    /// Mean and standard deviation of the density at which each sequence
+    /// first spans by contacts (exact, every protocol).
+    pub contact_critical_mean: f64,
+    pub contact_critical_sd: f64,
+    /// Same for rigid spanning (rigid kind, nested).
+    pub rigid_critical_mean: Option<f64>,
+    pub rigid_critical_sd: Option<f64>,
+}
+
+/// Everything `summary.json` holds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub study: StudySpec,
+    /// Isotropic excluded volume of a rod, and the threshold in units of
+    /// `1 / V_ex` (the mean contact number it implies).
+    pub excluded_volume: f64,
+    pub threshold_times_vex: f64,
+    pub boxes: Vec<BoxSummary>,
+    pub fss: Fss,
+    pub order: OrderEffects,
+}
+
+/// The observations finite-size scaling works on, one [`BoxData`] per box.
+pub fn observations(spec: &StudySpec, records: &[Record]) -> Vec<BoxData> {
+    spec.boxes
+        .iter()
+        .map(|&l| {
+            let volume = l.powi(3);
+            let observations = records
+                .iter()
+                .filter(|r| r.box_len == l)
+                .map(|r| Observation {
+                    critical: match spec.method {
+                        Protocol::Nested => r.critical(spec.kind).map(|n| n as f64 / volume),
+                        Protocol::Fixed => None,
+                    },
+                    fixed: r
+                        .fixed
+                        .iter()
+                        .map(|s| (s.n as f64 / volume, s.spans))
+                        .collect(),
+                    contacts: r.contacts.clone(),
+                })
+                .collect();
+            BoxData {
+                box_len: l,
+                observations,
+            }
+        })
+        .collect()
+}
+
+fn mean_sd(xs: &[f64]) -> (f64, f64) {
+    let n = xs.len() as f64;
+    let mean = xs.iter().sum::<f64>() / n;
+    let var = if xs.len() > 1 {
+        xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (mean, var.sqrt())
+}
+
+/// What motif order did, from the records.
+pub fn order_effects(spec: &StudySpec, records: &[Record]) -> OrderEffects {
+    let mut o = OrderEffects::default();
+    let (mut runs_spanning, mut runs_total) = (0usize, 0usize);
+    for r in records {
+        for s in r.steps.iter().chain(&r.fixed).chain(&r.fresh) {
+            if s.spans && spec.kind == Kind::Rigid {
+                o.spanning_compressions += 1;
+                runs_spanning += s.runs_spanning;
+                runs_total += spec.runs;
+            }
+        }
+        if let Some(fresh) = r.fresh {
+            o.fresh_checks += 1;
+            o.fresh_misses += usize::from(!fresh.spans);
+        }
+        let drops = r
+            .fixed
+            .windows(2)
+            .filter(|w| w[0].spans && !w[1].spans)
+            .count();
+        o.nonmonotone_steps += drops;
+        o.nonmonotone_realizations += usize::from(drops > 0);
+    }
+    o.single_run_miss_rate =
+        (runs_total > 0).then(|| 1.0 - runs_spanning as f64 / runs_total as f64);
+    o
+}
+
+/// Analyses a complete study.
+pub fn summarize(spec: &StudySpec, records: &[Record], bootstrap: usize) -> Result<Summary> {
+    let data = observations(spec, records);
+    let opts = FssOptions {
+        protocol: spec.method,
+        bootstrap,
+        seed: spec.seed,
+        ..FssOptions::default()
+    };
+    let fss = fss::analyse(&data, &opts)?;
+    let boxes = spec
+        .boxes
+        .iter()
+        .map(|&l| {
+            let volume = l.powi(3);
+            let of_box: Vec<&Record> = records.iter().filter(|r| r.box_len == l).collect();
+            let contact: Vec<f64> = of_box
+                .iter()
+                .map(|r| r.contact_critical as f64 / volume)
+                .collect();
+            let rigid: Vec<f64> = of_box
+                .iter()
+                .filter_map(|r| r.rigid_critical.map(|n| n as f64 / volume))
+                .collect();
+            let (cm, cs) = mean_sd(&contact);
+            let rigid_stats = (!rigid.is_empty()).then(|| mean_sd(&rigid));
+            BoxSummary {
+                box_len: l,
+                realizations: of_box.len(),
+                contact_critical_mean: cm,
+                contact_critical_sd: cs,
+                rigid_critical_mean: rigid_stats.map(|s| s.0),
+                rigid_critical_sd: rigid_stats.map(|s| s.1),
+            }
+        })
+        .collect();
+    let vex = excluded_volume(spec.gamma);
+    Ok(Summary {
+        study: spec.clone(),
+        excluded_volume: vex,
+        threshold_times_vex: fss.threshold.value * vex,
+        boxes,
+        order: order_effects(spec, records),
+        fss,
+    })
+}
+
+/// Per-realization table: one row per record.
+fn records_csv(records: &[Record]) -> String {
+    let mut text = String::from(
+        "box,index,seed,contact_critical,contact_critical_density,rigid_critical,rigid_critical_density,compressions,fresh_spans,seconds\n",
+    );
+    for r in records {
+        let v = r.box_len.powi(3);
+        let opt = |x: Option<usize>| x.map_or(String::new(), |n| n.to_string());
+        text += &format!(
+            "{},{},{},{},{:.6},{},{},{},{},{:.4}\n",
+            r.box_len,
+            r.index,
+            r.seed,
+            r.contact_critical,
+            r.contact_critical as f64 / v,
+            opt(r.rigid_critical),
+            r.rigid_critical
+                .map_or(String::new(), |n| format!("{:.6}", n as f64 / v)),
+            r.steps.len() + r.fixed.len(),
+            r.fresh.map_or(String::new(), |s| s.spans.to_string()),
+            r.seconds
+        );
+    }
+    text
+}
+
+/// How long a study took, kept apart from `summary.json` (which must not
+/// depend on the machine).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Timing {
+    /// Summed time of the realizations on their threads (CPU seconds).
+    pub cpu_seconds: f64,
+    pub per_box: Vec<(f64, f64)>,
+}
+
+pub fn timing(spec: &StudySpec, records: &[Record]) -> Timing {
+    Timing {
+        cpu_seconds: records.iter().map(|r| r.seconds).sum(),
+        per_box: spec
+            .boxes
+            .iter()
+            .map(|&l| {
+                let s = records
+                    .iter()
+                    .filter(|r| r.box_len == l)
+                    .map(|r| r.seconds)
+                    .sum();
+                (l, s)
+            })
+            .collect(),
+    }
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+}
+
+/// Writes `summary.json`, `timing.json`, `records.csv`, the scaling tables
+/// and the charts into `dir`; returns the summary and the files written.
+pub fn write_study(
+    dir: &Path,
+    spec: &StudySpec,
+    records: &[Record],
+    bootstrap: usize,
+) -> Result<(Summary, Vec<PathBuf>)> {
+    let summary = summarize(spec, records, bootstrap)?;
+    let data = observations(spec, records);
+    let mut files = Vec::new();
+    let mut put = |name: &str, text: String| -> Result<()> {
+        let path = dir.join(name);
+        write(&path, &text)?;
+        files.push(path);
+        Ok(())
+    };
+    put(
+        "summary.json",
+        serde_json::to_string_pretty(&summary).expect("summaries serialize") + "\n",
+    )?;
+    put(
+        "timing.json",
+        serde_json::to_string_pretty(&timing(spec, records)).expect("timings serialize") + "\n",
+    )?;
+    put("records.csv", records_csv(records))?;
+    fss::write_csv(&summary.fss, &data, dir)?;
+    files.extend(["boxes.csv", "pi.csv", "rho_x.csv"].map(|n| dir.join(n)));
+    let title = format!(
+        "{} percolation, gamma {}, {:?} rules{}, {} run(s), {:?} spanning, {:?} protocol",
+        match spec.kind {
+            Kind::Contact => "contact",
+            Kind::Rigid => "rigidity",
+        },
+        spec.gamma,
+        spec.rules,
+        if spec.motifs.rules > 0 {
+            format!(" + {} motifs", spec.motifs.rules)
+        } else {
+            String::new()
+        },
+        spec.runs,
+        spec.criterion,
+        spec.method,
+    )
+    .to_lowercase();
+    files.extend(crate::plot::threshold_charts(
+        &summary.fss,
+        &data,
+        &title,
+        dir,
+    )?);
+    Ok((summary, files))
+}

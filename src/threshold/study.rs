@@ -1,0 +1,668 @@
+//! A threshold study on disk (DESIGN §9): what was asked (`study.json`), the
+//! fixed protocol's density grid (`grid.json`), and one JSON line per
+//! finished realization (`records*.jsonl`). A study killed at any moment
+//! resumes from its records; shards (`--shard i/n`) write their own record
+//! files, in one directory or several, and [`merge`] combines them exactly.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fs::{File, OpenOptions};
+use std::io::{BufRead, BufReader, Seek, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use super::fss::Protocol;
+use super::montecarlo::{self, Kind, Record, Sequence, Setup};
+use crate::engine::{CompiledRule, Engine, Rules, run_seed};
+use crate::motifs::Rule;
+use crate::rods::{RodParams, excluded_volume};
+use crate::spanning::Criterion;
+use crate::{Error, Result};
+
+/// Version of the study files; a change that alters records bumps it.
+pub const STUDY_FORMAT: &str = "rgc-threshold/1";
+
+/// Everything that determines a study's records: two runs with equal specs
+/// produce equal records, whatever the thread count or interruptions.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StudySpec {
+    pub format: String,
+    pub kind: Kind,
+    pub gamma: f64,
+    pub boxes: Vec<f64>,
+    pub realizations: u64,
+    pub rules: Rules,
+    /// Loaded rule set: how many rules and a digest of their canonical forms.
+    pub motifs: MotifSet,
+    pub runs: usize,
+    pub criterion: Criterion,
+    pub method: Protocol,
+    /// Densities of the fixed protocol's grid per box (ignored by `nested`).
+    pub grid_points: usize,
+    pub seed: u64,
+}
+
+/// The identity of a loaded rule set, independent of file names and order.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MotifSet {
+    pub rules: usize,
+    /// FNV-1a of the sorted canonical forms, hex; empty without rules.
+    pub digest: String,
+    /// The files they came from (for people; not compared).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<String>,
+}
+
+impl MotifSet {
+    pub fn of(rules: &[Rule], files: &[PathBuf]) -> Self {
+        if rules.is_empty() {
+            return MotifSet::default();
+        }
+        let mut forms: Vec<&str> = rules.iter().map(|r| r.canonical.as_str()).collect();
+        forms.sort_unstable();
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for f in forms {
+            for b in f.bytes().chain([b'\n']) {
+                h = (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        }
+        MotifSet {
+            rules: rules.len(),
+            digest: format!("{h:016x}"),
+            files: files.iter().map(|p| p.display().to_string()).collect(),
+        }
+    }
+
+    /// Same rules (file names aside).
+    fn same(&self, other: &MotifSet) -> bool {
+        self.rules == other.rules && self.digest == other.digest
+    }
+}
+
+impl StudySpec {
+    /// Checks what a person can get wrong on the command line.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |m: String| Err(Error::Parameter(m));
+        if self.boxes.is_empty() {
+            return bad("no box sizes given".into());
+        }
+        let mut sorted = self.boxes.clone();
+        sorted.sort_by(f64::total_cmp);
+        sorted.dedup();
+        if sorted.len() != self.boxes.len() {
+            return bad(format!("box sizes repeat: {:?}", self.boxes));
+        }
+        for &l in &self.boxes {
+            RodParams::new(self.gamma, l, 1.0)?;
+        }
+        if self.realizations == 0 {
+            return bad("--realizations must be at least 1".into());
+        }
+        if self.runs == 0 {
+            return bad("--runs must be at least 1".into());
+        }
+        if self.method == Protocol::Fixed && self.grid_points < 2 {
+            return bad("--grid-points must be at least 2".into());
+        }
+        Ok(())
+    }
+
+    /// Whether `other` is the same study (file names of the rules aside).
+    fn same(&self, other: &StudySpec) -> bool {
+        let strip = |s: &StudySpec| StudySpec {
+            motifs: MotifSet::default(),
+            ..s.clone()
+        };
+        strip(self) == strip(other) && self.motifs.same(&other.motifs)
+    }
+
+    /// The seed of realization `index` in box `box_len`: the same for every
+    /// kind, rule set and method, so they are compared on the same rods.
+    pub fn realization_seed(&self, box_len: f64, index: u64) -> u64 {
+        run_seed(run_seed(self.seed, box_len.to_bits()), index)
+    }
+
+    /// Rods to generate first for a box: past the typical threshold, so a
+    /// sequence rarely needs to grow (mean contact number 2 for contact
+    /// percolation, 5 for rigidity).
+    fn first_rods(&self, box_len: f64) -> usize {
+        let c0 = match self.kind {
+            Kind::Contact => 2.0,
+            Kind::Rigid => 5.0,
+        };
+        (c0 / excluded_volume(self.gamma) * box_len.powi(3)).ceil() as usize
+    }
+}
+
+/// One slice `i/n` of a study's realizations (`--shard`), counted from 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// Parses `i/n` with `0 <= i < n`.
+    pub fn parse(s: &str) -> Result<Shard> {
+        let bad = || {
+            Error::Parameter(format!(
+                "shard {s:?}: expected i/n with 0 <= i < n, e.g. 0/4"
+            ))
+        };
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Whether the `k`-th realization of the study (boxes in order, then
+    /// index) belongs to this shard: round robin, so shards get equal work.
+    fn owns(&self, k: usize) -> bool {
+        k % self.count == self.index
+    }
+
+    fn file_name(&self) -> String {
+        if *self == Shard::WHOLE {
+            "records.jsonl".into()
+        } else {
+            format!("records-{}-of-{}.jsonl", self.index, self.count)
+        }
+    }
+}
+
+/// The fixed protocol's numbers of rods per box, from a pilot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Grid {
+    pub boxes: Vec<GridBox>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GridBox {
+    #[serde(rename = "box")]
+    pub box_len: f64,
+    /// Pilot critical densities it was built from.
+    pub pilot: Vec<f64>,
+    pub rods: Vec<usize>,
+}
+
+/// Pilot realizations per box for the fixed grid.
+pub const PILOT: u64 = 16;
+
+/// Builds the fixed protocol's grid: the nested protocol on [`PILOT`]
+/// realizations of their own seeds, then `grid_points` numbers of rods
+/// evenly over the pilot's mean plus or minus 2.5 standard deviations
+/// (where a logistic spanning curve runs from 1% to 99%), widened to the
+/// pilot's extremes.
+fn pilot_grid(spec: &StudySpec, setup: &Setup) -> Result<Grid> {
+    let pilot_spec = StudySpec {
+        seed: spec.seed ^ 0x9170_7000_0000_0001,
+        ..spec.clone()
+    };
+    let boxes = spec
+        .boxes
+        .iter()
+        .map(|&l| {
+            let volume = l.powi(3);
+            let pilot: Vec<f64> = (0..PILOT)
+                .into_par_iter()
+                .map(|i| {
+                    let r = realize(&pilot_spec, setup, l, i, Protocol::Nested, None)?;
+                    let n = r
+                        .critical(spec.kind)
+                        .expect("nested records a critical number");
+                    Ok(n as f64 / volume)
+                })
+                .collect::<Result<_>>()?;
+            let mean = pilot.iter().sum::<f64>() / pilot.len() as f64;
+            let var =
+                pilot.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (pilot.len() - 1) as f64;
+            let spread = 2.5 * var.sqrt().max(mean * 1e-3);
+            let lo = (mean - spread).min(pilot.iter().copied().fold(f64::INFINITY, f64::min));
+            let hi = (mean + spread).max(pilot.iter().copied().fold(0.0, f64::max));
+            let m = spec.grid_points;
+            let mut rods: Vec<usize> = (0..m)
+                .map(|j| {
+                    ((lo + (hi - lo) * j as f64 / (m - 1) as f64).max(0.0) * volume).round()
+                        as usize
+                })
+                .map(|n| n.max(1))
+                .collect();
+            rods.dedup();
+            Ok(GridBox {
+                box_len: l,
+                pilot,
+                rods,
+            })
+        })
+        .collect::<Result<_>>()?;
+    Ok(Grid { boxes })
+}
+
+/// Runs one realization.
+fn realize(
+    spec: &StudySpec,
+    setup: &Setup,
+    box_len: f64,
+    index: u64,
+    method: Protocol,
+    grid: Option<&GridBox>,
+) -> Result<Record> {
+    let seed = spec.realization_seed(box_len, index);
+    let mut seq = Sequence::new(spec.gamma, box_len, spec.first_rods(box_len), seed)?;
+    let mut record = Record {
+        box_len,
+        index,
+        seed,
+        contact_critical: 0,
+        rigid_critical: None,
+        steps: Vec::new(),
+        fresh: None,
+        fixed: Vec::new(),
+        contacts: Vec::new(),
+        seconds: 0.0,
+    };
+    let t = Instant::now();
+    match method {
+        Protocol::Nested => montecarlo::nested(setup, &mut seq, &mut record)?,
+        Protocol::Fixed => {
+            let grid = grid.expect("the fixed protocol has a grid");
+            montecarlo::fixed(setup, &mut seq, &grid.rods, &mut record)?
+        }
+    }
+    record.seconds = t.elapsed().as_secs_f64();
+    Ok(record)
+}
+
+/// How to run a study besides what determines its records.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub out: PathBuf,
+    pub shard: Shard,
+    pub progress: bool,
+}
+
+/// What [`run`] did.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    /// Realizations of this shard found done on disk before starting.
+    pub resumed: usize,
+    /// Realizations run now.
+    pub ran: usize,
+    /// Whether every realization of the study (all shards) is on disk in `out`.
+    pub complete: bool,
+    pub seconds: f64,
+}
+
+/// Runs the realizations of `shard` not yet recorded in `opts.out`, appending
+/// each record as it finishes (rayon over realizations, largest boxes first).
+pub fn run(spec: &StudySpec, rules: &[CompiledRule], opts: &RunOptions) -> Result<RunReport> {
+    let started = Instant::now();
+    spec.validate()?;
+    let dir = &opts.out;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    claim(dir, spec)?;
+    let setup = Setup {
+        kind: spec.kind,
+        gamma: spec.gamma,
+        criterion: spec.criterion,
+        engine: Engine::with_rules(spec.rules, rules),
+        runs: spec.runs,
+    };
+    let grid = match spec.method {
+        Protocol::Nested => None,
+        Protocol::Fixed => Some(load_or_make_grid(dir, spec, &setup)?),
+    };
+    let done = read_records(dir, spec)?;
+    let mut todo: Vec<(f64, u64)> = Vec::new();
+    let mut resumed = 0;
+    let mut k = 0;
+    for &l in &spec.boxes {
+        for i in 0..spec.realizations {
+            if opts.shard.owns(k) {
+                if done.contains_key(&(l.to_bits(), i)) {
+                    resumed += 1;
+                } else {
+                    todo.push((l, i));
+                }
+            }
+            k += 1;
+        }
+    }
+    // Largest boxes first, so the last realizations to finish are short.
+    todo.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let weight = |l: f64| (l.powi(3)).ceil() as u64;
+    let pb = if opts.progress {
+        ProgressBar::new(todo.iter().map(|t| weight(t.0)).sum())
+    } else {
+        ProgressBar::hidden()
+    };
+    if opts.progress {
+        pb.set_draw_target(ProgressDrawTarget::stderr());
+        pb.set_style(
+            ProgressStyle::with_template(
+                "{msg} [{elapsed_precise}] {wide_bar} {percent}% (about {eta} left)",
+            )
+            .expect("valid template"),
+        );
+        pb.set_message(format!(
+            "{} realizations, {} done before",
+            todo.len(),
+            resumed
+        ));
+    }
+    let path = dir.join(opts.shard.file_name());
+    let writer = Mutex::new(open_for_append(&path)?);
+    todo.par_iter()
+        .map(|&(l, i)| {
+            let grid_box = grid
+                .as_ref()
+                .and_then(|g| g.boxes.iter().find(|b| b.box_len == l));
+            let record = realize(spec, &setup, l, i, spec.method, grid_box)?;
+            let mut line = serde_json::to_string(&record).expect("records serialize");
+            line.push('\n');
+            let mut w = writer.lock().expect("no writer panicked");
+            w.write_all(line.as_bytes())
+                .and_then(|_| w.flush())
+                .map_err(|e| Error::io(&path, e))?;
+            pb.inc(weight(l));
+            Ok(())
+        })
+        .collect::<Result<()>>()?;
+    pb.finish_and_clear();
+    let total = spec.boxes.len() * spec.realizations as usize;
+    let complete = read_records(dir, spec)?.len() == total;
+    Ok(RunReport {
+        resumed,
+        ran: todo.len(),
+        complete,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+fn study_error(path: &Path, reason: impl Into<String>) -> Error {
+    Error::Study {
+        path: path.to_path_buf(),
+        reason: reason.into(),
+    }
+}
+
+/// Writes `study.json`, or checks that the one there is the same study.
+fn claim(dir: &Path, spec: &StudySpec) -> Result<()> {
+    let path = dir.join("study.json");
+    match std::fs::read_to_string(&path) {
+        Ok(text) => {
+            let there: StudySpec = serde_json::from_str(&text)
+                .map_err(|e| study_error(&path, format!("unreadable study file: {e}")))?;
+            if !there.same(spec) {
+                return Err(study_error(
+                    &path,
+                    format!(
+                        "this directory holds another study ({}); use another --out, or the same command\n  there: {}\n  asked: {}",
+                        difference(&there, spec),
+                        serde_json::to_string(&there).unwrap_or_default(),
+                        serde_json::to_string(spec).unwrap_or_default()
+                    ),
+                ));
+            }
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let text = serde_json::to_string_pretty(spec).expect("specs serialize");
+            write_atomically(&path, &text)
+        }
+        Err(e) => Err(Error::io(&path, e)),
+    }
+}
+
+/// The first fields in which two specs differ, for error messages.
+fn difference(a: &StudySpec, b: &StudySpec) -> String {
+    let (a, b) = (
+        serde_json::to_value(a).unwrap_or_default(),
+        serde_json::to_value(b).unwrap_or_default(),
+    );
+    let (Some(a), Some(b)) = (a.as_object(), b.as_object()) else {
+        return String::new();
+    };
+    a.iter()
+        .filter(|(k, v)| k.as_str() != "motifs" && b.get(*k) != Some(*v))
+        .map(|(k, v)| format!("{k} {v} vs {}", b.get(k).cloned().unwrap_or_default()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn write_atomically(path: &Path, text: &str) -> Result<()> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+}
+
+fn load_or_make_grid(dir: &Path, spec: &StudySpec, setup: &Setup) -> Result<Grid> {
+    let path = dir.join("grid.json");
+    match std::fs::read_to_string(&path) {
+        Ok(text) => serde_json::from_str(&text)
+            .map_err(|e| study_error(&path, format!("unreadable grid: {e}"))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let grid = pilot_grid(spec, setup)?;
+            let text = serde_json::to_string_pretty(&grid).expect("grids serialize");
+            write_atomically(&path, &text)?;
+            Ok(grid)
+        }
+        Err(e) => Err(Error::io(&path, e)),
+    }
+}
+
+/// Opens a record file for appending, first cutting off a last line left
+/// unfinished by a kill.
+fn open_for_append(path: &Path) -> Result<File> {
+    let mut f = OpenOptions::new()
+        .create(true)
+        .read(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| Error::io(path, e))?;
+    let text = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let keep = text.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
+    if keep < text.len() {
+        f.set_len(keep as u64).map_err(|e| Error::io(path, e))?;
+        f.seek(std::io::SeekFrom::End(0))
+            .map_err(|e| Error::io(path, e))?;
+    }
+    Ok(f)
+}
+
+/// Key of a record: its box (as bits) and index.
+type Key = (u64, u64);
+
+/// Reads every record file of `dir` (`records*.jsonl`), checking each record
+/// against the study; an unfinished last line (a kill) is ignored.
+/// Identical duplicates (shards run twice) are allowed, different ones are not.
+pub fn read_records(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, Record>> {
+    let mut records = BTreeMap::new();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("records") && n.ends_with(".jsonl"))
+        })
+        .collect();
+    files.sort();
+    for path in files {
+        let text = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
+        let complete = text.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
+        for (k, line) in BufReader::new(&text[..complete]).lines().enumerate() {
+            let line = line.map_err(|e| Error::io(&path, e))?;
+            if line.trim().is_empty() {
+                continue;
+            }
+            let at = |reason: String| study_error(&path, format!("line {}: {reason}", k + 1));
+            let r: Record =
+                serde_json::from_str(&line).map_err(|e| at(format!("not a record: {e}")))?;
+            if !spec.boxes.contains(&r.box_len) || r.index >= spec.realizations {
+                return Err(at(format!(
+                    "realization {} of box {} is not part of this study",
+                    r.index, r.box_len
+                )));
+            }
+            if r.seed != spec.realization_seed(r.box_len, r.index) {
+                return Err(at(format!(
+                    "realization {} of box {} has seed {}, not this study's",
+                    r.index, r.box_len, r.seed
+                )));
+            }
+            let key = (r.box_len.to_bits(), r.index);
+            match records.get(&key) {
+                Some(seen) if !same_record(seen, &r) => {
+                    return Err(at(format!(
+                        "realization {} of box {} is recorded twice with different results",
+                        r.index, r.box_len
+                    )));
+                }
+                Some(_) => {}
+                None => {
+                    records.insert(key, r);
+                }
+            }
+        }
+    }
+    Ok(records)
+}
+
+/// Equal results (timing aside).
+fn same_record(a: &Record, b: &Record) -> bool {
+    Record {
+        seconds: 0.0,
+        ..a.clone()
+    } == Record {
+        seconds: 0.0,
+        ..b.clone()
+    }
+}
+
+/// Combines the records of `dirs` (shards of one study) into `out`: the
+/// studies must be the same, every realization present, duplicates equal.
+/// Writes `out/study.json` and `out/records.jsonl` in study order, and
+/// returns the spec and the records.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
+    let Some(first) = dirs.first() else {
+        return Err(Error::Parameter(
+            "merge needs at least one study directory".into(),
+        ));
+    };
+    let spec = read_spec(first)?;
+    let mut all: BTreeMap<Key, Record> = BTreeMap::new();
+    for dir in dirs {
+        let there = read_spec(dir)?;
+        if !there.same(&spec) {
+            return Err(study_error(
+                dir,
+                format!(
+                    "a different study from {} ({})",
+                    first.display(),
+                    difference(&spec, &there)
+                ),
+            ));
+        }
+        for (key, r) in read_records(dir, &spec)? {
+            match all.get(&key) {
+                Some(seen) if !same_record(seen, &r) => {
+                    return Err(study_error(
+                        dir,
+                        format!(
+                            "realization {} of box {} differs from another shard's",
+                            r.index, r.box_len
+                        ),
+                    ));
+                }
+                Some(_) => {}
+                None => {
+                    all.insert(key, r);
+                }
+            }
+        }
+    }
+    let missing: Vec<String> = spec
+        .boxes
+        .iter()
+        .flat_map(|&l| (0..spec.realizations).map(move |i| (l, i)))
+        .filter(|&(l, i)| !all.contains_key(&(l.to_bits(), i)))
+        .map(|(l, i)| format!("box {l} #{i}"))
+        .collect();
+    if !missing.is_empty() {
+        let shown: Vec<_> = missing.iter().take(5).cloned().collect();
+        return Err(study_error(
+            out,
+            format!(
+                "{} realization(s) missing from the shards ({}{}); run the missing shards first",
+                missing.len(),
+                shown.join(", "),
+                if missing.len() > 5 { ", ..." } else { "" }
+            ),
+        ));
+    }
+    let records = in_study_order(&spec, all);
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let same_dir = dirs.iter().any(|d| same_path(d, out));
+    if !same_dir {
+        claim(out, &spec)?;
+        for name in ["grid.json"] {
+            let from = first.join(name);
+            if from.exists() {
+                std::fs::copy(&from, out.join(name)).map_err(|e| Error::io(&from, e))?;
+            }
+        }
+    }
+    let mut text = String::new();
+    for r in &records {
+        text += &serde_json::to_string(r).expect("records serialize");
+        text.push('\n');
+    }
+    write_atomically(&out.join("records.jsonl"), &text)?;
+    Ok((spec, records))
+}
+
+fn same_path(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
+/// Reads a study directory's `study.json`.
+pub fn read_spec(dir: &Path) -> Result<StudySpec> {
+    let path = dir.join("study.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+    let spec: StudySpec = serde_json::from_str(&text)
+        .map_err(|e| study_error(&path, format!("unreadable study file: {e}")))?;
+    if spec.format != STUDY_FORMAT {
+        return Err(study_error(
+            &path,
+            format!("format {:?}, this rgc reads {STUDY_FORMAT:?}", spec.format),
+        ));
+    }
+    Ok(spec)
+}
+
+/// Records sorted as the study lists them: boxes in the given order, then index.
+pub fn in_study_order(spec: &StudySpec, records: BTreeMap<Key, Record>) -> Vec<Record> {
+    let mut records: Vec<Record> = records.into_values().collect();
+    let pos = |l: f64| {
+        spec.boxes
+            .iter()
+            .position(|&b| b == l)
+            .unwrap_or(usize::MAX)
+    };
+    records.sort_by_key(|r| (pos(r.box_len), r.index));
+    records
+}
