@@ -15,7 +15,7 @@
 //! * [`rigidity`] — the rigidity matrix and the exact verdict over components;
 //! * [`rank`] — exact rank over the prime field F_p;
 //! * [`stability`] — where float ranks fail against the exact verdict, and their speed;
-//! * [`plot`] — charts of the stability study (SVG, and PNG with an embedded font);
+//! * [`plot`] — charts of the stability study and of the thresholds (SVG, and PNG with an embedded font);
 //! * [`graphio`] — graph6 and edge-list input and output;
 //! * [`audit`] — which rigid motifs the engine misses; base and extended rule sets;
 //! * [`threshold`] — Monte Carlo critical densities and finite-size scaling;

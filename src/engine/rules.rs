@@ -169,9 +169,9 @@ impl State<'_> {
     /// Nodes adjacent to node `x`.
     fn adjacent(&mut self, x: u32) -> Vec<u32> {
         if self.class(x).is_some() {
-            let mut v: Vec<u32> = self.neighbours(x).collect();
-            v.sort_unstable();
-            return v;
+            // Distinct already; the map's order is deterministic (Fx hashing,
+            // one thread per compression), and bodies can have thousands.
+            return self.neighbours(x).collect();
         }
         let g = self.g;
         let mut v: Vec<u32> = g.neighbors(x).iter().map(|&(nb, _)| nb).collect();
@@ -195,6 +195,9 @@ impl State<'_> {
     ) -> Option<(Vec<u32>, BodyClass)> {
         let n = rule.kinds.len();
         if !fits(rule.kinds[a], self.class(x)) {
+            return None;
+        }
+        if self.degree(x) < rule.neighbours[a].len() {
             return None;
         }
         let mut map: Vec<Option<u32>> = vec![None; n];
@@ -264,7 +267,8 @@ impl State<'_> {
     /// Whether host node `y` has at least the pattern's contacts with every
     /// mapped node that pattern node `v` touches.
     fn counts_fit(&mut self, rule: &CompiledRule, map: &[Option<u32>], v: usize, y: u32) -> bool {
-        if map.contains(&Some(y)) {
+        // A host node with fewer neighbours than the pattern node cannot carry it.
+        if self.degree(y) < rule.neighbours[v].len() || map.contains(&Some(y)) {
             return false;
         }
         for &w in &rule.neighbours[v] {
@@ -280,8 +284,20 @@ impl State<'_> {
     /// Maps the remaining pattern nodes by backtracking over host neighbours,
     /// then assigns contacts.
     fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: Rules) -> bool {
+        // Most constrained node next: the most mapped neighbours, then the
+        // most neighbours (a fixed order would explore far more partial maps).
         let next = (0..map.len())
-            .find(|&v| map[v].is_none() && rule.neighbours[v].iter().any(|&w| map[w].is_some()));
+            .filter(|&v| map[v].is_none())
+            .map(|v| {
+                let mapped = rule.neighbours[v]
+                    .iter()
+                    .filter(|&&w| map[w].is_some())
+                    .count();
+                (mapped, rule.neighbours[v].len(), std::cmp::Reverse(v))
+            })
+            .filter(|t| t.0 > 0)
+            .max()
+            .map(|t| t.2.0);
         let Some(v) = next else {
             return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
         };
