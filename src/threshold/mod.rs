@@ -5,3 +5,4 @@ pub mod fss;
 pub mod montecarlo;
 pub mod report;
 pub mod study;
+pub mod compare;
