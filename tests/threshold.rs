@@ -296,3 +296,36 @@ fn order_effects_count_fresh_misses_and_non_monotone_steps() {
     // 5 of 8 runs found the spanning body.
     assert!((o.single_run_miss_rate.unwrap() - 3.0 / 8.0).abs() < 1e-12);
 }
+
+#[test]
+fn variants_share_studies_and_analyse_the_first_realizations() {
+    use rgc::threshold::compare::{Variant, run_variants};
+    let root = scratch("variants");
+    let template = spec(Kind::Rigid, Protocol::Nested);
+    let v = |label: &str, rules: Rules, runs: usize, realizations: u64| Variant {
+        label: label.into(),
+        family: "test".into(),
+        rules,
+        motifs: vec![],
+        runs,
+        method: Protocol::Nested,
+        realizations,
+    };
+    let variants = [
+        v("sound", Rules::Sound, 1, 12),
+        v("sound, 8", Rules::Sound, 1, 8),
+        v("paper", Rules::Paper, 1, 12),
+        v("sound K2", Rules::Sound, 2, 12),
+    ];
+    let out = run_variants(&template, &variants, &root, 30, false).unwrap();
+    assert_eq!(out.len(), 4);
+    assert_eq!(out[0].relative_difference, 0.0);
+    // The subset reads the first 8 realizations of the 12-realization study:
+    // three studies, not four.
+    assert_eq!(out[1].study, out[0].study);
+    assert_ne!(out[2].study, out[0].study);
+    assert_eq!(std::fs::read_dir(&root).unwrap().count(), 3);
+    assert!(out[1].cpu_seconds < out[0].cpu_seconds);
+    assert!(out[3].single_run_miss_rate.is_some());
+    std::fs::remove_dir_all(root).unwrap();
+}

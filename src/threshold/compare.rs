@@ -75,8 +75,9 @@ fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
 }
 
 /// Runs (or resumes) every variant's study on the realizations of
-/// `template` and analyses each. A variant analysing fewer realizations
-/// than another of the same study shares its records.
+/// `template` (its `realizations` is ignored: each variant says how many it
+/// analyses) and analyses each. A variant analysing fewer realizations than
+/// another of the same study shares its records.
 pub fn run_variants(
     template: &StudySpec,
     variants: &[Variant],
@@ -84,27 +85,36 @@ pub fn run_variants(
     bootstrap: usize,
     progress: bool,
 ) -> Result<Vec<VariantOutcome>> {
-    // One study per distinct record-determining spec, at its largest count.
+    // One study per distinct record-determining spec, with as many
+    // realizations as its most demanding variant analyses.
     let mut specs: Vec<(StudySpec, Vec<CompiledRule>)> = Vec::new();
     let mut of_variant = Vec::new();
     for v in variants {
+        if v.realizations == 0 {
+            return Err(Error::Parameter(format!(
+                "variant {:?} analyses no realizations",
+                v.label
+            )));
+        }
         let rules = motifs::load_rules(&v.motifs)?;
         let spec = StudySpec {
             rules: v.rules,
             motifs: MotifSet::of(&rules, &v.motifs),
             runs: v.runs,
             method: v.method,
-            realizations: template.realizations,
+            realizations: v.realizations,
             ..template.clone()
         };
-        if v.realizations > spec.realizations || v.realizations == 0 {
-            return Err(Error::Parameter(format!(
-                "variant {:?} analyses {} realizations per box; the study has {}",
-                v.label, v.realizations, spec.realizations
-            )));
-        }
-        let k = match specs.iter().position(|(s, _)| *s == spec) {
-            Some(k) => k,
+        let same = |s: &StudySpec| StudySpec {
+            realizations: spec.realizations,
+            ..s.clone()
+        } == spec;
+        let k = match specs.iter().position(|(s, _)| same(s)) {
+            Some(k) => {
+                let r = &mut specs[k].0.realizations;
+                *r = (*r).max(v.realizations);
+                k
+            }
             None => {
                 specs.push((spec, rules.iter().map(CompiledRule::new).collect()));
                 specs.len() - 1
