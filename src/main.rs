@@ -17,6 +17,7 @@ use rgc::rigidity::{Method, Verdict};
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, sample_with};
 use rgc::spanning::Criterion;
+use rgc::threshold::compare::{self, Variant, VariantOutcome};
 use rgc::threshold::fss::Protocol;
 use rgc::threshold::montecarlo::Kind;
 use rgc::threshold::report::{self, Summary};
@@ -56,6 +57,10 @@ enum Command {
     Threshold(ThresholdArgs),
     /// Combine the shards of a threshold study and analyse it.
     Merge(MergeArgs),
+    /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same realizations.
+    Compare(CompareArgs),
+    /// Threshold and interval width against CPU time: runs per system, motif sets, realizations, nested against fixed.
+    Tradeoff(TradeoffArgs),
 }
 
 #[derive(Args)]
@@ -186,6 +191,71 @@ struct ThresholdArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+}
+
+/// What the variants of `compare` and `tradeoff` share.
+#[derive(Args)]
+struct VariantArgs {
+    /// Aspect ratio l / (2r).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 23.0)]
+    gamma: f64,
+    /// Box sides, in rod lengths, comma-separated (at least 3).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        default_value = "4,5,6"
+    )]
+    boxes: Vec<f64>,
+    /// Realizations per box.
+    #[arg(long, default_value_t = 100)]
+    realizations: u64,
+    /// Spanning definition.
+    #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
+    criterion: Criterion,
+    /// Seed of the rods.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Bootstrap resamples for the intervals.
+    #[arg(long, default_value_t = 200)]
+    bootstrap: usize,
+    /// Where the studies go (one directory each; rerun to resume).
+    #[arg(long, default_value = "results/studies")]
+    studies: PathBuf,
+    /// Where the comparison's JSON, Markdown, CSV and charts go.
+    #[arg(long, default_value = "results")]
+    results: PathBuf,
+    /// No progress bars.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    common: VariantArgs,
+    /// Runs per system.
+    #[arg(long, default_value_t = 1)]
+    runs: usize,
+    /// The extended motif rule files.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "motifs/rods-6.json,motifs/rods-8.json,motifs/mixed-4.json"
+    )]
+    extended: Vec<PathBuf>,
+}
+
+#[derive(Args)]
+struct TradeoffArgs {
+    #[command(flatten)]
+    common: VariantArgs,
+    /// Runs per system to compare (more than 10 analyse half the realizations).
+    #[arg(long, value_delimiter = ',', default_value = "1,10,40")]
+    runs_list: Vec<usize>,
+    /// Directory of the audit's rule files (`rods-6.json`, `rods-8.json`, `mixed-4.json`).
+    #[arg(long, default_value = "motifs")]
+    motifs_dir: PathBuf,
 }
 
 #[derive(Args)]
@@ -337,6 +407,8 @@ fn run(cli: Cli, out: &mut String) -> Result<()> {
         Command::Stability(a) => run_stability(a, out),
         Command::Threshold(a) => run_threshold(a, out),
         Command::Merge(a) => run_merge(a, out),
+        Command::Compare(a) => run_compare(a, out),
+        Command::Tradeoff(a) => run_tradeoff(a, out),
     }
 }
 
@@ -909,4 +981,176 @@ fn print_summary(s: &Summary, out: &mut String) {
     for w in &f.warnings {
         say!(out, "warning: {w}");
     }
+}
+
+impl VariantArgs {
+    fn template(&self) -> StudySpec {
+        StudySpec {
+            format: STUDY_FORMAT.into(),
+            kind: Kind::Rigid,
+            gamma: self.gamma,
+            boxes: self.boxes.clone(),
+            realizations: self.realizations,
+            rules: Rules::Sound,
+            motifs: MotifSet::default(),
+            runs: 1,
+            criterion: self.criterion,
+            method: Protocol::Nested,
+            grid_points: 12,
+            seed: self.seed,
+        }
+    }
+
+    /// Runs the variants and writes `results/NAME.{json,md,csv}`.
+    fn run(
+        &self,
+        name: &str,
+        title: &str,
+        command: &str,
+        variants: &[Variant],
+        out: &mut String,
+    ) -> Result<Vec<VariantOutcome>> {
+        let template = self.template();
+        template.validate()?;
+        let outcomes = compare::run_variants(
+            &template,
+            variants,
+            &self.studies,
+            self.bootstrap,
+            !self.quiet,
+        )?;
+        let dir = &self.results;
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let write = |ext: &str, text: String| -> Result<()> {
+            let path = dir.join(format!("{name}.{ext}"));
+            std::fs::write(&path, text).map_err(|e| Error::io(&path, e))
+        };
+        write(
+            "json",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "command": command,
+                "template": template,
+                "variants": outcomes,
+            }))
+            .expect("outcomes serialize")
+                + "\n",
+        )?;
+        let md = compare::markdown(title, command, &outcomes);
+        write("md", md.clone())?;
+        write("csv", compare::csv(&outcomes))?;
+        say!(out, "{md}");
+        Ok(outcomes)
+    }
+}
+
+/// The command line that made a result, for the files that record it.
+fn command_line() -> String {
+    std::env::args()
+        .enumerate()
+        .map(|(k, a)| if k == 0 { "rgc".to_string() } else { a })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn run_compare(a: CompareArgs, out: &mut String) -> Result<()> {
+    let c = &a.common;
+    let variant = |label: &str, rules: Rules, motifs: &[PathBuf]| Variant {
+        label: label.into(),
+        family: "rules".into(),
+        rules,
+        motifs: motifs.to_vec(),
+        runs: a.runs,
+        method: Protocol::Nested,
+        realizations: c.realizations,
+    };
+    let variants = [
+        variant("paper base", Rules::Paper, &[]),
+        variant("sound base", Rules::Sound, &[]),
+        variant("sound + extended", Rules::Sound, &a.extended),
+    ];
+    let title = format!(
+        "Rigidity threshold, gamma {}: paper base against sound base against sound + extended motifs",
+        c.gamma
+    );
+    let outcomes = c.run(
+        "compare-base-extended",
+        &title,
+        &command_line(),
+        &variants,
+        out,
+    )?;
+    rgc::plot::compare_chart(
+        &outcomes,
+        &title,
+        &c.results.join("compare-base-extended.svg"),
+        &c.results.join("compare-base-extended.png"),
+    )
+}
+
+fn run_tradeoff(a: TradeoffArgs, out: &mut String) -> Result<()> {
+    let c = &a.common;
+    let r = c.realizations;
+    let base = Variant {
+        label: String::new(),
+        family: String::new(),
+        rules: Rules::Sound,
+        motifs: Vec::new(),
+        runs: 1,
+        method: Protocol::Nested,
+        realizations: r,
+    };
+    let mut variants = Vec::new();
+    for &k in &a.runs_list {
+        variants.push(Variant {
+            label: format!("K={k}"),
+            family: "runs".into(),
+            runs: k,
+            realizations: if k > 10 { r / 2 } else { r },
+            ..base.clone()
+        });
+    }
+    let m = |f: &str| a.motifs_dir.join(f);
+    for (label, files) in [
+        ("+rods<=6 (=<=7)", vec![m("rods-6.json")]),
+        ("+rods<=8", vec![m("rods-6.json"), m("rods-8.json")]),
+        (
+            "+rods<=8 +mixed<=4",
+            vec![m("rods-6.json"), m("rods-8.json"), m("mixed-4.json")],
+        ),
+    ] {
+        variants.push(Variant {
+            label: label.into(),
+            family: "motifs".into(),
+            motifs: files,
+            ..base.clone()
+        });
+    }
+    for n in [r / 4, r / 2] {
+        variants.push(Variant {
+            label: format!("R={n}"),
+            family: "realizations".into(),
+            realizations: n,
+            ..base.clone()
+        });
+    }
+    for k in [1, 10] {
+        variants.push(Variant {
+            label: format!("fixed K={k}"),
+            family: "method".into(),
+            runs: k,
+            method: Protocol::Fixed,
+            ..base.clone()
+        });
+    }
+    let title = format!(
+        "Speed against accuracy, rigidity threshold, gamma {}",
+        c.gamma
+    );
+    let outcomes = c.run("speed-accuracy", &title, &command_line(), &variants, out)?;
+    rgc::plot::speed_accuracy_chart(
+        &outcomes,
+        &title,
+        &c.results.join("speed-accuracy.svg"),
+        &c.results.join("speed-accuracy.png"),
+    )
 }
