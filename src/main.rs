@@ -61,6 +61,8 @@ enum Command {
     Compare(CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, realizations, nested against fixed.
     Tradeoff(TradeoffArgs),
+    /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
+    AspectRatios(AspectArgs),
 }
 
 #[derive(Args)]
@@ -259,6 +261,16 @@ struct TradeoffArgs {
 }
 
 #[derive(Args)]
+struct AspectArgs {
+    /// Finished study directories (each with its summary.json), one per aspect ratio.
+    #[arg(required = true)]
+    studies: Vec<PathBuf>,
+    /// Output path without extension: `.csv`, `.svg` and `.png` are written.
+    #[arg(long, default_value = "results/threshold-vs-vex")]
+    out: PathBuf,
+}
+
+#[derive(Args)]
 struct MergeArgs {
     /// Study directories holding the shards (one directory may hold them all).
     #[arg(required = true)]
@@ -409,6 +421,7 @@ fn run(cli: Cli, out: &mut String) -> Result<()> {
         Command::Merge(a) => run_merge(a, out),
         Command::Compare(a) => run_compare(a, out),
         Command::Tradeoff(a) => run_tradeoff(a, out),
+        Command::AspectRatios(a) => run_aspect_ratios(a, out),
     }
 }
 
@@ -1153,4 +1166,64 @@ fn run_tradeoff(a: TradeoffArgs, out: &mut String) -> Result<()> {
         &c.results.join("speed-accuracy.svg"),
         &c.results.join("speed-accuracy.png"),
     )
+}
+
+fn run_aspect_ratios(a: AspectArgs, out: &mut String) -> Result<()> {
+    let mut points = Vec::new();
+    let mut csv = String::from(
+        "gamma,inv_vex,threshold,threshold_lo,threshold_hi,threshold_times_vex,nu,study\n",
+    );
+    let mut kind = None;
+    for dir in &a.studies {
+        let path = dir.join("summary.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let s: Summary = serde_json::from_str(&text).map_err(|e| Error::Study {
+            path: path.clone(),
+            reason: format!("not a study summary: {e}"),
+        })?;
+        if kind.is_some_and(|k| k != s.study.kind) {
+            return Err(Error::Parameter(format!(
+                "{} is a {:?} study; the others are {:?}",
+                dir.display(),
+                s.study.kind,
+                kind.unwrap_or_default()
+            )));
+        }
+        kind = Some(s.study.kind);
+        let t = s.fss.threshold;
+        let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6}"));
+        csv += &format!(
+            "{},{:.6},{:.6},{},{},{:.6},{:.6},{}\n",
+            s.study.gamma,
+            1.0 / s.excluded_volume,
+            t.value,
+            opt(t.lo),
+            opt(t.hi),
+            s.threshold_times_vex,
+            s.fss.nu.value,
+            dir.display()
+        );
+        say!(
+            out,
+            "gamma {:>6}: threshold {:.4}, times V_ex {:.4}",
+            s.study.gamma,
+            t.value,
+            s.threshold_times_vex
+        );
+        points.push((s.study.gamma, 1.0 / s.excluded_volume, t));
+    }
+    let with = |ext: &str| a.out.with_extension(ext);
+    if let Some(parent) = a.out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+    }
+    std::fs::write(with("csv"), csv).map_err(|e| Error::io(with("csv"), e))?;
+    rgc::plot::threshold_vs_vex(&points, &with("svg"), &with("png"))?;
+    say!(
+        out,
+        "Files: {}, {}, {}",
+        with("csv").display(),
+        with("svg").display(),
+        with("png").display()
+    );
+    Ok(())
 }

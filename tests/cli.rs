@@ -403,3 +403,61 @@ fn threshold_rejects_bad_parameters() {
     fails(&["merge", missing.to_str().unwrap()], "study.json");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn aspect_ratios_chart_thresholds_of_finished_studies() {
+    let base = std::env::temp_dir().join(format!("rgc-cli-aspect-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let dirs: Vec<String> = ["g10", "g20", "rigid"]
+        .iter()
+        .map(|d| base.join(d).to_str().unwrap().to_string())
+        .collect();
+    for (dir, gamma, kind) in [
+        (&dirs[0], "10", "contact"),
+        (&dirs[1], "20", "contact"),
+        (&dirs[2], "10", "rigid"),
+    ] {
+        let args = threshold_args(
+            dir,
+            &[("--gamma", gamma), ("--kind", kind), ("--boxes", "3,4,5")],
+        );
+        let out = rgc(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let stem = base.join("vex");
+    let out = rgc(&[
+        "aspect-ratios",
+        &dirs[0],
+        &dirs[1],
+        "--out",
+        stem.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(stem.with_extension("csv")).unwrap();
+    assert_eq!(csv.lines().count(), 3);
+    // Contact percolation near c0 = 1.4 at both aspect ratios (Philipse's V_ex).
+    for line in csv.lines().skip(1) {
+        let times_vex: f64 = line.split(',').nth(5).unwrap().parse().unwrap();
+        assert!((1.0..2.0).contains(&times_vex), "{line}");
+    }
+    assert!(stem.with_extension("png").exists() && stem.with_extension("svg").exists());
+    fails(
+        &[
+            "aspect-ratios",
+            &dirs[0],
+            &dirs[2],
+            "--out",
+            stem.to_str().unwrap(),
+        ],
+        "is a Rigid study",
+    );
+    std::fs::remove_dir_all(&base).unwrap();
+}

@@ -105,10 +105,12 @@ pub fn run_variants(
             realizations: v.realizations,
             ..template.clone()
         };
-        let same = |s: &StudySpec| StudySpec {
-            realizations: spec.realizations,
-            ..s.clone()
-        } == spec;
+        let same = |s: &StudySpec| {
+            StudySpec {
+                realizations: spec.realizations,
+                ..s.clone()
+            } == spec
+        };
         let k = match specs.iter().position(|(s, _)| same(s)) {
             Some(k) => {
                 let r = &mut specs[k].0.realizations;
