@@ -265,7 +265,7 @@ pub fn write_study(
     fss::write_csv(&summary.fss, &data, dir)?;
     files.extend(["boxes.csv", "pi.csv", "rho_x.csv"].map(|n| dir.join(n)));
     let title = format!(
-        "{} percolation, gamma {}, {:?} rules{}, {} run(s), {:?} spanning, {:?} protocol",
+        "{}, gamma {}, {:?}{}, K={}, {:?}, {:?}",
         match spec.kind {
             Kind::Contact => "contact",
             Kind::Rigid => "rigidity",
@@ -281,7 +281,8 @@ pub fn write_study(
         spec.criterion,
         spec.method,
     )
-    .to_lowercase();
+    .to_lowercase()
+    .replace("k=", "K=");
     files.extend(crate::plot::threshold_charts(
         &summary.fss,
         &data,
