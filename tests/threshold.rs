@@ -327,5 +327,6 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
     assert_eq!(std::fs::read_dir(&root).unwrap().count(), 3);
     assert!(out[1].cpu_seconds < out[0].cpu_seconds);
     assert!(out[3].single_run_miss_rate.is_some());
+    assert!(out[0].single_run_miss_rate.is_none(), "one run cannot miss what one run finds");
     std::fs::remove_dir_all(root).unwrap();
 }
