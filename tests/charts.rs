@@ -54,6 +54,7 @@ fn outcomes() -> Vec<VariantOutcome> {
             interval_width: Some(2.0 * half),
             nu: estimate(nu, 0.1),
             relative_difference: (t - first) / first,
+            paired_difference: None,
             cpu_seconds: cpu,
             single_run_miss_rate: None,
             fresh_misses: 0,

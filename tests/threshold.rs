@@ -327,6 +327,61 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
     assert_eq!(std::fs::read_dir(&root).unwrap().count(), 3);
     assert!(out[1].cpu_seconds < out[0].cpu_seconds);
     assert!(out[3].single_run_miss_rate.is_some());
-    assert!(out[0].single_run_miss_rate.is_none(), "one run cannot miss what one run finds");
+    assert!(
+        out[0].single_run_miss_rate.is_none(),
+        "one run cannot miss what one run finds"
+    );
+    std::fs::remove_dir_all(root).unwrap();
+}
+
+#[test]
+fn paired_differences_compare_the_same_sequences() {
+    use rgc::threshold::compare::{Variant, run_variants};
+    let root = scratch("paired");
+    let template = spec(Kind::Rigid, Protocol::Nested);
+    let v = |label: &str, rules: Rules| Variant {
+        label: label.into(),
+        family: "rules".into(),
+        rules,
+        motifs: vec![],
+        runs: 1,
+        method: Protocol::Nested,
+        realizations: 12,
+    };
+    let out = run_variants(
+        &template,
+        &[v("sound", Rules::Sound), v("paper", Rules::Paper)],
+        &root,
+        20,
+        false,
+    )
+    .unwrap();
+    assert!(
+        out[0].paired_difference.is_none(),
+        "the reference has no partner"
+    );
+    let paired = out[1].paired_difference.unwrap();
+    // The mean of the per-sequence differences, computed here from the records.
+    let (a, b) = (
+        results(&template, Path::new(&out[0].study)),
+        results(
+            &StudySpec {
+                rules: Rules::Paper,
+                ..template.clone()
+            },
+            Path::new(&out[1].study),
+        ),
+    );
+    let mean = a
+        .iter()
+        .zip(&b)
+        .map(|(s, p)| {
+            (p.rigid_critical.unwrap() as f64 - s.rigid_critical.unwrap() as f64)
+                / s.box_len.powi(3)
+        })
+        .sum::<f64>()
+        / a.len() as f64;
+    assert!((paired.value - mean).abs() < 1e-12);
+    assert!(paired.lo.unwrap() <= mean && mean <= paired.hi.unwrap());
     std::fs::remove_dir_all(root).unwrap();
 }

@@ -127,8 +127,8 @@ pub fn order_effects(spec: &StudySpec, records: &[Record]) -> OrderEffects {
         o.nonmonotone_steps += drops;
         o.nonmonotone_realizations += usize::from(drops > 0);
     }
-    o.single_run_miss_rate = (runs_total > 0 && spec.runs > 1)
-        .then(|| 1.0 - runs_spanning as f64 / runs_total as f64);
+    o.single_run_miss_rate =
+        (runs_total > 0 && spec.runs > 1).then(|| 1.0 - runs_spanning as f64 / runs_total as f64);
     o
 }
 
