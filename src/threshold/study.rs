@@ -616,11 +616,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
     let same_dir = dirs.iter().any(|d| same_path(d, out));
     if !same_dir {
         claim(out, &spec)?;
-        for name in ["grid.json"] {
-            let from = first.join(name);
-            if from.exists() {
-                std::fs::copy(&from, out.join(name)).map_err(|e| Error::io(&from, e))?;
-            }
+        // The fixed protocol's grid travels with the records.
+        let grid = first.join("grid.json");
+        if grid.exists() {
+            std::fs::copy(&grid, out.join("grid.json")).map_err(|e| Error::io(&grid, e))?;
         }
     }
     let mut text = String::new();
