@@ -17,7 +17,7 @@ use rgc::rigidity::{Method, Verdict};
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, sample_with};
 use rgc::spanning::Criterion;
-use rgc::threshold::compare::{self, Variant, VariantOutcome};
+use rgc::threshold::compare::{self, Pairing, Variant, VariantOutcome};
 use rgc::threshold::fss::Protocol;
 use rgc::threshold::montecarlo::Kind;
 use rgc::threshold::report::{self, Summary};
@@ -1021,6 +1021,7 @@ impl VariantArgs {
         title: &str,
         command: &str,
         variants: &[Variant],
+        pairing: Pairing,
         out: &mut String,
     ) -> Result<Vec<VariantOutcome>> {
         let template = self.template();
@@ -1030,6 +1031,7 @@ impl VariantArgs {
             variants,
             &self.studies,
             self.bootstrap,
+            pairing,
             !self.quiet,
         )?;
         let dir = &self.results;
@@ -1090,6 +1092,7 @@ fn run_compare(a: CompareArgs, out: &mut String) -> Result<()> {
         &title,
         &command_line(),
         &variants,
+        Pairing::Previous,
         out,
     )?;
     rgc::plot::compare_chart(
@@ -1159,7 +1162,14 @@ fn run_tradeoff(a: TradeoffArgs, out: &mut String) -> Result<()> {
         "Speed against accuracy, rigidity threshold, gamma {}",
         c.gamma
     );
-    let outcomes = c.run("speed-accuracy", &title, &command_line(), &variants, out)?;
+    let outcomes = c.run(
+        "speed-accuracy",
+        &title,
+        &command_line(),
+        &variants,
+        Pairing::First,
+        out,
+    )?;
     rgc::plot::speed_accuracy_chart(
         &outcomes,
         &title,

@@ -55,6 +55,7 @@ fn outcomes() -> Vec<VariantOutcome> {
             nu: estimate(nu, 0.1),
             relative_difference: (t - first) / first,
             paired_difference: None,
+            paired_with: None,
             cpu_seconds: cpu,
             single_run_miss_rate: None,
             fresh_misses: 0,

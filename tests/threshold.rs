@@ -299,7 +299,7 @@ fn order_effects_count_fresh_misses_and_non_monotone_steps() {
 
 #[test]
 fn variants_share_studies_and_analyse_the_first_realizations() {
-    use rgc::threshold::compare::{Variant, run_variants};
+    use rgc::threshold::compare::{Pairing, Variant, run_variants};
     let root = scratch("variants");
     let template = spec(Kind::Rigid, Protocol::Nested);
     let v = |label: &str, rules: Rules, runs: usize, realizations: u64| Variant {
@@ -317,7 +317,7 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
         v("paper", Rules::Paper, 1, 12),
         v("sound K2", Rules::Sound, 2, 12),
     ];
-    let out = run_variants(&template, &variants, &root, 30, false).unwrap();
+    let out = run_variants(&template, &variants, &root, 30, Pairing::First, false).unwrap();
     assert_eq!(out.len(), 4);
     assert_eq!(out[0].relative_difference, 0.0);
     // The subset reads the first 8 realizations of the 12-realization study:
@@ -336,7 +336,7 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
 
 #[test]
 fn paired_differences_compare_the_same_sequences() {
-    use rgc::threshold::compare::{Variant, run_variants};
+    use rgc::threshold::compare::{Pairing, Variant, run_variants};
     let root = scratch("paired");
     let template = spec(Kind::Rigid, Protocol::Nested);
     let v = |label: &str, rules: Rules| Variant {
@@ -353,6 +353,7 @@ fn paired_differences_compare_the_same_sequences() {
         &[v("sound", Rules::Sound), v("paper", Rules::Paper)],
         &root,
         20,
+        Pairing::Previous,
         false,
     )
     .unwrap();

@@ -48,10 +48,12 @@ pub struct VariantOutcome {
     /// Relative difference of the threshold to the first variant's.
     pub relative_difference: f64,
     /// Nested protocol: the mean over realizations (all boxes) of the
-    /// difference of each sequence's critical density to the first
+    /// difference of each sequence's critical density to the reference
     /// variant's on the same sequence, with a 95% normal interval. Paired,
     /// so far tighter than the difference of two thresholds.
     pub paired_difference: Option<Estimate>,
+    /// The variant the paired difference is taken against.
+    pub paired_with: Option<String>,
     /// CPU seconds of the analysed realizations.
     pub cpu_seconds: f64,
     /// How often one run misses a spanning body that all runs find together.
@@ -61,6 +63,14 @@ pub struct VariantOutcome {
     pub fresh_checks: usize,
     /// The study directory.
     pub study: String,
+}
+
+/// Which variant each variant's paired difference is taken against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pairing {
+    First,
+    /// The one listed before it (a chain: paper, sound, sound + extended).
+    Previous,
 }
 
 /// A study directory name from what determines its records.
@@ -88,6 +98,7 @@ pub fn run_variants(
     variants: &[Variant],
     root: &Path,
     bootstrap: usize,
+    pairing: Pairing,
     progress: bool,
 ) -> Result<Vec<VariantOutcome>> {
     // One study per distinct record-determining spec, with as many
@@ -141,7 +152,7 @@ pub fn run_variants(
         study::run(spec, rules, &opts)?;
     }
     let mut outcomes: Vec<VariantOutcome> = Vec::new();
-    let mut reference: Option<Vec<super::montecarlo::Record>> = None;
+    let mut analysed: Vec<Vec<super::montecarlo::Record>> = Vec::new();
     for (v, &k) in variants.iter().zip(&of_variant) {
         let spec = &specs[k].0;
         let dir = study_dir(root, spec);
@@ -156,12 +167,15 @@ pub fn run_variants(
         let summary = report::summarize(&subset, &records, bootstrap)
             .map_err(|e| Error::Analysis(format!("variant {:?}: {e}", v.label)))?;
         let t = summary.fss.threshold;
-        let paired = reference
-            .as_ref()
-            .and_then(|first| paired_difference(spec, first, &records));
-        if reference.is_none() {
-            reference = Some(records.clone());
-        }
+        let partner = match pairing {
+            Pairing::First => (!analysed.is_empty()).then_some(0),
+            Pairing::Previous => analysed.len().checked_sub(1),
+        };
+        let paired = partner.and_then(|p| paired_difference(spec, &analysed[p], &records));
+        let paired_with = partner
+            .filter(|_| paired.is_some())
+            .map(|p| variants[p].label.clone());
+        analysed.push(records.clone());
         let reference = outcomes.first().map_or(t.value, |o| o.threshold.value);
         outcomes.push(VariantOutcome {
             label: v.label.clone(),
@@ -176,6 +190,7 @@ pub fn run_variants(
             nu: summary.fss.nu,
             relative_difference: (t.value - reference) / reference,
             paired_difference: paired,
+            paired_with,
             cpu_seconds: report::timing(&subset, &records).cpu_seconds,
             single_run_miss_rate: summary.order.single_run_miss_rate,
             fresh_misses: summary.order.fresh_misses,
@@ -221,7 +236,7 @@ fn paired_difference(
 pub fn markdown(title: &str, command: &str, outcomes: &[VariantOutcome]) -> String {
     let mut md = format!(
         "# {title}\n\nMade by `{command}`.\n\n\
-         | variant | rules | motifs | runs | method | realizations/box | threshold | 95% interval | rel. diff. | paired diff. of critical densities | nu | CPU s | single-run miss | fresh misses |\n\
+         | variant | rules | motifs | runs | method | realizations/box | threshold | 95% interval | rel. diff. | paired diff. of critical densities (against) | nu | CPU s | single-run miss | fresh misses |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
     );
     let interval = |e: &Estimate| match (e.lo, e.hi) {
