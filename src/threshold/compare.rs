@@ -256,9 +256,10 @@ pub fn markdown(title: &str, command: &str, outcomes: &[VariantOutcome]) -> Stri
             interval(&o.threshold),
             100.0 * o.relative_difference,
             o.paired_difference.as_ref().map_or("—".into(), |p| format!(
-                "{:+.3} {}",
+                "{:+.3} {} (vs {})",
                 p.value,
-                interval(p)
+                interval(p),
+                o.paired_with.as_deref().unwrap_or("?")
             )),
             o.nu.value,
             interval(&o.nu),
