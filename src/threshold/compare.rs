@@ -171,6 +171,8 @@ pub fn run_variants(
             Pairing::First => (!analysed.is_empty()).then_some(0),
             Pairing::Previous => analysed.len().checked_sub(1),
         };
+        // Variants reading one study (realization subsets) have nothing to pair.
+        let partner = partner.filter(|&p| of_variant[p] != k);
         let paired = partner.and_then(|p| paired_difference(spec, &analysed[p], &records));
         let paired_with = partner
             .filter(|_| paired.is_some())
