@@ -377,6 +377,9 @@ struct BenchArgs {
     /// Also write the figures as JSON here.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Instead: exact and float rank throughput on random candidate motifs of this many rods (one thread).
+    #[arg(long)]
+    rank: Option<usize>,
 }
 
 /// Appends a line to a subcommand's output (writing to a `String` cannot fail).
@@ -648,6 +651,21 @@ fn run_audit(a: AuditArgs, out: &mut String) -> Result<()> {
 }
 
 fn run_bench(a: BenchArgs, out: &mut String) -> Result<()> {
+    if let Some(n) = a.rank {
+        let t = rgc::stability::throughput(n, 200, 0.2)?;
+        say!(
+            out,
+            "{n} rods, one thread: ranks/s exact {:.0}, SVD {:.0}, QR {:.0}; verdicts/s exact {:.0}, SVD {:.0}, QR {:.0}; exact/SVD rank speed {:.1}x",
+            t.exact_per_s,
+            t.svd_per_s,
+            t.qr_per_s,
+            t.check_exact_per_s,
+            t.check_svd_per_s,
+            t.check_qr_per_s,
+            t.exact_per_s / t.svd_per_s
+        );
+        return Ok(());
+    }
     let rows = bench::run(a.repeat as usize, a.max_rods);
     say!(
         out,

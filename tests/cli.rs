@@ -461,3 +461,19 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
     );
     std::fs::remove_dir_all(&base).unwrap();
 }
+
+#[test]
+fn bench_reports_rank_throughput() {
+    let out = rgc(&["bench", "--rank", "6"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("6 rods, one thread: ranks/s exact "),
+        "{text}"
+    );
+    fails(&["bench", "--rank", "2"], "throughput needs 3 to");
+}
