@@ -258,6 +258,8 @@ fn realize(
     grid: Option<&GridBox>,
 ) -> Result<Record> {
     let seed = spec.realization_seed(box_len, index);
+    // The clock includes generating the rods and detecting their contacts.
+    let t = Instant::now();
     let mut seq = Sequence::new(spec.gamma, box_len, spec.first_rods(box_len), seed)?;
     let mut record = Record {
         box_len,
@@ -271,7 +273,6 @@ fn realize(
         contacts: Vec::new(),
         seconds: 0.0,
     };
-    let t = Instant::now();
     match method {
         Protocol::Nested => montecarlo::nested(setup, &mut seq, &mut record)?,
         Protocol::Fixed => {
