@@ -29,6 +29,11 @@ use std::collections::{BTreeSet, HashMap};
 use crate::motifs::{NodeKind, Pattern};
 use crate::rank::{Fp, Matrix, Scalar, rank_fp};
 
+mod project;
+pub use project::{
+    PROJECTION_STARTS, PROJECTION_TOL, SEPARATION, float_local_dimension, project, project_twins,
+};
+
 /// A point or vector over a field.
 pub type V3<S> = [S; 3];
 
@@ -855,10 +860,14 @@ fn check<S: Scalar>(inc: &Incidence, grouping: &Grouping, s: &Sample<S>) -> Resu
 /// The Jacobian of the incidence constraints at a sample: collinearity of
 /// the contacts of each line, and coplanarity of the contacts of each group
 /// in `planes`. Columns: three per contact point.
-pub fn jacobian(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) -> Matrix<Fp> {
+pub fn jacobian<S: Scalar>(
+    inc: &Incidence,
+    planes: &[BTreeSet<usize>],
+    points: &[V3<S>],
+) -> Matrix<S> {
     let mut j = Matrix::zeros(0, 3 * points.len());
-    let skew = |v: V3<Fp>| -> [[Fp; 3]; 3] {
-        let z = Fp::ZERO;
+    let skew = |v: V3<S>| -> [[S; 3]; 3] {
+        let z = S::zero();
         [[z, -v[2], v[1]], [v[2], z, -v[0]], [-v[1], v[0], z]]
     };
     for cs in &inc.line_contacts {
@@ -907,18 +916,25 @@ pub fn jacobian(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) 
     j
 }
 
-/// Three contacts of `cs` whose points are not collinear.
-fn base_triangle(cs: &[usize], points: &[V3<Fp>]) -> Option<(usize, usize, usize)> {
+/// Three contacts of `cs` whose points are not collinear: over F_p the
+/// first such, for floats the widest triangle on the first point (the
+/// best-conditioned plane).
+fn base_triangle<S: Scalar>(cs: &[usize], points: &[V3<S>]) -> Option<(usize, usize, usize)> {
     let r1 = *cs.first()?;
+    let mut best: Option<(f64, (usize, usize, usize))> = None;
     for (i, &r2) in cs.iter().enumerate().skip(1) {
         for &r3 in &cs[i + 1..] {
             let n = cross(sub(points[r2], points[r1]), sub(points[r3], points[r1]));
-            if !is_null(n) {
-                return Some((r1, r2, r3));
+            if is_null(n) {
+                continue;
+            }
+            let area = size(n);
+            if best.is_none_or(|(a, _)| area > a) {
+                best = Some((area, (r1, r2, r3)));
             }
         }
     }
-    None
+    best.map(|(_, t)| t)
 }
 
 /// Dimension of the realizations near a sample: `3C - rank J`.
@@ -1038,10 +1054,16 @@ pub fn families(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Family>, boo
 /// Whether each family is a component: its sample has no more realization
 /// directions than the family itself, or no larger family was found.
 pub fn components(families: &[Family]) -> Vec<bool> {
-    let largest = families.iter().map(|f| f.dimension).max().unwrap_or(0);
-    families
-        .iter()
-        .map(|f| f.ambient == f.dimension || f.dimension >= largest)
+    let dims: Vec<(usize, usize)> = families.iter().map(|f| (f.dimension, f.ambient)).collect();
+    components_by_dimension(&dims)
+}
+
+/// [`components`] from each family's `(dimension, ambient)`: the same rule
+/// for families with a projected float sample, which have no [`Family`].
+pub fn components_by_dimension(dims: &[(usize, usize)]) -> Vec<bool> {
+    let largest = dims.iter().map(|d| d.0).max().unwrap_or(0);
+    dims.iter()
+        .map(|&(dimension, ambient)| ambient == dimension || dimension >= largest)
         .collect()
 }
 

@@ -339,6 +339,11 @@ pub struct ComponentReport {
     /// counted, not a verdict.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub undecided: bool,
+    /// The family was found by numerical projection (no exact construction
+    /// exists): `rank`, `dof` and `dimension` are float ranks with a clear
+    /// gap, not exact ranks over F_p.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub projected: bool,
 }
 
 /// The verdict on one pattern.
@@ -391,9 +396,72 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
             rank: best.0,
             dof: best.1,
             undecided: false,
+            projected: false,
         });
     }
-    Ok(verdict(components, forced_built, Method::Exact))
+    if forced_built {
+        return Ok(verdict(components, true, Method::Exact, ""));
+    }
+    match project_forced(&inc, seed, &mut rng) {
+        Ok(report) => {
+            components.push(report);
+            let dims: Vec<(usize, usize)> = components
+                .iter()
+                .map(|c| (c.dimension, c.ambient))
+                .collect();
+            let flags = realization::components_by_dimension(&dims);
+            for (c, flag) in components.iter_mut().zip(flags) {
+                c.component = flag;
+            }
+            Ok(verdict(components, true, Method::Exact, ""))
+        }
+        Err(why) => Ok(verdict(components, false, Method::Exact, &why)),
+    }
+}
+
+/// What the verdict says when the most generic family was not built.
+const FORCED_UNBUILT: &str = "the most generic realization family could not be built exactly";
+
+/// The forced (most generic) grouping by numerical projection, for
+/// [`check_exact`] when no exact construction reaches it: a projected
+/// realization and its twin ([`TWIN_NUDGE`]) ranked by SVD, and the
+/// family's dimensions from the float Jacobian. A report only when every
+/// float rank has a clear gap and the twins agree; else why not.
+fn project_forced(
+    inc: &Incidence,
+    seed: u64,
+    rng: &mut impl Rng,
+) -> std::result::Result<ComponentReport, String> {
+    let forced = realization::Grouping::forced(inc);
+    let Some((base, twin)) = realization::project_twins(inc, &forced, seed, TWIN_NUDGE) else {
+        return Err(format!(
+            "{FORCED_UNBUILT}, and numerical projection found no realization of it"
+        ));
+    };
+    let unclear = || format!("{FORCED_UNBUILT}; its numerical projection has no clear float rank");
+    let dimension = realization::float_local_dimension(inc, &forced.groups, &base.points);
+    let ambient =
+        realization::float_local_dimension(inc, &realization::body_planes(inc), &base.points);
+    let (Some(dimension), Some(ambient)) = (dimension, ambient) else {
+        return Err(unclear());
+    };
+    let ranked = FamilyRank {
+        base: float_rank(inc, base, Method::Svd, rng),
+        twin: twin.and_then(|t| float_rank(inc, t, Method::Svd, rng)),
+    };
+    let (Some(dof), Some((fr, _))) = (ranked.dof(), ranked.base) else {
+        return Err(unclear());
+    };
+    Ok(ComponentReport {
+        built: format!("{}, numerical projection", forced.describe(inc)),
+        dimension,
+        ambient,
+        component: true,
+        rank: fr.counted,
+        dof,
+        undecided: false,
+        projected: true,
+    })
 }
 
 /// How far the twin of a float realization is nudged (every free choice, by
@@ -451,7 +519,7 @@ impl FloatRanks {
             .filter(|(c, _)| c.component)
             .flat_map(|(_, s)| s.iter().flatten().map(|fr| fr.gap))
             .fold(f64::INFINITY, f64::min);
-        let mut v = verdict(self.components.clone(), self.forced_built, self.method);
+        let mut v = verdict(self.components.clone(), self.forced_built, self.method, "");
         v.gap = gap.is_finite().then_some(gap);
         v
     }
@@ -484,6 +552,7 @@ pub fn float_ranks(
             rank,
             dof,
             undecided: ranked.dof().is_none(),
+            projected: false,
         });
         samples.push([ranked.base.map(|x| x.0), ranked.twin.map(|x| x.0)]);
     }
@@ -623,7 +692,14 @@ fn incidence(pattern: &Pattern) -> Result<Incidence> {
     Ok(Incidence::new(pattern))
 }
 
-fn verdict(components: Vec<ComponentReport>, forced_built: bool, method: Method) -> Verdict {
+/// The verdict over the components; `unbuilt` says why the most generic
+/// family is missing when `forced_built` is false (empty: it was not built exactly).
+fn verdict(
+    components: Vec<ComponentReport>,
+    forced_built: bool,
+    method: Method,
+    unbuilt: &str,
+) -> Verdict {
     let real: Vec<&ComponentReport> = components.iter().filter(|c| c.component).collect();
     let rank = real.first().map_or(0, |c| c.rank);
     let (rigid, class, note) = if real.is_empty() {
@@ -650,7 +726,11 @@ fn verdict(components: Vec<ComponentReport>, forced_built: bool, method: Method)
             (true, _, false) => (
                 None,
                 "undecided",
-                Some("the most generic realization family could not be built exactly".to_string()),
+                Some(if unbuilt.is_empty() {
+                    FORCED_UNBUILT.to_string()
+                } else {
+                    unbuilt.to_string()
+                }),
             ),
             (false, true, _) => (Some(false), "flexible", None),
             (false, false, _) => (Some(false), "component-dependent", None),
