@@ -14,6 +14,8 @@
 //! over F_p by placing planes and lines one after another, every step
 //! rational: a line meeting 0, 1, 2 or 3 placed lines, a plane through a
 //! placed line, a group line through at most two required points.
+//! Where no such order exists, [`project`] finds a float realization by
+//! Levenberg–Marquardt instead.
 //!
 //! A family is its own component when the realization set has no more
 //! directions at its sample than the family itself (the nullity of the

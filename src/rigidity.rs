@@ -310,7 +310,10 @@ pub fn dof<S: Scalar>(f: &Framework<S>, rank: usize) -> usize {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
-    /// Rank over F_p at exact realizations of every component.
+    /// Rank over F_p at exact realizations of every component; a most
+    /// generic family that no exact construction reaches is found by
+    /// numerical projection and ranked in floats with the gap rule (its
+    /// report says [`ComponentReport::projected`]).
     #[default]
     Exact,
     /// Singular values of a float realization (faer).

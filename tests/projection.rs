@@ -219,6 +219,11 @@ fn projection_decides_the_undecided_candidates_on_9_rods() {
             assert!(projected[0].dimension <= 3 * Incidence::new(p).n_contacts());
             assert_eq!(v.dof, real.iter().map(|c| c.dof).max(), "{g6}");
         }
+        let inc = Incidence::new(p);
+        let forced = Grouping::forced(&inc);
+        if let Some(s) = project(&inc, &forced, 7) {
+            assert!(violation(&inc, &forced, &s) < 1e-10, "{g6}");
+        }
         let again = check_exact(p, 7).unwrap();
         assert_eq!(again, v, "{g6}: not deterministic");
         *counts.entry(v.class.clone()).or_default() += 1;
