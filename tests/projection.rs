@@ -240,3 +240,14 @@ fn projection_decides_the_undecided_candidates_on_9_rods() {
         "{counts:?}"
     );
 }
+
+#[test]
+fn projected_verdicts_do_not_depend_on_the_seed() {
+    for (g6, p) in undecided_9() {
+        let a = check_exact(&p, 7).unwrap();
+        for seed in [0, 1, 2, 3, 4, 5, 99] {
+            let b = check_exact(&p, seed).unwrap();
+            assert_eq!((&a.class, a.dof), (&b.class, b.dof), "{g6} seed {seed}");
+        }
+    }
+}
