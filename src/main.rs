@@ -1245,7 +1245,14 @@ fn run_aspect_ratios(a: AspectArgs, out: &mut String) -> Result<()> {
         std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
     }
     std::fs::write(with("csv"), csv).map_err(|e| Error::io(with("csv"), e))?;
-    rgc::plot::threshold_vs_vex(&points, &with("svg"), &with("png"))?;
+    let title = format!(
+        "{} threshold against the inverse excluded volume 1/V_ex",
+        match kind {
+            Some(Kind::Contact) => "Contact",
+            _ => "Rigidity",
+        }
+    );
+    rgc::plot::threshold_vs_vex(&points, &title, &with("svg"), &with("png"))?;
     say!(
         out,
         "Files: {}, {}, {}",

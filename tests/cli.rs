@@ -448,7 +448,12 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
         let times_vex: f64 = line.split(',').nth(5).unwrap().parse().unwrap();
         assert!((1.0..2.0).contains(&times_vex), "{line}");
     }
-    assert!(stem.with_extension("png").exists() && stem.with_extension("svg").exists());
+    assert!(stem.with_extension("png").exists());
+    let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+    assert!(
+        svg.contains("Contact threshold against"),
+        "a contact study is titled so"
+    );
     fails(
         &[
             "aspect-ratios",

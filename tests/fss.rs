@@ -445,9 +445,10 @@ fn csv_and_charts_are_written() {
         ),
     ];
     let (svg, png) = (dir.join("vex.svg"), dir.join("vex.png"));
-    rgc::plot::threshold_vs_vex(&points, &svg, &png).unwrap();
+    let title = "Rigidity threshold against the inverse excluded volume";
+    rgc::plot::threshold_vs_vex(&points, title, &svg, &png).unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();
-    assert!(text.contains("excluded volume"), "{text}");
+    assert!(text.contains(title), "{text}");
     assert!(std::fs::read(&png).unwrap().len() > 10_000);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -382,7 +382,12 @@ impl Chart for Width<'_> {
 /// `(gamma, 1/V_ex, threshold)`, on log-log axes with the two fits of the
 /// paper's Fig. D: `rho_c = c / V_ex` (exponent fixed to 1) and the free
 /// power law `rho_c = A (1/V_ex)^m` (with two or more distinct `V_ex`).
-pub fn threshold_vs_vex(points: &[(f64, f64, Estimate)], svg: &Path, png: &Path) -> Result<()> {
+pub fn threshold_vs_vex(
+    points: &[(f64, f64, Estimate)],
+    title: &str,
+    svg: &Path,
+    png: &Path,
+) -> Result<()> {
     if points.is_empty() {
         return Err(Error::Parameter(
             "no thresholds to plot against 1/V_ex".into(),
@@ -406,6 +411,7 @@ pub fn threshold_vs_vex(points: &[(f64, f64, Estimate)], svg: &Path, png: &Path)
         .map(|(b, r2, _)| (b[0].exp(), b[1], r2));
     render(
         &Vex {
+            title,
             points,
             fixed,
             free,
@@ -417,6 +423,7 @@ pub fn threshold_vs_vex(points: &[(f64, f64, Estimate)], svg: &Path, png: &Path)
 }
 
 struct Vex<'a> {
+    title: &'a str,
     points: &'a [(f64, f64, Estimate)],
     /// `c` of `rho_c = c / V_ex`.
     fixed: f64,
@@ -437,10 +444,7 @@ impl Chart for Vex<'_> {
         );
         let (x0, x1, y0, y1) = (x0 / 1.6, x1 * 1.6, y0 / 1.6, y1 * 1.6);
         let mut chart = ChartBuilder::on(&root)
-            .caption(
-                "Rigidity threshold against the inverse excluded volume 1/V_ex",
-                ("sans-serif", 26),
-            )
+            .caption(self.title, ("sans-serif", 26))
             .margin(16)
             .x_label_area_size(55)
             .y_label_area_size(80)

@@ -1070,7 +1070,10 @@ mod tests {
     fn percentile_interval_interpolates() {
         let mut v: Vec<f64> = (0..=100).map(f64::from).rev().collect();
         let (lo, hi) = percentile_interval(&mut v, 0.9).unwrap();
-        assert!((lo - 5.0).abs() < 1e-9 && (hi - 95.0).abs() < 1e-9, "{lo} {hi}");
+        assert!(
+            (lo - 5.0).abs() < 1e-9 && (hi - 95.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
         let (lo, _) = percentile_interval(&mut v, 0.95).unwrap();
         assert!((lo - 2.5).abs() < 1e-9, "between 2 and 3: {lo}");
         assert_eq!(percentile_interval(&mut [], 0.9), None);
