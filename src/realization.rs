@@ -297,6 +297,28 @@ pub struct Sample<S> {
     pub node_planes: Vec<Option<Plane<S>>>,
 }
 
+/// The plane of each planar body: that of the group holding all its rods.
+pub(crate) fn node_planes<S: Copy>(
+    inc: &Incidence,
+    grouping: &Grouping,
+    group_planes: &[Option<Plane<S>>],
+) -> Vec<Option<Plane<S>>> {
+    inc.kinds
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            if *k != NodeKind::Planar {
+                return None;
+            }
+            grouping
+                .groups
+                .iter()
+                .position(|g| inc.node_lines[i].iter().all(|l| g.contains(l)))
+                .and_then(|gi| group_planes[gi])
+        })
+        .collect()
+}
+
 /// Relative tolerance below which two float points are one point, two
 /// directions are parallel, or a direction is null: a few rounding errors of
 /// the terms involved. Exact zero over F_p.
@@ -748,21 +770,7 @@ fn try_construct<S: Scalar, R: Rng>(
             })
         })
         .collect();
-    let node_planes = inc
-        .kinds
-        .iter()
-        .enumerate()
-        .map(|(i, k)| {
-            if *k != NodeKind::Planar {
-                return None;
-            }
-            grouping
-                .groups
-                .iter()
-                .position(|g| inc.node_lines[i].iter().all(|l| g.contains(l)))
-                .and_then(|gi| group_planes[gi])
-        })
-        .collect();
+    let node_planes = node_planes(inc, grouping, &group_planes);
     let sample = Sample {
         points,
         lines,

@@ -18,7 +18,6 @@ use super::{
     Grouping, Incidence, Line, Plane, Sample, V3, add, check, cross, dot, jacobian, scale, size,
     sub,
 };
-use crate::motifs::NodeKind;
 use crate::rank::{RankRule, Scalar, decide_rank_above, singular_values};
 
 /// Random starts tried before a grouping counts as not found.
@@ -218,21 +217,7 @@ impl System<'_> {
                 }
             })
             .collect();
-        let node_planes = inc
-            .kinds
-            .iter()
-            .enumerate()
-            .map(|(i, k)| {
-                if *k != NodeKind::Planar {
-                    return None;
-                }
-                grouping
-                    .groups
-                    .iter()
-                    .position(|g| inc.node_lines[i].iter().all(|l| g.contains(l)))
-                    .and_then(|gi| group_planes[gi])
-            })
-            .collect();
+        let node_planes = super::node_planes(inc, grouping, &group_planes);
         Sample {
             points,
             lines,
