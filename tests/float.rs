@@ -33,20 +33,9 @@ fn patterns() -> Vec<(String, Pattern)> {
             (e.name.to_string(), p)
         })
         .collect();
-    let prism = [
-        (0, 1),
-        (1, 2),
-        (0, 2),
-        (3, 4),
-        (4, 5),
-        (3, 5),
-        (0, 3),
-        (1, 4),
-        (2, 5),
-    ];
     out.push(("K_{3,3}".into(), rods(6, &k(0..3, 3..6))));
     out.push(("K_{2,4}".into(), rods(6, &k(0..2, 2..6))));
-    out.push(("rod prism".into(), rods(6, &prism)));
+    out.push(("rod prism".into(), rods(6, &examples::PRISM)));
     out.push(("4-cycle".into(), rods(4, &[(0, 1), (1, 2), (2, 3), (3, 0)])));
     out
 }

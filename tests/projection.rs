@@ -28,20 +28,7 @@ fn k(a: std::ops::Range<u32>, b: std::ops::Range<u32>) -> Vec<(u32, u32)> {
 }
 
 fn prism() -> Pattern {
-    rods(
-        6,
-        &[
-            (0, 1),
-            (1, 2),
-            (0, 2),
-            (3, 4),
-            (4, 5),
-            (3, 5),
-            (0, 3),
-            (1, 4),
-            (2, 5),
-        ],
-    )
+    rods(6, &examples::PRISM)
 }
 
 fn example(name: &str) -> Pattern {

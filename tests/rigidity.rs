@@ -115,20 +115,7 @@ fn flexible_patterns_have_their_degrees_of_freedom() {
 
 #[test]
 fn k33_and_the_rod_prism_depend_on_the_component() {
-    let prism = rods(
-        6,
-        &[
-            (0, 1),
-            (1, 2),
-            (0, 2),
-            (3, 4),
-            (4, 5),
-            (3, 5),
-            (0, 3),
-            (1, 4),
-            (2, 5),
-        ],
-    );
+    let prism = rods(6, &examples::PRISM);
     for (name, p) in [("K_{3,3}", rods(6, &k(0..3, 3..6))), ("rod prism", prism)] {
         let v = verdict(&p);
         assert_eq!(v.class, "component-dependent", "{name}: {v:?}");

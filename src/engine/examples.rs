@@ -60,20 +60,22 @@ const K24: [(u32, u32); 8] = [
     (1, 5),
 ];
 
+/// Edges of the rod prism: two rod triangles joined by three contacts (a hinge).
+pub const PRISM: [(u32, u32); 9] = [
+    (0, 1),
+    (1, 2),
+    (0, 2),
+    (3, 4),
+    (4, 5),
+    (3, 5),
+    (0, 3),
+    (1, 4),
+    (2, 5),
+];
+
 /// The table. Bodies named R1, R2, R3 in the paper are rods {0,1,2}, {3,4,5}, {6,7,8}.
 pub fn all() -> Vec<Example> {
     let tri = [(0, 1), (1, 2), (0, 2)];
-    let prism = [
-        (0, 1),
-        (1, 2),
-        (0, 2),
-        (3, 4),
-        (4, 5),
-        (3, 5),
-        (0, 3),
-        (1, 4),
-        (2, 5),
-    ];
     let mut k24_rod = K24.to_vec();
     k24_rod.extend([(6, 2), (6, 3)]);
     let three = || {
@@ -177,7 +179,7 @@ pub fn all() -> Vec<Example> {
         ex(
             "rod prism (two rod triangles, 3 contacts)",
             6,
-            &prism,
+            &PRISM,
             vec![],
             [2, 1],
         ),

@@ -223,10 +223,8 @@ fn paired_difference(
     if diffs.len() < 2 || spec.method != Protocol::Nested {
         return None;
     }
-    let n = diffs.len() as f64;
-    let mean = diffs.iter().sum::<f64>() / n;
-    let sd = (diffs.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
-    let half = 1.96 * sd / n.sqrt();
+    let (mean, sd) = report::mean_sd(&diffs);
+    let half = 1.96 * sd / (diffs.len() as f64).sqrt();
     Some(Estimate {
         value: mean,
         lo: Some(mean - half),

@@ -92,7 +92,8 @@ pub fn observations(spec: &StudySpec, records: &[Record]) -> Vec<BoxData> {
         .collect()
 }
 
-fn mean_sd(xs: &[f64]) -> (f64, f64) {
+/// Mean and sample standard deviation (0 for a single value).
+pub(crate) fn mean_sd(xs: &[f64]) -> (f64, f64) {
     let n = xs.len() as f64;
     let mean = xs.iter().sum::<f64>() / n;
     let var = if xs.len() > 1 {

@@ -223,10 +223,8 @@ fn pilot_grid(spec: &StudySpec, setup: &Setup) -> Result<Grid> {
                     Ok(n as f64 / volume)
                 })
                 .collect::<Result<_>>()?;
-            let mean = pilot.iter().sum::<f64>() / pilot.len() as f64;
-            let var =
-                pilot.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (pilot.len() - 1) as f64;
-            let spread = 2.5 * var.sqrt().max(mean * 1e-3);
+            let (mean, sd) = super::report::mean_sd(&pilot);
+            let spread = 2.5 * sd.max(mean * 1e-3);
             let lo = (mean - spread).min(pilot.iter().copied().fold(f64::INFINITY, f64::min));
             let hi = (mean + spread).max(pilot.iter().copied().fold(0.0, f64::max));
             let m = spec.grid_points;
