@@ -8,7 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, RHO, colour, error_bars, log_ticks, render, show, span, tick};
+use super::{Chart, Drawn, RHO, colour, error_bars, legend, log_ticks, render, show, span, tick};
 use crate::threshold::fss::{self, BoxData, Estimate, Fss, Protocol};
 use crate::{Error, Result};
 
@@ -178,13 +178,7 @@ impl Chart for Pi<'_> {
                 .label(format!("threshold ρc = {}", show(&fss.threshold, 3)))
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", 16))
-            .draw()?;
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         root.present()
     }
 }
@@ -284,13 +278,7 @@ impl Chart for RhoX<'_> {
                 fss.r2_extrapolation
             ))
             .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(3)));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", 16))
-            .draw()?;
+        legend(&mut chart, SeriesLabelPosition::LowerRight)?;
         root.present()
     }
 }
@@ -367,13 +355,7 @@ impl Chart for Width<'_> {
             )?
             .label("Δρ(L) of the logistic fit")
             .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", 16))
-            .draw()?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
         root.present()
     }
 }
@@ -500,13 +482,7 @@ impl Chart for Vex<'_> {
                 ("sans-serif", 16).into_font(),
             )
         }))?;
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", 16))
-            .draw()?;
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         root.present()
     }
 }
