@@ -376,7 +376,10 @@ impl Sweep {
 
     /// Rods added so far.
     pub fn len(&self) -> usize {
-        self.parent.len().max(self.members.len())
+        match self.criterion {
+            Criterion::Wrap => self.parent.len(),
+            Criterion::Faces => self.members.len(),
+        }
     }
 
     pub fn is_empty(&self) -> bool {

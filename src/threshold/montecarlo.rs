@@ -224,7 +224,7 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
     }
     let (mut lo, mut lo_bodies) = (n_c - 1, vec![Vec::new(); setup.runs]);
     let mut probe = (n_c as f64 * FIRST_GUESS).ceil() as usize;
-    let hi = loop {
+    let mut hi = loop {
         seq.reach(probe)?;
         let (step, bodies) = compress(setup, seq, probe, Some(&lo_bodies))?;
         record.steps.push(step);
@@ -241,7 +241,6 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
             )));
         }
     };
-    let mut hi = hi;
     while hi - lo > 1 {
         let mid = lo + (hi - lo) / 2;
         let (step, bodies) = compress(setup, seq, mid, Some(&lo_bodies))?;
