@@ -11,8 +11,9 @@ use crate::engine::{CompiledRule, Engine, Rules};
 use crate::enumerate::{
     GraphFilter, TypedFilter, connected_small_graphs, count_connected, typed_patterns,
 };
-use crate::motifs::{Pattern, Provenance, Rule};
+use crate::pattern::Pattern;
 use crate::rigidity::check_exact;
+use crate::rule_file::{Provenance, Rule};
 use crate::{Error, Result};
 
 /// Whether the engine compresses `pattern` to one node in any of `runs` orders.
@@ -132,7 +133,7 @@ fn outcomes(
     candidates
         .par_iter()
         .map(|p| {
-            let v = check_exact(p, crate::motifs::RULE_SEED)?;
+            let v = check_exact(p, crate::rule_file::RULE_SEED)?;
             let compressed = compresses(engine, p, runs)?;
             pb.inc(1);
             Ok(Outcome {

@@ -4,8 +4,10 @@
 use serde::Serialize;
 use std::time::Instant;
 
-use crate::contacts::{self, ContactGraph};
+use crate::contacts;
 use crate::engine::{self, Rules};
+use crate::graph::ContactGraph;
+use crate::math::stats::median;
 use crate::rods::{RodParams, RodSystem};
 
 /// The reference systems: (gamma, density, box side).
@@ -33,11 +35,6 @@ pub struct BenchRow {
     pub peak_rss_mib: f64,
     pub components: usize,
     pub largest_body_rods: usize,
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// Peak resident set size of this process (Linux `VmHWM`), MiB; 0 where unknown.
@@ -88,14 +85,14 @@ fn measure(params: RodParams, repeat: usize) -> BenchRow {
         last = Some((system.len(), found.len(), c));
     }
     let (n_rods, n_contacts, c) = last.expect("at least one repetition");
-    let (detect, compress) = (median(det_t), median(comp_t));
+    let (detect, compress) = (median(&mut det_t), median(&mut comp_t));
     BenchRow {
         gamma: params.gamma,
         density: params.density,
         box_len: params.box_len,
         n_rods,
         n_contacts,
-        seconds_generate: median(gen_t),
+        seconds_generate: median(&mut gen_t),
         seconds_detect: detect,
         seconds_compress: compress,
         ns_per_rod: (detect + compress) * 1e9 / n_rods.max(1) as f64,

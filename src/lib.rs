@@ -1,42 +1,53 @@
 //! `rgc`: rigidity percolation in random 3-D rod systems.
 //!
-//! The data flows through the modules in the order of the model
-//! (see `DESIGN.md` in the project's shared notes):
+//! The modules form layers; each one uses only those listed before it
+//! (`src/ARCHITECTURE.md` draws the diagram and the data flow, and
+//! `src/MODEL.md` states the model that the `MODEL §n` references cite).
 //!
-//! * [`rods`] — random soft-core spherocylinders in a periodic box;
-//! * [`contacts`] — which rods touch (cell list, robust segment distance),
-//!   the contact graph and its statistics;
+//! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
+//! * [`rods`] — soft-core spherocylinders in a periodic box;
+//! * [`contacts`] — which rods touch (cell list, robust segment distance);
+//! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
+//! * [`body`] — rigid bodies and their planar or spatial class;
 //! * [`spanning`] — whether a cluster of rods spans the periodic box;
-//! * [`engine`] — the 3D rigid graph compression (3D-RGC) with the base motifs;
-//! * [`sample`] — one Monte Carlo sample from rods to rigid clusters;
-//! * [`enumerate`] — non-isomorphic connected graphs and typed patterns, canonical forms;
-//! * [`motifs`] — typed contact patterns: what is enumerated, checked and loaded as rules;
-//! * [`realization`] — exact realizations of a pattern and their components;
-//! * [`rigidity`] — the rigidity matrix and the exact verdict over components;
-//! * [`rank`] — exact rank over the prime field F_p;
-//! * [`stability`] — where float ranks fail against the exact verdict, and their speed;
-//! * [`plot`] — charts of the stability study and of the thresholds (SVG, and PNG with an embedded font);
-//! * [`graphio`] — graph6 and edge-list input and output;
-//! * [`audit`] — which rigid motifs the engine misses; base and extended rule sets;
-//! * [`threshold`] — Monte Carlo critical densities and finite-size scaling;
+//! * [`pattern`] — typed contact patterns: rods, planar and spatial bodies;
+//! * [`rigidity`] — incidences, realizations and their components, the
+//!   rigidity matrix and the exact verdict;
+//! * [`enumerate`] — non-isomorphic graphs and typed patterns, canonical forms;
+//! * [`rule_file`] — motif rule files, verified by exact rank on load;
+//! * [`engine`] — the 3D rigid graph compression (3D-RGC);
+//! * [`sample`] — one Monte Carlo system from rods to rigid bodies;
+//! * [`audit`] — which rigid motifs the engine misses; extended rule sets;
+//! * [`stability`] — where float ranks fail against the exact verdict;
+//! * [`threshold`] — rod sequences, studies, finite-size scaling, variants;
+//! * [`plot`] — charts of what the layers above computed;
 //! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
 
-pub mod audit;
-pub mod bench;
-pub mod contacts;
-pub mod engine;
-pub mod enumerate;
 pub mod error;
-pub mod graphio;
-pub mod motifs;
-pub mod plot;
-pub mod rank;
-pub mod realization;
-pub mod rigidity;
+pub mod math;
+
+pub mod contacts;
+pub mod graph;
 pub mod rods;
-pub mod sample;
+
+pub mod body;
 pub mod spanning;
+
+pub mod pattern;
+pub mod rigidity;
+
+pub mod enumerate;
+pub mod rule_file;
+
+pub mod engine;
+pub mod sample;
+
+pub mod audit;
 pub mod stability;
 pub mod threshold;
+
+pub mod plot;
+
+pub mod bench;
 
 pub use error::{Error, Result};

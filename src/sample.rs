@@ -3,8 +3,10 @@
 use serde::Serialize;
 use std::time::Instant;
 
-use crate::contacts::{self, Contact, ContactGraph, ContactStats};
-use crate::engine::{self, BodyClass, Compression, MotifCounts, Rules};
+use crate::body::BodyClass;
+use crate::contacts::{self, Contact};
+use crate::engine::{self, Compression, MotifCounts, Rules};
+use crate::graph::{self, ContactGraph, ContactStats};
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
 
@@ -132,7 +134,7 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
         c1,
         c2,
         clustering,
-    } = contacts::stats(&graph);
+    } = graph::stats(&graph);
     let contact_spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
 
     let t = Instant::now();

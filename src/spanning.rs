@@ -7,7 +7,8 @@
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
-use crate::contacts::{Contact, ContactGraph};
+use crate::contacts::Contact;
+use crate::graph::ContactGraph;
 use crate::rods::RodSystem;
 
 /// Which definition of spanning to use.

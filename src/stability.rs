@@ -4,17 +4,17 @@
 //! both.
 //!
 //! Every trial has an exact reference: a degeneracy knob
-//! ([`realization::Degeneracy`]) keeps every incidence exact and only moves
+//! ([`construction::Degeneracy`]) keeps every incidence exact and only moves
 //! the free choices `eps` away from a degenerate position, so for `eps > 0`
 //! the realization is a generic member of its family and the exact verdict
 //! is the right answer. A float verdict is *correct* when its class and
 //! degrees of freedom match the exact ones, *undecided* when rgc says so,
 //! and *wrong* otherwise. The *naive* answer is what the tolerance alone
 //! gives (no grey zone): where it errs and rgc does not is what the grey
-//! zone of [`crate::rank::RankRule`] buys.
+//! zone of [`crate::math::float::RankRule`] buys.
 //!
 //! [`calibrate`] measures where generic spectra sit against the roundoff
-//! floor: the evidence behind [`crate::rank::RankRule::SVD`] and `QR`.
+//! floor: the evidence behind [`crate::math::float::RankRule::SVD`] and `QR`.
 
 use std::path::Path;
 use std::time::Instant;
@@ -25,13 +25,16 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::engine::examples;
-use crate::motifs::{NodeKind, Pattern, PatternContact};
-use crate::rank::{FloatRank, Fp, Matrix, rank_fp, rank_qr, rank_svd};
-use crate::realization::{self, Degeneracy, Geometry, Grouping, Incidence};
-use crate::rigidity::{
-    self, FloatRanks, Method, Verdict, check_exact, dof, float_family, float_framework,
-    float_ranks, float_spectrum, try_framework,
-};
+use crate::math::float::{FloatRank, rank_qr, rank_svd};
+use crate::math::stats::quantile;
+use crate::math::{Fp, Matrix, rank_fp};
+use crate::pattern::{NodeKind, Pattern, PatternContact};
+use crate::rigidity::construction::{self, Degeneracy, Geometry};
+use crate::rigidity::family;
+use crate::rigidity::framework::{dof, float_framework, try_framework};
+use crate::rigidity::incidence::{Grouping, Incidence};
+use crate::rigidity::verdict::{FloatRanks, float_family, float_ranks, float_spectrum};
+use crate::rigidity::{self, Method, Verdict, check_exact};
 use crate::{Error, Result};
 
 /// Seed of the exact reference verdicts.
@@ -102,7 +105,7 @@ pub fn calibrate(method: Method, seeds: u64) -> Calibration {
             let inc = Incidence::new(p);
             let mut out = Vec::new();
             for seed in 0..seeds {
-                let (families, _) = realization::families(&inc, 1, seed);
+                let (families, _) = family::families(&inc, 1, seed);
                 let mut rng = ChaCha8Rng::seed_from_u64(seed);
                 for fam in &families {
                     let Some(exact) =
@@ -112,7 +115,7 @@ pub fn calibrate(method: Method, seeds: u64) -> Calibration {
                     };
                     let dof = dof(&exact, rank_fp(&exact.matrix));
                     let Ok(s) =
-                        realization::construct_in(&inc, &fam.grouping, &Geometry::generic(), seed)
+                        construction::construct_in(&inc, &fam.grouping, &Geometry::generic(), seed)
                     else {
                         continue;
                     };
@@ -160,14 +163,6 @@ pub fn calibrate(method: Method, seeds: u64) -> Calibration {
             worst_zero.map_or(String::new(), |x| x.2.clone()),
             worst_nonzero.map_or(String::new(), |x| x.2.clone()),
         ],
-    }
-}
-
-fn quantile(v: &mut [f64], q: f64) -> f64 {
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n => v[((n - 1) as f64 * q).round() as usize],
     }
 }
 
@@ -338,10 +333,10 @@ pub fn sensitive_patterns(degeneracy: Degeneracy) -> Result<Vec<(Pattern, Verdic
     for (_, p) in panel() {
         let reference = check_exact(&p, REFERENCE_SEED)?;
         let inc = Incidence::new(&p);
-        let (families, _) = realization::families(&inc, 1, REFERENCE_SEED);
-        let components = realization::components(&families);
+        let (families, _) = family::families(&inc, 1, REFERENCE_SEED);
+        let components = family::components(&families);
         let mut rng = ChaCha8Rng::seed_from_u64(REFERENCE_SEED);
-        let mut exact_dof = |sample: &realization::Sample<Fp>| {
+        let mut exact_dof = |sample: &construction::Realization<Fp>| {
             try_framework(&inc, sample, &mut || Fp::random(&mut rng))
                 .map(|f| dof(&f, rank_fp(&f.matrix)))
         };
@@ -352,7 +347,7 @@ pub fn sensitive_patterns(degeneracy: Degeneracy) -> Result<Vec<(Pattern, Verdic
             .any(|(fam, _)| {
                 let generic = exact_dof(&fam.samples[0]);
                 let degenerate =
-                    realization::construct_in(&inc, &fam.grouping, &limit, REFERENCE_SEED)
+                    construction::construct_in(&inc, &fam.grouping, &limit, REFERENCE_SEED)
                         .ok()
                         .and_then(|s| exact_dof(&s));
                 degenerate.is_none() || degenerate != generic
@@ -488,7 +483,7 @@ fn size_trial(p: &Pattern, method: Method, seed: u64) -> Result<Trial> {
     let inc = Incidence::new(p);
     let grouping = Grouping::forced(&inc);
     let failed = || Error::Parameter("a ladder could not be realized".into());
-    let exact = realization::construct(&inc, &grouping, seed).map_err(|_| failed())?;
+    let exact = construction::construct(&inc, &grouping, seed).map_err(|_| failed())?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let f = try_framework(&inc, &exact, &mut || Fp::random(&mut rng)).ok_or_else(failed)?;
     let exact_dof = dof(&f, rank_fp(&f.matrix));
@@ -574,10 +569,10 @@ pub struct Throughput {
 /// (`3 E >= 5 n - 6`): the candidates the motif enumeration feeds the rank.
 /// Each rank is repeated until `min_seconds` have passed.
 pub fn throughput(n: usize, count: usize, min_seconds: f64) -> Result<Throughput> {
-    if !(3..=crate::motifs::MAX_PATTERN_NODES).contains(&n) || count == 0 {
+    if !(3..=crate::pattern::MAX_PATTERN_NODES).contains(&n) || count == 0 {
         return Err(Error::Parameter(format!(
             "throughput needs 3 to {} rods and at least one pattern",
-            crate::motifs::MAX_PATTERN_NODES
+            crate::pattern::MAX_PATTERN_NODES
         )));
     }
     let mut rng = ChaCha8Rng::seed_from_u64(n as u64);
@@ -591,10 +586,10 @@ pub fn throughput(n: usize, count: usize, min_seconds: f64) -> Result<Throughput
         let inc = Incidence::new(&p);
         let grouping = Grouping::forced(&inc);
         let seed = tries as u64;
-        let Ok(e) = realization::construct(&inc, &grouping, seed) else {
+        let Ok(e) = construction::construct(&inc, &grouping, seed) else {
             continue;
         };
-        let Ok(s) = realization::construct_in(&inc, &grouping, &Geometry::generic(), seed) else {
+        let Ok(s) = construction::construct_in(&inc, &grouping, &Geometry::generic(), seed) else {
             continue;
         };
         let (Some(fe), Some(ff)) = (

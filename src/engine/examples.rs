@@ -4,8 +4,9 @@
 
 use serde::Serialize;
 
-use super::{Body, BodyClass, Rules, compress_from};
-use crate::contacts::ContactGraph;
+use super::{Rules, compress_from};
+use crate::body::{Body, BodyClass};
+use crate::graph::ContactGraph;
 
 /// A contact graph, optionally with bodies declared rigid, and its expected outcome.
 #[derive(Clone, Debug)]

@@ -7,10 +7,10 @@
 //! instance always contains the merged node and one of those changed pairs,
 //! so nothing is missed and nothing far away is looked at again.
 
-pub mod base;
+mod base;
 pub mod examples;
-mod motifs;
-mod rules;
+mod matcher;
+pub mod shapes;
 mod state;
 
 use rand::{RngExt, SeedableRng};
@@ -18,10 +18,11 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::contacts::ContactGraph;
+use crate::body::Body;
+use crate::graph::ContactGraph;
 use crate::{Error, Result};
-use motifs::Found;
-pub use rules::CompiledRule;
+use base::Found;
+pub use matcher::CompiledRule;
 use state::State;
 
 /// Which motif conditions the engine applies.
@@ -36,39 +37,6 @@ pub enum Rules {
     Sound,
     /// The published conditions verbatim.
     Paper,
-}
-
-/// Geometric class of a body.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BodyClass {
-    /// All rods in one plane: a 3-clique community, grown by rods touching it twice.
-    Planar,
-    /// Anything else.
-    Spatial,
-}
-
-/// A rigid body found by compression: two or more rods.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Body {
-    /// Member rods, sorted.
-    pub rods: Vec<u32>,
-    pub class: BodyClass,
-    /// For a spatial body, the rods of each planar body it absorbed: they
-    /// still lie in one plane, so their contacts with another plane are collinear.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub planes: Vec<Vec<u32>>,
-}
-
-impl Body {
-    /// A body with no planar parts recorded.
-    pub fn new(rods: Vec<u32>, class: BodyClass) -> Self {
-        Body {
-            rods,
-            class,
-            planes: Vec::new(),
-        }
-    }
 }
 
 /// The base motifs, by the paper's names.

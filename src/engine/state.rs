@@ -11,8 +11,8 @@
 
 use rustc_hash::FxHashMap;
 
-use super::BodyClass;
-use crate::contacts::ContactGraph;
+use crate::body::BodyClass;
+use crate::graph::ContactGraph;
 
 /// One original contact seen from a node: its rod on this side and on the other.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

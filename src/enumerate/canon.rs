@@ -6,7 +6,7 @@
 //! found generate the whole group, so the orbits it reports are exact.
 //!
 //! The graph is reached only through [`Adjacency`], so one search serves the
-//! generator's 16-bit rows and arbitrary [`crate::contacts::ContactGraph`]s.
+//! generator's 16-bit rows and arbitrary [`crate::graph::ContactGraph`]s.
 
 use std::cmp::Ordering;
 

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::canon::{Canon, DenseRows, Rows64, canonical_order};
 use super::{GraphFilter, connected_small_graphs};
-use crate::motifs::{MAX_PATTERN_CONTACTS, NodeKind, Pattern, PatternContact};
+use crate::pattern::{MAX_PATTERN_CONTACTS, NodeKind, Pattern, PatternContact};
 use crate::{Error, Result};
 
 /// Most nodes [`typed_patterns`] accepts: node permutations are listed

@@ -11,8 +11,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{Chart, Drawn, RHO, colour, error_bars, log_ticks, render, span, tick};
-use crate::threshold::compare::VariantOutcome;
 use crate::threshold::fss::Estimate;
+use crate::threshold::variants::VariantOutcome;
 use crate::{Error, Result};
 
 /// Pixel size of the comparison chart (two panels side by side).

@@ -22,7 +22,7 @@ mod threshold;
 
 pub use compare::{compare_chart, speed_accuracy_chart};
 pub use stability::stability_chart;
-pub use threshold::{threshold_charts, threshold_vs_vex};
+pub use threshold::{study_charts, threshold_charts, threshold_vs_vex};
 
 /// What drawing on a backend returns.
 type Drawn<DB> = std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 
 use super::{Chart, Drawn, render};
 use crate::Result;
-use crate::rank::RankRule;
+use crate::math::float::RankRule;
 use crate::rigidity::Method;
 use crate::stability::{Axis, StabilityRow};
 

@@ -10,10 +10,37 @@ use plotters::prelude::*;
 
 use super::{Chart, Drawn, RHO, colour, error_bars, legend, log_ticks, render, show, span, tick};
 use crate::threshold::fss::{self, BoxData, Estimate, Fss, Protocol};
+use crate::threshold::report::StudyReport;
+use crate::threshold::sequence::Kind;
+use crate::threshold::study::StudySpec;
 use crate::{Error, Result};
 
 /// Pixel size of each threshold chart.
 const SIZE: (u32, u32) = (1200, 850);
+
+/// The charts of a written study, titled by what it measured.
+pub fn study_charts(spec: &StudySpec, report: &StudyReport, dir: &Path) -> Result<Vec<PathBuf>> {
+    let title = format!(
+        "{}, gamma {}, {:?}{}, K={}, {:?}, {:?}",
+        match spec.kind {
+            Kind::Contact => "contact",
+            Kind::Rigid => "rigidity",
+        },
+        spec.gamma,
+        spec.rules,
+        if spec.motifs.rules > 0 {
+            format!(" + {} motifs", spec.motifs.rules)
+        } else {
+            String::new()
+        },
+        spec.runs,
+        spec.criterion,
+        spec.method,
+    )
+    .to_lowercase()
+    .replace("k=", "K=");
+    threshold_charts(&report.summary.fss, &report.data, &title, dir)
+}
 
 /// Writes `pi`, `collapse`, `rho_x` and `delta_rho`, each as SVG and PNG,
 /// into `dir` (created if missing); returns the paths written.
@@ -389,7 +416,7 @@ pub fn threshold_vs_vex(
     let ly: Vec<f64> = points.iter().map(|p| p.2.value.ln()).collect();
     let fixed = (ly.iter().zip(&lx).map(|(y, x)| y - x).sum::<f64>() / n as f64).exp();
     let design = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { lx[i] });
-    let free = fss::least_squares(&design, &DVector::from_vec(ly))
+    let free = crate::math::stats::least_squares(&design, &DVector::from_vec(ly))
         .map(|(b, r2, _)| (b[0].exp(), b[1], r2));
     render(
         &Vex {

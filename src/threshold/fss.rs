@@ -17,6 +17,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::math::stats::{least_squares, percentile_interval};
 use crate::{Error, Result};
 
 /// Contact numbers measured on one system of a realization.
@@ -538,23 +539,6 @@ fn bootstrap(lens: &[f64], all: &[Vec<&Observation>], opts: &FssOptions) -> Vec<
         .collect()
 }
 
-/// The central `confidence` percentile interval (linear interpolation
-/// between order statistics); `None` for no values.
-fn percentile_interval(v: &mut [f64], confidence: f64) -> Option<(f64, f64)> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let q = |p: f64| {
-        let h = (v.len() - 1) as f64 * p;
-        let (i, f) = (h.floor() as usize, h.fract());
-        let j = (i + 1).min(v.len() - 1);
-        v[i] + f * (v[j] - v[i])
-    };
-    let tail = (1.0 - confidence) / 2.0;
-    Some((q(tail), q(1.0 - tail)))
-}
-
 /// Maximum-likelihood logistic distribution of a sample of critical
 /// densities: its CDF is the fitted spanning probability.
 pub fn fit_logistic_sample(sample: &[f64]) -> Result<Logistic> {
@@ -757,29 +741,6 @@ fn maximize(
     Err(analysis(format!(
         "the logistic fit did not converge in {MAX_NEWTON} Newton steps"
     )))
-}
-
-/// Least squares `y ~ x beta` through the normal equations; `None` when the
-/// columns are linearly dependent. Returns `beta`, R² and the RMS residual.
-pub(crate) fn least_squares(
-    x: &DMatrix<f64>,
-    y: &DVector<f64>,
-) -> Option<(DVector<f64>, f64, f64)> {
-    let xt = x.transpose();
-    let beta = (&xt * x).cholesky()?.solve(&(&xt * y));
-    if beta.iter().any(|b| !b.is_finite()) {
-        return None;
-    }
-    let resid = y - x * &beta;
-    let ss_res = resid.norm_squared();
-    let mean = y.mean();
-    let ss_tot = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
-    let r2 = if ss_tot > 0.0 {
-        1.0 - ss_res / ss_tot
-    } else {
-        1.0
-    };
-    Some((beta, r2, (ss_res / y.len() as f64).sqrt()))
 }
 
 /// `nu` from the least-squares line of `ln Delta rho` against `ln L`
@@ -1059,23 +1020,5 @@ impl Fss {
     /// `L^(-1/nu)` of a box size, the abscissa of the extrapolation.
     pub fn scaled(&self, box_len: f64) -> f64 {
         box_len.powf(-1.0 / self.nu.value)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn percentile_interval_interpolates() {
-        let mut v: Vec<f64> = (0..=100).map(f64::from).rev().collect();
-        let (lo, hi) = percentile_interval(&mut v, 0.9).unwrap();
-        assert!(
-            (lo - 5.0).abs() < 1e-9 && (hi - 95.0).abs() < 1e-9,
-            "{lo} {hi}"
-        );
-        let (lo, _) = percentile_interval(&mut v, 0.95).unwrap();
-        assert!((lo - 2.5).abs() < 1e-9, "between 2 and 3: {lo}");
-        assert_eq!(percentile_interval(&mut [], 0.9), None);
     }
 }

@@ -1,8 +1,9 @@
-//! Percolation thresholds (DESIGN §8, §9): Monte Carlo rod sequences, their
-//! critical densities, and finite-size scaling to `L -> inf`.
+//! Percolation thresholds (MODEL §8, §9): Monte Carlo rod sequences and
+//! their critical numbers of rods, checkpointed studies, finite-size scaling
+//! to `L -> inf`, and variants of the engine compared on shared sequences.
 
-pub mod compare;
 pub mod fss;
-pub mod montecarlo;
 pub mod report;
+pub mod sequence;
 pub mod study;
+pub mod variants;

@@ -7,8 +7,9 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use super::fss::{self, BoxData, Fss, FssOptions, Observation, Protocol};
-use super::montecarlo::{Kind, Record};
+use super::sequence::{Kind, Record};
 use super::study::StudySpec;
+use crate::math::stats::mean_sd;
 use crate::rods::excluded_volume;
 use crate::{Error, Result};
 
@@ -90,18 +91,6 @@ pub fn observations(spec: &StudySpec, records: &[Record]) -> Vec<BoxData> {
             }
         })
         .collect()
-}
-
-/// Mean and sample standard deviation (0 for a single value).
-pub(crate) fn mean_sd(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = if xs.len() > 1 {
-        xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (mean, var.sqrt())
 }
 
 /// What motif order did, from the records.
@@ -237,14 +226,22 @@ fn write(path: &Path, text: &str) -> Result<()> {
     std::fs::write(path, text).map_err(|e| Error::io(path, e))
 }
 
-/// Writes `summary.json`, `timing.json`, `records.csv`, the scaling tables
-/// and the charts into `dir`; returns the summary and the files written.
+/// What [`write_study`] computed and wrote.
+pub struct StudyReport {
+    pub summary: Summary,
+    /// The per-box observations the scaling analysis used (for charts).
+    pub data: Vec<BoxData>,
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes `summary.json`, `timing.json`, `records.csv` and the scaling
+/// tables into `dir`.
 pub fn write_study(
     dir: &Path,
     spec: &StudySpec,
     records: &[Record],
     bootstrap: usize,
-) -> Result<(Summary, Vec<PathBuf>)> {
+) -> Result<StudyReport> {
     let summary = summarize(spec, records, bootstrap)?;
     let data = observations(spec, records);
     let mut files = Vec::new();
@@ -265,30 +262,9 @@ pub fn write_study(
     put("records.csv", records_csv(records))?;
     fss::write_csv(&summary.fss, &data, dir)?;
     files.extend(["boxes.csv", "pi.csv", "rho_x.csv"].map(|n| dir.join(n)));
-    let title = format!(
-        "{}, gamma {}, {:?}{}, K={}, {:?}, {:?}",
-        match spec.kind {
-            Kind::Contact => "contact",
-            Kind::Rigid => "rigidity",
-        },
-        spec.gamma,
-        spec.rules,
-        if spec.motifs.rules > 0 {
-            format!(" + {} motifs", spec.motifs.rules)
-        } else {
-            String::new()
-        },
-        spec.runs,
-        spec.criterion,
-        spec.method,
-    )
-    .to_lowercase()
-    .replace("k=", "K=");
-    files.extend(crate::plot::threshold_charts(
-        &summary.fss,
-        &data,
-        &title,
-        dir,
-    )?);
-    Ok((summary, files))
+    Ok(StudyReport {
+        summary,
+        data,
+        files,
+    })
 }

@@ -15,10 +15,10 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use super::fss::Protocol;
-use super::montecarlo::{self, Kind, Record, Sequence, Setup};
+use super::sequence::{self, Kind, Record, Sequence, Setup};
 use crate::engine::{CompiledRule, Engine, Rules, run_seed};
-use crate::motifs::Rule;
 use crate::rods::{RodParams, excluded_volume};
+use crate::rule_file::Rule;
 use crate::spanning::Criterion;
 use crate::{Error, Result};
 
@@ -223,7 +223,7 @@ fn pilot_grid(spec: &StudySpec, setup: &Setup) -> Result<Grid> {
                     Ok(n as f64 / volume)
                 })
                 .collect::<Result<_>>()?;
-            let (mean, sd) = super::report::mean_sd(&pilot);
+            let (mean, sd) = crate::math::stats::mean_sd(&pilot);
             let spread = 2.5 * sd.max(mean * 1e-3);
             let lo = (mean - spread).min(pilot.iter().copied().fold(f64::INFINITY, f64::min));
             let hi = (mean + spread).max(pilot.iter().copied().fold(0.0, f64::max));
@@ -272,10 +272,10 @@ fn realize(
         seconds: 0.0,
     };
     match method {
-        Protocol::Nested => montecarlo::nested(setup, &mut seq, &mut record)?,
+        Protocol::Nested => sequence::nested(setup, &mut seq, &mut record)?,
         Protocol::Fixed => {
             let grid = grid.expect("the fixed protocol has a grid");
-            montecarlo::fixed(setup, &mut seq, &grid.rods, &mut record)?
+            sequence::fixed(setup, &mut seq, &grid.rods, &mut record)?
         }
     }
     record.seconds = t.elapsed().as_secs_f64();

@@ -1,0 +1,487 @@
+//! Motif rules loaded from files, matched in the compression state
+//! (DESIGN §6).
+//!
+//! A match maps pattern nodes to distinct host nodes and pattern contacts to
+//! distinct host contacts. It is valid when every host node is at least as
+//! generic as its pattern node (a rod for a rod, any body for a planar
+//! body, a spatial body for a spatial one), the host has at least the
+//! pattern's contacts between matched nodes, and the host has no
+//! collinearity the pattern did not assume: host contacts of a node on one
+//! rod carry one pattern rod label, and (under `sound`) three or more host
+//! contacts between one plane of each side carry one label on a side.
+//! Searches start from what changed: a rod at the start (rods-only rules),
+//! or a pair of nodes whose relation a merge changed, mapped onto a pattern
+//! contact.
+
+use super::state::{Link, NO_PLANE, State};
+use super::{Motif, Rules};
+use crate::body::BodyClass;
+use crate::pattern::{NodeKind, Pattern};
+use crate::rigidity::incidence::{Grouping, Incidence};
+use crate::rule_file::Rule;
+
+/// A rule prepared for matching.
+#[derive(Clone, Debug)]
+pub struct CompiledRule {
+    pub id: String,
+    /// The base motif a base rule writes out, else [`Motif::Rule`].
+    pub motif: Motif,
+    kinds: Vec<NodeKind>,
+    /// Pattern contacts between each pair of nodes, as (label at the lower node, label at the higher).
+    between: Vec<Vec<Vec<(u8, u8)>>>,
+    neighbours: Vec<Vec<usize>>,
+    rods_only: bool,
+    /// Whether every realization of the pattern is planar (a triangle, a
+    /// rod touching a planar body twice): the merged body is then planar
+    /// when its host bodies are.
+    planar: bool,
+}
+
+impl CompiledRule {
+    pub fn new(rule: &Rule) -> Self {
+        let p: &Pattern = &rule.pattern;
+        let n = p.n_nodes();
+        let mut between = vec![vec![Vec::new(); n]; n];
+        for c in &p.contacts {
+            let (a, b) = (c.nodes[0] as usize, c.nodes[1] as usize);
+            between[a][b].push((c.rods[0], c.rods[1]));
+            between[b][a].push((c.rods[1], c.rods[0]));
+        }
+        let neighbours = (0..n)
+            .map(|a| (0..n).filter(|&b| !between[a][b].is_empty()).collect())
+            .collect();
+        let inc = Incidence::new(p);
+        let forced = Grouping::forced(&inc);
+        let planar = !p.kinds.contains(&NodeKind::Spatial)
+            && forced.groups.len() == 1
+            && forced.groups[0].len() == inc.n_lines();
+        let motif = [
+            ("3D3C", Motif::Community),
+            ("3D2B", Motif::D2B),
+            ("3D2A", Motif::D2A),
+            ("3D3A", Motif::D3A),
+            ("3D3B", Motif::D3B),
+            ("3D4", Motif::D4),
+            ("3D6", Motif::D6),
+        ]
+        .into_iter()
+        .find(|(name, _)| rule.id.starts_with(&format!("base-{name}-")))
+        .map_or(Motif::Rule, |(_, m)| m);
+        CompiledRule {
+            id: rule.id.clone(),
+            motif,
+            kinds: p.kinds.clone(),
+            between,
+            neighbours,
+            rods_only: p.kinds.iter().all(|k| *k == NodeKind::Rod),
+            planar,
+        }
+    }
+
+    pub fn rods_only(&self) -> bool {
+        self.rods_only
+    }
+
+    pub fn n_nodes(&self) -> usize {
+        self.kinds.len()
+    }
+
+    /// Ordered pairs of pattern nodes joined by a contact, that host nodes of
+    /// classes `x` and `y` with `m` contacts between them could carry.
+    pub fn contact_pairs(
+        &self,
+        x: Option<BodyClass>,
+        y: Option<BodyClass>,
+        m: usize,
+    ) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (0..self.kinds.len()).flat_map(move |a| {
+            self.neighbours[a]
+                .iter()
+                .filter(move |&&b| {
+                    fits(self.kinds[a], x)
+                        && fits(self.kinds[b], y)
+                        && self.between[a][b].len() <= m
+                })
+                .map(move |&b| (a, b))
+        })
+    }
+}
+
+/// A host node's kind as the matcher sees it.
+fn fits(pattern: NodeKind, host: Option<BodyClass>) -> bool {
+    match (pattern, host) {
+        (NodeKind::Rod, None) => true,
+        (NodeKind::Planar, Some(_)) => true,
+        (NodeKind::Spatial, Some(BodyClass::Spatial)) => true,
+        _ => false,
+    }
+}
+
+impl State<'_> {
+    /// Contacts between nodes `x` and `y`, seen from `x`.
+    pub fn links_between(&mut self, x: u32, y: u32) -> Vec<Link> {
+        self.links(x, y)
+    }
+
+    /// Contacts between nodes `x` and `y`, seen from `x`.
+    fn links(&mut self, x: u32, y: u32) -> Vec<Link> {
+        if self.class(x).is_some() {
+            return self.body_links(x, y).to_vec();
+        }
+        if self.class(y).is_some() {
+            return self
+                .body_links(y, x)
+                .iter()
+                .map(|l| Link {
+                    own: l.other,
+                    other: l.own,
+                })
+                .collect();
+        }
+        match self.g.edge_between(x, y) {
+            Some(_) => vec![Link { own: x, other: y }],
+            None => Vec::new(),
+        }
+    }
+
+    /// The plane a free rod lies in because it touches two rods of it.
+    fn touched_plane(&self, rod: u32) -> Option<u32> {
+        let mut seen: Vec<u32> = Vec::new();
+        for &(nb, _) in self.g.neighbors(rod) {
+            let p = self.plane(nb);
+            if p != NO_PLANE {
+                if seen.contains(&p) {
+                    return Some(p);
+                }
+                seen.push(p);
+            }
+        }
+        None
+    }
+
+    /// Number of contacts or neighbouring nodes of node `x`, the cost of listing its neighbours.
+    fn degree(&self, x: u32) -> usize {
+        if self.class(x).is_some() {
+            self.nodes[x as usize].adj.len()
+        } else {
+            self.g.degree(x)
+        }
+    }
+
+    /// Nodes adjacent to node `x`.
+    fn adjacent(&mut self, x: u32) -> Vec<u32> {
+        if self.class(x).is_some() {
+            // Distinct already; the map's order is deterministic (Fx hashing,
+            // one thread per compression), and bodies can have thousands.
+            return self.neighbours(x).collect();
+        }
+        let g = self.g;
+        let mut v: Vec<u32> = g.neighbors(x).iter().map(|&(nb, _)| nb).collect();
+        for y in &mut v {
+            *y = self.find(*y);
+        }
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    /// A match of `rule` with pattern node `a` on host node `x` (and, when
+    /// given, pattern node `b` on host node `y`).
+    pub fn match_rule(
+        &mut self,
+        rule: &CompiledRule,
+        a: usize,
+        x: u32,
+        b: Option<(usize, u32)>,
+        rules: Rules,
+    ) -> Option<(Vec<u32>, BodyClass)> {
+        let n = rule.kinds.len();
+        if !fits(rule.kinds[a], self.class(x)) {
+            return None;
+        }
+        if self.degree(x) < rule.neighbours[a].len() {
+            return None;
+        }
+        let mut map: Vec<Option<u32>> = vec![None; n];
+        map[a] = Some(x);
+        if let Some((b, y)) = b {
+            if b == a
+                || x == y
+                || !fits(rule.kinds[b], self.class(y))
+                || !self.counts_fit(rule, &map, b, y)
+            {
+                return None;
+            }
+            map[b] = Some(y);
+        }
+        if !self.extend(rule, &mut map, rules) {
+            return None;
+        }
+        let parts: Vec<u32> = map.iter().map(|m| m.expect("complete match")).collect();
+        let planar = rule.planar
+            && parts
+                .iter()
+                .all(|&p| self.class(p) != Some(BodyClass::Spatial));
+        Some((
+            parts,
+            if planar {
+                BodyClass::Planar
+            } else {
+                BodyClass::Spatial
+            },
+        ))
+    }
+
+    /// Whether `rule` matches exactly the host nodes `parts`, in some order.
+    pub fn matches_nodes(&mut self, rule: &CompiledRule, parts: &[u32], rules: Rules) -> bool {
+        let n = rule.kinds.len();
+        if n != parts.len() {
+            return false;
+        }
+        let mut map: Vec<Option<u32>> = vec![None; n];
+        self.place(rule, parts, 0, &mut map, rules)
+    }
+
+    /// Tries every host node of `parts` not yet used on pattern node `v`, then the next.
+    fn place(
+        &mut self,
+        rule: &CompiledRule,
+        parts: &[u32],
+        v: usize,
+        map: &mut Vec<Option<u32>>,
+        rules: Rules,
+    ) -> bool {
+        if v == map.len() {
+            return self.complete(rule, map, rules);
+        }
+        for &y in parts {
+            if fits(rule.kinds[v], self.class(y)) && self.counts_fit(rule, map, v, y) {
+                map[v] = Some(y);
+                if self.place(rule, parts, v + 1, map, rules) {
+                    return true;
+                }
+                map[v] = None;
+            }
+        }
+        false
+    }
+
+    /// Whether host node `y` has at least the pattern's contacts with every
+    /// mapped node that pattern node `v` touches.
+    fn counts_fit(&mut self, rule: &CompiledRule, map: &[Option<u32>], v: usize, y: u32) -> bool {
+        // A host node with fewer neighbours than the pattern node cannot carry it.
+        if self.degree(y) < rule.neighbours[v].len() || map.contains(&Some(y)) {
+            return false;
+        }
+        for &w in &rule.neighbours[v] {
+            if let Some(hw) = map[w]
+                && self.multiplicity(y, hw) < rule.between[v][w].len()
+            {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Maps the remaining pattern nodes by backtracking over host neighbours,
+    /// then assigns contacts.
+    fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: Rules) -> bool {
+        // Most constrained node next: the most mapped neighbours, then the
+        // most neighbours (a fixed order would explore far more partial maps).
+        let next = (0..map.len())
+            .filter(|&v| map[v].is_none())
+            .map(|v| {
+                let mapped = rule.neighbours[v]
+                    .iter()
+                    .filter(|&&w| map[w].is_some())
+                    .count();
+                (mapped, rule.neighbours[v].len(), std::cmp::Reverse(v))
+            })
+            .filter(|t| t.0 > 0)
+            .max()
+            .map(|t| t.2.0);
+        let Some(v) = next else {
+            return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
+        };
+        // Candidates come from the mapped neighbour with the fewest neighbours.
+        let anchor = rule.neighbours[v]
+            .iter()
+            .filter_map(|&w| map[w])
+            .min_by_key(|&h| self.degree(h))
+            .expect("v touches a mapped node");
+        for y in self.adjacent(anchor) {
+            if fits(rule.kinds[v], self.class(y)) && self.counts_fit(rule, map, v, y) {
+                map[v] = Some(y);
+                if self.extend(rule, map, rules) {
+                    return true;
+                }
+                map[v] = None;
+            }
+        }
+        false
+    }
+
+    /// Whether a complete node mapping is a match: its contacts can be
+    /// assigned and, under `sound`, the pattern its nodes induce is rigid.
+    fn complete(&mut self, rule: &CompiledRule, map: &[Option<u32>], rules: Rules) -> bool {
+        if !self.assign_contacts(rule, map, rules) {
+            return false;
+        }
+        let parts: Vec<u32> = map.iter().flatten().copied().collect();
+        rules == Rules::Paper || self.induced_rigid(&parts)
+    }
+
+    /// Finds an injective assignment of pattern contacts to host contacts
+    /// under which the host has no collinearity the pattern did not assume.
+    fn assign_contacts(&mut self, rule: &CompiledRule, map: &[Option<u32>], rules: Rules) -> bool {
+        let n = map.len();
+        let mut pairs: Vec<(usize, usize, Vec<Link>)> = Vec::new();
+        for a in 0..n {
+            for b in a + 1..n {
+                if !rule.between[a][b].is_empty() {
+                    let links = self.links(map[a].expect("mapped"), map[b].expect("mapped"));
+                    pairs.push((a, b, links));
+                }
+            }
+        }
+        // For every node, host rod -> pattern label, which must be a function.
+        let mut label: Vec<Vec<(u32, u8)>> = vec![Vec::new(); n];
+        let mut chosen: Vec<Vec<(Link, (u8, u8))>> = vec![Vec::new(); pairs.len()];
+        self.assign_pair(rule, map, &pairs, 0, 0, &mut label, &mut chosen, rules)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn assign_pair(
+        &self,
+        rule: &CompiledRule,
+        map: &[Option<u32>],
+        pairs: &[(usize, usize, Vec<Link>)],
+        k: usize,
+        i: usize,
+        label: &mut Vec<Vec<(u32, u8)>>,
+        chosen: &mut Vec<Vec<(Link, (u8, u8))>>,
+        rules: Rules,
+    ) -> bool {
+        let Some((a, b, links)) = pairs.get(k) else {
+            return rules == Rules::Paper || self.no_hidden_lines(map, chosen, pairs);
+        };
+        let wanted = &rule.between[*a][*b];
+        if i == wanted.len() {
+            return self.assign_pair(rule, map, pairs, k + 1, 0, label, chosen, rules);
+        }
+        let (la, lb) = wanted[i];
+        for link in links {
+            if chosen[k].iter().any(|(l, _)| l == link) {
+                continue;
+            }
+            let fits_a = consistent(&label[*a], link.own, la);
+            let fits_b = consistent(&label[*b], link.other, lb);
+            if !(fits_a && fits_b) {
+                continue;
+            }
+            let (pa, pb) = (label[*a].len(), label[*b].len());
+            label[*a].push((link.own, la));
+            label[*b].push((link.other, lb));
+            chosen[k].push((*link, (la, lb)));
+            if self.assign_pair(rule, map, pairs, k, i + 1, label, chosen, rules) {
+                return true;
+            }
+            chosen[k].pop();
+            label[*a].truncate(pa);
+            label[*b].truncate(pb);
+        }
+        false
+    }
+
+    /// Under `sound`: three or more chosen contacts between one plane and
+    /// another lie on the line the planes share, and the pattern must have
+    /// assumed it (all on one rod of one pattern node). Planes are the planar
+    /// parts of bodies and the rod triangles among the matched free rods
+    /// (extra host contacts can close such triangles).
+    fn no_hidden_lines(
+        &self,
+        map: &[Option<u32>],
+        chosen: &[Vec<(Link, (u8, u8))>],
+        pairs: &[(usize, usize, Vec<Link>)],
+    ) -> bool {
+        let free: Vec<u32> = map
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|&x| self.class(x).is_none())
+            .collect();
+        let triangle_plane = triangle_planes(self.g, &free);
+        let plane_of = |rod: u32| -> u32 {
+            match self.plane(rod) {
+                NO_PLANE => triangle_plane
+                    .iter()
+                    .find(|(r, _)| *r == rod)
+                    .map(|&(_, p)| p)
+                    .or_else(|| self.touched_plane(rod))
+                    .unwrap_or(NO_PLANE),
+                p => p,
+            }
+        };
+        // (plane pair) -> the chosen contacts' (pattern node, label) on each side.
+        let mut groups: Vec<((u32, u32), Vec<[(usize, u8); 2]>)> = Vec::new();
+        for (k, pair) in chosen.iter().enumerate() {
+            let (a, b, _) = pairs[k];
+            for (l, (la, lb)) in pair {
+                let (pa, pb) = (plane_of(l.own), plane_of(l.other));
+                if pa == NO_PLANE || pb == NO_PLANE || pa == pb {
+                    continue;
+                }
+                let (key, ends) = if pa < pb {
+                    ((pa, pb), [(a, *la), (b, *lb)])
+                } else {
+                    ((pb, pa), [(b, *lb), (a, *la)])
+                };
+                match groups.iter_mut().find(|(k, _)| *k == key) {
+                    Some((_, v)) => v.push(ends),
+                    None => groups.push((key, vec![ends])),
+                }
+            }
+        }
+        groups.iter().all(|(_, v)| {
+            v.len() < 3 || v.iter().all(|e| e[0] == v[0][0]) || v.iter().all(|e| e[1] == v[0][1])
+        })
+    }
+}
+
+/// Planes of the rod triangles among `rods` (each rod in the first triangle
+/// community found), with ids counting down from below [`NO_PLANE`] so they
+/// never meet the ids of bodies' planes.
+fn triangle_planes(g: &crate::graph::ContactGraph, rods: &[u32]) -> Vec<(u32, u32)> {
+    let mut out: Vec<(u32, u32)> = Vec::new();
+    let mut next = NO_PLANE - 1;
+    for (i, &a) in rods.iter().enumerate() {
+        for (j, &b) in rods.iter().enumerate().skip(i + 1) {
+            if g.edge_between(a, b).is_none() {
+                continue;
+            }
+            for &c in &rods[j + 1..] {
+                if g.edge_between(a, c).is_none() || g.edge_between(b, c).is_none() {
+                    continue;
+                }
+                let known = [a, b, c]
+                    .iter()
+                    .find_map(|r| out.iter().find(|(x, _)| x == r).map(|&(_, p)| p));
+                let id = known.unwrap_or_else(|| {
+                    next -= 1;
+                    next + 1
+                });
+                for r in [a, b, c] {
+                    if !out.iter().any(|(x, _)| *x == r) {
+                        out.push((r, id));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Whether mapping host rod `rod` to pattern label `label` keeps the map a function.
+fn consistent(map: &[(u32, u8)], rod: u32, label: u8) -> bool {
+    map.iter().all(|&(r, l)| r != rod || l == label)
+}

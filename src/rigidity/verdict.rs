@@ -1,0 +1,443 @@
+//! The rigidity verdict of a pattern over all its realization components
+//! (DESIGN §3–§4): exact rank over F_p where an exact construction exists,
+//! floats with their gap rule and a twin realization otherwise.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use super::construction::{self, Geometry, Realization};
+use super::family::{self};
+use super::framework::{Framework, dof, float_framework, framework, trivial_residual};
+use super::incidence::{Grouping, Incidence};
+use super::projection;
+use crate::math::float::{FloatRank, RankRule, decide_rank_above, qr_diagonal, singular_values};
+use crate::math::{Fp, rank_fp};
+use crate::pattern::Pattern;
+use crate::{Error, Result};
+
+/// How a verdict was reached.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Rank over F_p at exact realizations of every component; a most
+    /// generic family that no exact construction reaches is found by
+    /// numerical projection and ranked in floats with the gap rule (its
+    /// report says [`ComponentReport::projected`]).
+    #[default]
+    Exact,
+    /// Singular values of a float realization (faer).
+    Svd,
+    /// Column-pivoted QR of a float realization (faer).
+    Qr,
+}
+
+/// One realization family and the degrees of freedom found on it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ComponentReport {
+    /// How the family was built, e.g. `planes {0,1,2} {3,4,5}` or `all coplanar`.
+    pub built: String,
+    /// Dimension of the family at its sample.
+    pub dimension: usize,
+    /// Dimension of all realizations at the same sample; larger means a special position.
+    pub ambient: usize,
+    /// Whether the family is a component (else a special position of a larger one).
+    pub component: bool,
+    /// Largest rank over the samples.
+    pub rank: usize,
+    /// Internal degrees of freedom.
+    pub dof: usize,
+    /// Float checks only: a sample's rank was undecided (its singular values
+    /// had no clear gap), so `rank` and `dof` are what the tolerance alone
+    /// counted, not a verdict.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub undecided: bool,
+    /// The family was found by numerical projection (no exact construction
+    /// exists): `rank`, `dof` and `dimension` are float ranks with a clear
+    /// gap, not exact ranks over F_p.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub projected: bool,
+}
+
+/// The verdict on one pattern.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Verdict {
+    /// True when rigid on every component, false when not, `None` when undecided.
+    pub rigid: Option<bool>,
+    /// The largest internal degrees of freedom over the components.
+    pub dof: Option<usize>,
+    /// `rigid`, `flexible`, `component-dependent` or `undecided`.
+    pub class: String,
+    pub components: Vec<ComponentReport>,
+    /// Rank on the first component.
+    pub rank: usize,
+    pub method: Method,
+    /// Relative singular-value gap around the decided rank (floats only).
+    pub gap: Option<f64>,
+    /// Why the verdict is undecided, if it is.
+    pub note: Option<String>,
+}
+
+/// Independent exact realizations per family (the rank is their maximum).
+pub const EXACT_SAMPLES: usize = 2;
+
+/// Decides a pattern exactly: realizations of every family over F_p, rank of
+/// the rigidity matrix on each, and the verdict over the components.
+pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
+    let inc = incidence(pattern)?;
+    let (families, forced_built) = family::families(&inc, EXACT_SAMPLES, seed);
+    let is_component = family::components(&families);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5EED);
+    let mut components = Vec::new();
+    for (fam, &component) in families.iter().zip(&is_component) {
+        let mut best = (0, usize::MAX);
+        for s in &fam.samples {
+            let f = framework(&inc, s, &mut || Fp::random(&mut rng));
+            let r = rank_fp(&f.matrix);
+            if r > best.0 || best.1 == usize::MAX {
+                best = (r.max(best.0), dof(&f, r).min(best.1));
+            }
+            if best.1 == 0 {
+                break; // no sample can have a larger rank
+            }
+        }
+        components.push(ComponentReport {
+            built: fam.grouping.describe(&inc),
+            dimension: fam.dimension,
+            ambient: fam.ambient,
+            component,
+            rank: best.0,
+            dof: best.1,
+            undecided: false,
+            projected: false,
+        });
+    }
+    if forced_built {
+        return Ok(verdict(components, true, Method::Exact, ""));
+    }
+    match project_forced(&inc, seed, &mut rng) {
+        Ok(report) => {
+            components.push(report);
+            let dims: Vec<(usize, usize)> = components
+                .iter()
+                .map(|c| (c.dimension, c.ambient))
+                .collect();
+            let flags = family::components_by_dimension(&dims);
+            for (c, flag) in components.iter_mut().zip(flags) {
+                c.component = flag;
+            }
+            Ok(verdict(components, true, Method::Exact, ""))
+        }
+        Err(why) => Ok(verdict(components, false, Method::Exact, &why)),
+    }
+}
+
+/// What the verdict says when the most generic family was not built.
+const FORCED_UNBUILT: &str = "the most generic realization family could not be built exactly";
+
+/// The forced (most generic) grouping by numerical projection, for
+/// [`check_exact`] when no exact construction reaches it: a projected
+/// realization and its twin ([`TWIN_NUDGE`]) ranked by SVD, and the
+/// family's dimensions from the float Jacobian. A report only when every
+/// float rank has a clear gap and the twins agree; else why not.
+fn project_forced(
+    inc: &Incidence,
+    seed: u64,
+    rng: &mut impl Rng,
+) -> std::result::Result<ComponentReport, String> {
+    let forced = Grouping::forced(inc);
+    let Some((base, twin)) = projection::project_twins(inc, &forced, seed, TWIN_NUDGE) else {
+        return Err(format!(
+            "{FORCED_UNBUILT}, and numerical projection found no realization of it"
+        ));
+    };
+    let unclear = || format!("{FORCED_UNBUILT}; its numerical projection has no clear float rank");
+    let dimension = projection::float_local_dimension(inc, &forced.groups, &base.points);
+    let ambient =
+        projection::float_local_dimension(inc, &super::incidence::body_planes(inc), &base.points);
+    let (Some(dimension), Some(ambient)) = (dimension, ambient) else {
+        return Err(unclear());
+    };
+    let ranked = FamilyRank {
+        base: float_rank(inc, base, Method::Svd, rng),
+        twin: twin.and_then(|t| float_rank(inc, t, Method::Svd, rng)),
+    };
+    let (Some(dof), Some((fr, _))) = (ranked.dof(), ranked.base) else {
+        return Err(unclear());
+    };
+    Ok(ComponentReport {
+        built: format!("{}, numerical projection", forced.describe(inc)),
+        dimension,
+        ambient,
+        component: true,
+        rank: fr.counted,
+        dof,
+        undecided: false,
+        projected: true,
+    })
+}
+
+/// How far the twin of a float realization is nudged (every free choice, by
+/// up to this much against coordinates of order one): far enough that a
+/// realization within `eps << TWIN_NUDGE` of a special position has a twin
+/// whose rank differs, near enough that generic ranks agree.
+pub const TWIN_NUDGE: f64 = 1e-3;
+
+/// Decides a pattern with float ranks (DESIGN §4): the same families and the
+/// same exact component analysis as [`check_exact`], a float realization of
+/// each family and its twin ([`TWIN_NUDGE`]), their ranks by SVD or pivoted
+/// QR. Undecided, rather than a guess, when a spectrum has no clear gap
+/// ([`crate::math::float::RankRule`]) or the twins disagree.
+/// [`Method::Exact`] delegates to [`check_exact`].
+pub fn check_float(pattern: &Pattern, method: Method, seed: u64) -> Result<Verdict> {
+    check_float_in(pattern, method, seed, &Geometry::generic())
+}
+
+/// [`check_float`] at realizations drawn by `geometry`: nearly degenerate
+/// ones for the stability study.
+pub fn check_float_in(
+    pattern: &Pattern,
+    method: Method,
+    seed: u64,
+    geometry: &Geometry<f64>,
+) -> Result<Verdict> {
+    if method == Method::Exact {
+        return check_exact(pattern, seed);
+    }
+    Ok(float_ranks(pattern, method, seed, geometry)?.verdict())
+}
+
+/// The float ranks behind a float verdict.
+#[derive(Clone, Debug)]
+pub struct FloatRanks {
+    /// One report per family: rank and degrees of freedom of the first
+    /// realization as counted by the tolerance (see [`ComponentReport::undecided`]).
+    pub components: Vec<ComponentReport>,
+    /// Per family: the float rank of the realization and of its twin, `None`
+    /// where no float realization or matrix could be built.
+    pub samples: Vec<[Option<FloatRank>; 2]>,
+    /// Whether the most generic family was built exactly.
+    pub forced_built: bool,
+    pub method: Method,
+}
+
+impl FloatRanks {
+    /// The verdict: undecided when any component is; `gap` is the smallest
+    /// over the components' realizations.
+    pub fn verdict(&self) -> Verdict {
+        let gap = self
+            .components
+            .iter()
+            .zip(&self.samples)
+            .filter(|(c, _)| c.component)
+            .flat_map(|(_, s)| s.iter().flatten().map(|fr| fr.gap))
+            .fold(f64::INFINITY, f64::min);
+        let mut v = verdict(self.components.clone(), self.forced_built, self.method, "");
+        v.gap = gap.is_finite().then_some(gap);
+        v
+    }
+}
+
+/// Ranks every family of a pattern on a float realization drawn by
+/// `geometry` and its twin ([`Method::Exact`] is read as SVD). A family is
+/// decided when both ranks are and give the same degrees of freedom.
+pub fn float_ranks(
+    pattern: &Pattern,
+    method: Method,
+    seed: u64,
+    geometry: &Geometry<f64>,
+) -> Result<FloatRanks> {
+    let inc = incidence(pattern)?;
+    let (families, forced_built) = family::families(&inc, 1, seed);
+    let is_component = family::components(&families);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xF10A7);
+    let mut components = Vec::new();
+    let mut samples = Vec::new();
+    for (k, (fam, &component)) in families.iter().zip(&is_component).enumerate() {
+        let sample_seed = seed ^ 0xF10A7_u64.wrapping_add(1000 * k as u64);
+        let ranked = float_family(&inc, &fam.grouping, method, geometry, sample_seed, &mut rng);
+        let (rank, dof) = ranked.base.map_or((0, 0), |(fr, d)| (fr.counted, d));
+        components.push(ComponentReport {
+            built: fam.grouping.describe(&inc),
+            dimension: fam.dimension,
+            ambient: fam.ambient,
+            component,
+            rank,
+            dof,
+            undecided: ranked.dof().is_none(),
+            projected: false,
+        });
+        samples.push([ranked.base.map(|x| x.0), ranked.twin.map(|x| x.0)]);
+    }
+    Ok(FloatRanks {
+        components,
+        samples,
+        forced_built,
+        method,
+    })
+}
+
+/// The float ranks of one family: a realization and its twin, each with
+/// the degrees of freedom at the rank the tolerance counted (`None` where no
+/// realization or matrix could be built).
+#[derive(Clone, Copy, Debug)]
+pub struct FamilyRank {
+    pub base: Option<(FloatRank, usize)>,
+    pub twin: Option<(FloatRank, usize)>,
+}
+
+impl FamilyRank {
+    /// The degrees of freedom when both ranks are decided and agree on them
+    /// (a decided rank is the counted one, so the stored degrees are its).
+    pub fn dof(&self) -> Option<usize> {
+        match (self.base, self.twin) {
+            (Some((b, dof_b)), Some((t, dof_t)))
+                if b.rank.is_some() && t.rank.is_some() && dof_b == dof_t =>
+            {
+                Some(dof_b)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Builds a float realization of `grouping` by `geometry` and its twin
+/// ([`TWIN_NUDGE`]) and ranks both by `method` ([`Method::Exact`] is read as SVD).
+pub fn float_family(
+    inc: &Incidence,
+    grouping: &Grouping,
+    method: Method,
+    geometry: &Geometry<f64>,
+    seed: u64,
+    rng: &mut impl Rng,
+) -> FamilyRank {
+    let (base, twin) =
+        match construction::construct_twins(inc, grouping, geometry, seed, TWIN_NUDGE) {
+            Ok((base, twin)) => (Some(base), twin),
+            Err(_) => (None, None),
+        };
+    let mut rank = |s: Option<Realization<f64>>| s.and_then(|s| float_rank(inc, s, method, rng));
+    FamilyRank {
+        base: rank(base),
+        twin: rank(twin),
+    }
+}
+
+/// The rank of the float rigidity matrix of a sample by `method`, and the
+/// degrees of freedom at the rank the tolerance counted. The noise the
+/// decision allows for is the roundoff floor or, when larger, how far the
+/// trivial motions are from the kernel: the rounding the realization's
+/// incidences carry, which lifts true zeros by as much.
+fn float_rank(
+    inc: &Incidence,
+    sample: Realization<f64>,
+    method: Method,
+    rng: &mut impl Rng,
+) -> Option<(FloatRank, usize)> {
+    let f = float_framework(inc, sample, rng)?;
+    let (values, noise) = float_spectrum(&f, method);
+    let rule = match method {
+        Method::Qr => RankRule::QR,
+        Method::Svd | Method::Exact => RankRule::SVD,
+    };
+    let fr = decide_rank_above(&values, noise, rule);
+    Some((fr, dof(&f, fr.counted)))
+}
+
+/// The descending spectrum of a float framework by `method` (singular
+/// values, or `|R_ii|` of pivoted QR; `[NaN]` when it cannot be computed)
+/// and the noise a rank decision must allow for: the roundoff floor
+/// `max(m, n) * f64::EPSILON * s_0` or, when larger, [`trivial_residual`].
+pub fn float_spectrum(f: &Framework<f64>, method: Method) -> (Vec<f64>, f64) {
+    let values = match method {
+        Method::Qr => qr_diagonal(&f.matrix),
+        Method::Svd | Method::Exact => singular_values(&f.matrix),
+    };
+    let values = values.unwrap_or_else(|| vec![f64::NAN]);
+    let s0 = values.first().copied().unwrap_or(0.0);
+    let floor = f.matrix.rows.max(f.matrix.cols) as f64 * f64::EPSILON * s0;
+    (values, floor.max(trivial_residual(f)))
+}
+
+/// The incidence structure of a well-formed, connected pattern.
+fn incidence(pattern: &Pattern) -> Result<Incidence> {
+    pattern.validate()?;
+    if !connected(pattern) {
+        return Err(Error::Parameter("the pattern is not connected".into()));
+    }
+    Ok(Incidence::new(pattern))
+}
+
+/// The verdict over the components; `unbuilt` says why the most generic
+/// family is missing when `forced_built` is false (empty: it was not built exactly).
+fn verdict(
+    components: Vec<ComponentReport>,
+    forced_built: bool,
+    method: Method,
+    unbuilt: &str,
+) -> Verdict {
+    let real: Vec<&ComponentReport> = components.iter().filter(|c| c.component).collect();
+    let rank = real.first().map_or(0, |c| c.rank);
+    let (rigid, class, note) = if real.is_empty() {
+        (
+            None,
+            "undecided",
+            Some("no realization could be built".to_string()),
+        )
+    } else if let Some(c) = real.iter().find(|c| c.undecided) {
+        (
+            None,
+            "undecided",
+            Some(format!(
+                "the float rank on component `{}` has no clear singular-value gap, \
+                 or its float realization could not be built",
+                c.built
+            )),
+        )
+    } else {
+        let rigid_all = real.iter().all(|c| c.dof == 0);
+        let flexible_all = real.iter().all(|c| c.dof > 0);
+        match (rigid_all, flexible_all, forced_built) {
+            (true, _, true) => (Some(true), "rigid", None),
+            (true, _, false) => (
+                None,
+                "undecided",
+                Some(if unbuilt.is_empty() {
+                    FORCED_UNBUILT.to_string()
+                } else {
+                    unbuilt.to_string()
+                }),
+            ),
+            (false, true, _) => (Some(false), "flexible", None),
+            (false, false, _) => (Some(false), "component-dependent", None),
+        }
+    };
+    Verdict {
+        rigid,
+        dof: real.iter().map(|c| c.dof).max(),
+        class: class.to_string(),
+        rank,
+        components,
+        method,
+        gap: None,
+        note,
+    }
+}
+
+fn connected(p: &Pattern) -> bool {
+    let n = p.n_nodes();
+    let mut seen = vec![false; n];
+    let mut stack = vec![0usize];
+    seen[0] = true;
+    while let Some(a) = stack.pop() {
+        for c in &p.contacts {
+            for (x, y) in [(c.nodes[0], c.nodes[1]), (c.nodes[1], c.nodes[0])] {
+                if x as usize == a && !seen[y as usize] {
+                    seen[y as usize] = true;
+                    stack.push(y as usize);
+                }
+            }
+        }
+    }
+    seen.into_iter().all(|s| s)
+}

@@ -1,0 +1,201 @@
+//! Motif rule files (DESIGN §6): typed patterns with their provenance and
+//! exact-rank verdict, as plain JSON. Every rule is re-verified by exact
+//! rank when it is loaded, and a rule that is not rigid on every
+//! realization component is refused: it would create false rigidity.
+
+use serde::{Deserialize, Serialize};
+
+use crate::pattern::{NodeKind, Pattern};
+use crate::{Error, Result};
+
+/// How a rule was found, for the people who will trust it.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Provenance {
+    /// `base` (a published motif), `audit` (missed by the engine) or `user`.
+    pub source: String,
+    /// The enumeration that produced it, e.g. `rods n=6, min degree 2, Maxwell`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub enumeration: Option<String>,
+    /// The engine rule set it was audited against.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub audited_against: Option<String>,
+    /// The command that wrote it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub command: Option<String>,
+    /// The rgc version that wrote it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub version: Option<String>,
+}
+
+/// The exact-rank verdict stored with a rule.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RuleVerdict {
+    pub class: String,
+    pub dof: usize,
+    /// Seed of the exact realizations.
+    pub seed: u64,
+    pub components: Vec<crate::rigidity::ComponentReport>,
+}
+
+/// A motif rule: a typed pattern proven rigid on every realization component.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Rule {
+    pub id: String,
+    pub pattern: Pattern,
+    /// Canonical form of the pattern: equal for isomorphic patterns.
+    pub canonical: String,
+    pub verdict: RuleVerdict,
+    pub provenance: Provenance,
+}
+
+/// A rule file: a list of rules.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RuleFile {
+    /// Always [`RULE_FORMAT`].
+    pub format: String,
+    pub rules: Vec<Rule>,
+}
+
+pub const RULE_FORMAT: &str = "rgc-rules/1";
+
+/// Largest rule file read (a hostile file fails before it is parsed).
+pub const MAX_RULE_FILE_BYTES: u64 = 64 << 20;
+
+/// Seed of the exact verdicts of rules written by rgc.
+pub const RULE_SEED: u64 = 20_261_122;
+
+impl Rule {
+    /// A rule for `pattern`, verified now: fails unless rigid on every component.
+    pub fn new(id: String, pattern: Pattern, provenance: Provenance) -> Result<Self> {
+        let verdict = verify(&pattern, &id)?;
+        Ok(Rule {
+            id,
+            canonical: canonical_form(&pattern),
+            pattern,
+            verdict,
+            provenance,
+        })
+    }
+}
+
+/// The canonical form of a pattern as a string (kinds, then sorted contacts).
+pub fn canonical_form(p: &Pattern) -> String {
+    let c = crate::enumerate::canonical_pattern(p);
+    let kinds: String = c
+        .kinds
+        .iter()
+        .map(|k| match k {
+            NodeKind::Rod => 'r',
+            NodeKind::Planar => 'p',
+            NodeKind::Spatial => 's',
+        })
+        .collect();
+    let mut contacts: Vec<String> = c
+        .contacts
+        .iter()
+        .map(|x| format!("{}.{}-{}.{}", x.nodes[0], x.rods[0], x.nodes[1], x.rods[1]))
+        .collect();
+    contacts.sort();
+    format!("{kinds}:{}", contacts.join(","))
+}
+
+/// The exact verdict of a rule's pattern; an error unless rigid everywhere.
+fn verify(pattern: &Pattern, id: &str) -> Result<RuleVerdict> {
+    let v = crate::rigidity::check_exact(pattern, RULE_SEED)
+        .map_err(|e| Error::Parameter(format!("rule {id}: {}", detail(&e))))?;
+    if v.rigid != Some(true) {
+        return Err(Error::Parameter(format!(
+            "rule {id} is not rigid on every realization component (exact rank: {}, {} DOF): \
+             loading it would create false rigidity",
+            v.class,
+            v.dof.map_or("?".into(), |d| d.to_string())
+        )));
+    }
+    Ok(RuleVerdict {
+        class: v.class,
+        dof: 0,
+        seed: RULE_SEED,
+        components: v.components,
+    })
+}
+
+/// Reads rule files (a file, or every `*.json` in a directory, in name
+/// order), checking each rule: well formed, canonical form matching its
+/// pattern, unique id, and rigid by exact rank.
+pub fn load_rules(paths: &[std::path::PathBuf]) -> Result<Vec<Rule>> {
+    let mut files = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let mut inside: Vec<std::path::PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| Error::io(path, e))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "json"))
+                .collect();
+            inside.sort();
+            files.extend(inside);
+        } else {
+            files.push(path.clone());
+        }
+    }
+    let mut rules: Vec<Rule> = Vec::new();
+    let mut ids = std::collections::HashMap::new();
+    for file in &files {
+        let bad = |m: String| Error::Parameter(format!("rule file {}: {m}", file.display()));
+        let size = std::fs::metadata(file)
+            .map_err(|e| Error::io(file, e))?
+            .len();
+        if size > MAX_RULE_FILE_BYTES {
+            return Err(bad(format!(
+                "{size} bytes is larger than the {MAX_RULE_FILE_BYTES} a rule file may have"
+            )));
+        }
+        let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+        let parsed: RuleFile = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        if parsed.format != RULE_FORMAT {
+            return Err(bad(format!(
+                "format {:?} is not {RULE_FORMAT:?}",
+                parsed.format
+            )));
+        }
+        for rule in parsed.rules {
+            if let Some(prev) = ids.insert(rule.id.clone(), file.clone()) {
+                return Err(bad(format!(
+                    "duplicate rule id {:?} (also in {})",
+                    rule.id,
+                    prev.display()
+                )));
+            }
+            rule.pattern
+                .validate()
+                .map_err(|e| bad(format!("rule {}: {}", rule.id, detail(&e))))?;
+            let canonical = canonical_form(&rule.pattern);
+            if canonical != rule.canonical {
+                return Err(bad(format!(
+                    "rule {}: canonical form {:?} does not match its pattern ({canonical:?})",
+                    rule.id, rule.canonical
+                )));
+            }
+            verify(&rule.pattern, &rule.id).map_err(|e| bad(detail(&e)))?;
+            rules.push(rule);
+        }
+    }
+    Ok(rules)
+}
+
+/// An error's message without the "invalid parameter" prefix, for nesting.
+fn detail(e: &Error) -> String {
+    match e {
+        Error::Parameter(m) => m.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// Writes rules as one rule file.
+pub fn write_rules(path: &std::path::Path, rules: &[Rule]) -> Result<()> {
+    let file = RuleFile {
+        format: RULE_FORMAT.into(),
+        rules: rules.to_vec(),
+    };
+    let text = serde_json::to_string_pretty(&file).expect("rules serialize");
+    std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+}

@@ -1,0 +1,290 @@
+//! One Monte Carlo realization (DESIGN §8): a random rod sequence in a box,
+//! the number of rods at which it first spans by contacts (one union-find
+//! sweep) and rigidly (bisection over the number of rods), and the paper's
+//! fixed-density protocol on the same sequence.
+
+use serde::{Deserialize, Serialize};
+
+use super::fss::ContactPoint;
+use crate::body::Body;
+use crate::contacts::{self, Contact};
+use crate::engine::{Engine, run_seed};
+use crate::graph::{self, ContactGraph};
+use crate::rods::{RodParams, RodSystem};
+use crate::spanning::{self, Criterion, SpanChecker};
+use crate::{Error, Result};
+
+/// Which spanning cluster defines the threshold.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// A connected cluster of touching rods spans.
+    Contact,
+    /// A rigid body found by the engine spans.
+    #[default]
+    Rigid,
+}
+
+/// What every realization of a study shares.
+#[derive(Clone, Copy, Debug)]
+pub struct Setup<'r> {
+    pub kind: Kind,
+    pub gamma: f64,
+    pub criterion: Criterion,
+    pub engine: Engine<'r>,
+    /// Independent compressions per system; it spans if any of them does.
+    pub runs: usize,
+}
+
+/// A realization's rods and contacts, grown on demand: the first `n` rods of
+/// the sequence are the `n`-rod system of its seed, and their contacts are a
+/// prefix of `contacts` (sorted by the later rod).
+pub struct Sequence {
+    pub system: RodSystem,
+    pub contacts: Vec<Contact>,
+    /// `ends[n]`: how many contacts the first `n` rods have among themselves.
+    ends: Vec<usize>,
+    seed: u64,
+}
+
+impl Sequence {
+    /// The first `n` rods of the sequence seeded with `seed`.
+    pub fn new(gamma: f64, box_len: f64, n: usize, seed: u64) -> Result<Self> {
+        let params = RodParams::new(gamma, box_len, n.max(1) as f64 / box_len.powi(3))?;
+        let system = RodSystem::generate(params, seed);
+        debug_assert_eq!(system.len(), n.max(1));
+        let mut contacts = contacts::detect(&system);
+        spanning::sort_by_sequence(&mut contacts);
+        let mut ends = vec![0; system.len() + 1];
+        for c in &contacts {
+            ends[c.rods[1] as usize + 1] += 1;
+        }
+        for n in 1..ends.len() {
+            ends[n] += ends[n - 1];
+        }
+        Ok(Sequence {
+            system,
+            contacts,
+            ends,
+            seed,
+        })
+    }
+
+    /// Rods generated so far.
+    pub fn len(&self) -> usize {
+        self.system.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.system.is_empty()
+    }
+
+    /// Makes sure at least `n` rods exist (regenerating the longer sequence
+    /// from the same seed, half again as long as asked, so growth is rare).
+    pub fn reach(&mut self, n: usize) -> Result<()> {
+        if n > self.len() {
+            let p = self.system.params;
+            *self = Sequence::new(p.gamma, p.box_len, n + n / 2, self.seed)?;
+        }
+        Ok(())
+    }
+
+    /// The contacts among the first `n` rods.
+    pub fn contacts_of(&self, n: usize) -> &[Contact] {
+        &self.contacts[..self.ends[n]]
+    }
+
+    /// The contact graph of the first `n` rods.
+    pub fn graph(&self, n: usize) -> ContactGraph {
+        ContactGraph::from_contacts(n, self.contacts_of(n))
+    }
+
+    /// Rods at which the sequence first spans by contacts, generating more
+    /// rods until it does.
+    pub fn contact_critical(&mut self, criterion: Criterion) -> Result<usize> {
+        loop {
+            if let Some(n) = spanning::critical_rods(&self.system, &self.contacts, criterion) {
+                return Ok(n);
+            }
+            self.reach(2 * self.len())?;
+        }
+    }
+
+    /// Contact numbers of the first `n` rods.
+    pub fn contact_point(&self, n: usize) -> ContactPoint {
+        let s = graph::stats(&self.graph(n));
+        ContactPoint {
+            density: n as f64 / self.system.box_len().powi(3),
+            c0: s.c0,
+            c1: s.c1,
+            c2: s.c2,
+        }
+    }
+}
+
+/// One compression of a prefix: whether it spans, and how many runs found
+/// a spanning body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Step {
+    /// Rods in the system.
+    pub n: usize,
+    pub spans: bool,
+    /// Runs (of `Setup::runs`) with a spanning body.
+    pub runs_spanning: usize,
+}
+
+/// What one realization produced: one line of a study's record file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Record {
+    #[serde(rename = "box")]
+    pub box_len: f64,
+    pub index: u64,
+    pub seed: u64,
+    /// Rods at which the sequence first spans by contacts (exact).
+    pub contact_critical: usize,
+    /// Rods at which it first spans rigidly (rigid kind, nested protocol).
+    pub rigid_critical: Option<usize>,
+    /// The bisection's compressions, in order, each starting from the bodies
+    /// of the largest non-spanning system before it.
+    pub steps: Vec<Step>,
+    /// A fresh compression (no carried bodies) at the rigid critical number:
+    /// when it does not span, motif order broke monotonicity there.
+    pub fresh: Option<Step>,
+    /// The fixed protocol: one fresh compression per grid density.
+    pub fixed: Vec<Step>,
+    /// Contact numbers at the critical number (nested) or at each grid density (fixed).
+    pub contacts: Vec<ContactPoint>,
+    /// Time it took on its thread, in seconds (its CPU time: the runs of a
+    /// realization are sequential, realizations run in parallel). Not part
+    /// of the results: records are compared without it.
+    #[serde(default)]
+    pub seconds: f64,
+}
+
+impl Record {
+    /// Its critical number of rods for `kind`.
+    pub fn critical(&self, kind: Kind) -> Option<usize> {
+        match kind {
+            Kind::Contact => Some(self.contact_critical),
+            Kind::Rigid => self.rigid_critical,
+        }
+    }
+}
+
+/// Compresses the first `n` rods `setup.runs` times, run `k` starting from
+/// `start[k]` (bodies of a smaller prefix, rigid here too) or from nothing.
+/// Returns the step and each run's bodies.
+fn compress(
+    setup: &Setup,
+    seq: &Sequence,
+    n: usize,
+    start: Option<&[Vec<Body>]>,
+) -> Result<(Step, Vec<Vec<Body>>)> {
+    let graph = seq.graph(n);
+    let contacts = seq.contacts_of(n);
+    let seed = run_seed(seq.seed, n as u64);
+    let results: Vec<(bool, Vec<Body>)> = (0..setup.runs)
+        .map(|k| {
+            let from = start.map_or(&[][..], |s| &s[k][..]);
+            let run = setup
+                .engine
+                .compress(&graph, from, run_seed(seed, k as u64))?;
+            let mut checker = SpanChecker::new();
+            let spans = run
+                .bodies
+                .iter()
+                .any(|b| checker.spans(&seq.system, contacts, &graph, &b.rods, setup.criterion));
+            Ok((spans, run.bodies))
+        })
+        .collect::<Result<_>>()?;
+    let runs_spanning = results.iter().filter(|r| r.0).count();
+    let step = Step {
+        n,
+        spans: runs_spanning > 0,
+        runs_spanning,
+    };
+    Ok((step, results.into_iter().map(|r| r.1).collect()))
+}
+
+/// First guess for the rigid critical number, as a multiple of the contact
+/// critical number; growth factor while the guess does not span.
+const FIRST_GUESS: f64 = 2.0;
+const GROWTH: f64 = 1.25;
+
+/// The nested protocol on one realization: the exact contact critical
+/// number, and for the rigid kind the rigid one by bisection. Rigid spanning
+/// needs contact spanning, so the bisection starts above the contact
+/// critical number, first growing its upper end from a guess.
+pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<()> {
+    let n_c = seq.contact_critical(setup.criterion)?;
+    record.contact_critical = n_c;
+    if setup.kind == Kind::Contact {
+        record.contacts.push(seq.contact_point(n_c));
+        return Ok(());
+    }
+    let (mut lo, mut lo_bodies) = (n_c - 1, vec![Vec::new(); setup.runs]);
+    let mut probe = (n_c as f64 * FIRST_GUESS).ceil() as usize;
+    let mut hi = loop {
+        seq.reach(probe)?;
+        let (step, bodies) = compress(setup, seq, probe, Some(&lo_bodies))?;
+        record.steps.push(step);
+        if step.spans {
+            break probe;
+        }
+        (lo, lo_bodies) = (probe, bodies);
+        probe = (probe as f64 * GROWTH).ceil() as usize;
+        if probe > crate::rods::MAX_RODS {
+            return Err(Error::Parameter(format!(
+                "no rigid spanning cluster below {} rods in a box of side {}",
+                crate::rods::MAX_RODS,
+                seq.system.box_len()
+            )));
+        }
+    };
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        let (step, bodies) = compress(setup, seq, mid, Some(&lo_bodies))?;
+        record.steps.push(step);
+        if step.spans {
+            hi = mid;
+        } else {
+            (lo, lo_bodies) = (mid, bodies);
+        }
+    }
+    record.rigid_critical = Some(hi);
+    record.fresh = Some(compress(setup, seq, hi, None)?.0);
+    record.contacts.push(seq.contact_point(hi));
+    Ok(())
+}
+
+/// The fixed protocol on one realization: whether each prefix of `grid` rods
+/// spans, each compressed from nothing (the paper's protocol).
+pub fn fixed(setup: &Setup, seq: &mut Sequence, grid: &[usize], record: &mut Record) -> Result<()> {
+    let n_c = seq.contact_critical(setup.criterion)?;
+    record.contact_critical = n_c;
+    for &n in grid {
+        seq.reach(n)?;
+        let step = match setup.kind {
+            Kind::Contact => {
+                let spans = n >= n_c;
+                Step {
+                    n,
+                    spans,
+                    runs_spanning: usize::from(spans),
+                }
+            }
+            // Rigid spanning needs contact spanning: no need to compress below it.
+            Kind::Rigid if n < n_c => Step {
+                n,
+                spans: false,
+                runs_spanning: 0,
+            },
+            Kind::Rigid => compress(setup, seq, n, None)?.0,
+        };
+        record.fixed.push(step);
+        record.contacts.push(seq.contact_point(n));
+    }
+    Ok(())
+}

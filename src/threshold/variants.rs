@@ -1,0 +1,313 @@
+//! Rule sets, run counts and protocols against each other on the same
+//! realizations: `rgc compare` (paper base, sound base, sound + extended
+//! motifs) and `rgc tradeoff` (threshold and interval width against CPU time).
+//!
+//! Each variant is an ordinary study in a directory named after what
+//! determines its records, so variants that differ only in how many
+//! realizations they analyse share one study, and every study resumes.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+use super::fss::{Estimate, Protocol};
+use super::report;
+use super::study::{self, MotifSet, RunOptions, Shard, StudySpec};
+use crate::engine::{CompiledRule, Rules};
+use crate::rule_file;
+use crate::{Error, Result};
+
+/// One configuration to measure.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variant {
+    pub label: String,
+    /// Which family of the trade-off it belongs to (`runs`, `motifs`, ...).
+    pub family: String,
+    pub rules: Rules,
+    pub motifs: Vec<PathBuf>,
+    pub runs: usize,
+    pub method: Protocol,
+    /// Realizations per box analysed: the first ones of the study.
+    pub realizations: u64,
+}
+
+/// What a variant measured.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VariantOutcome {
+    pub label: String,
+    pub family: String,
+    pub rules: Rules,
+    /// Loaded rules besides the base motifs.
+    pub motif_rules: usize,
+    pub runs: usize,
+    pub method: Protocol,
+    pub realizations: u64,
+    pub threshold: Estimate,
+    /// Width of the threshold's interval.
+    pub interval_width: Option<f64>,
+    pub nu: Estimate,
+    /// Relative difference of the threshold to the first variant's.
+    pub relative_difference: f64,
+    /// Nested protocol: the mean over realizations (all boxes) of the
+    /// difference of each sequence's critical density to the reference
+    /// variant's on the same sequence, with a 95% normal interval. Paired,
+    /// so far tighter than the difference of two thresholds.
+    pub paired_difference: Option<Estimate>,
+    /// The variant the paired difference is taken against.
+    pub paired_with: Option<String>,
+    /// CPU seconds of the analysed realizations.
+    pub cpu_seconds: f64,
+    /// How often one run misses a spanning body that all runs find together.
+    pub single_run_miss_rate: Option<f64>,
+    /// Nested: fresh compressions at the critical number that missed the spanning body.
+    pub fresh_misses: usize,
+    pub fresh_checks: usize,
+    /// The study directory.
+    pub study: String,
+}
+
+/// Which variant each variant's paired difference is taken against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pairing {
+    First,
+    /// The one listed before it (a chain: paper, sound, sound + extended).
+    Previous,
+}
+
+/// A study directory name from what determines its records.
+fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
+    let motifs = if spec.motifs.rules == 0 {
+        "base".to_string()
+    } else {
+        format!("m{}-{}", spec.motifs.rules, &spec.motifs.digest[..8])
+    };
+    root.join(
+        format!(
+            "{:?}-{:?}-{}-k{}-{:?}-r{}",
+            spec.kind, spec.rules, motifs, spec.runs, spec.method, spec.realizations
+        )
+        .to_lowercase(),
+    )
+}
+
+/// Runs (or resumes) every variant's study on the realizations of
+/// `template` (its `realizations` is ignored: each variant says how many it
+/// analyses) and analyses each. A variant analysing fewer realizations than
+/// another of the same study shares its records.
+pub fn run_variants(
+    template: &StudySpec,
+    variants: &[Variant],
+    root: &Path,
+    bootstrap: usize,
+    pairing: Pairing,
+    progress: bool,
+) -> Result<Vec<VariantOutcome>> {
+    // One study per distinct record-determining spec, with as many
+    // realizations as its most demanding variant analyses.
+    let mut specs: Vec<(StudySpec, Vec<CompiledRule>)> = Vec::new();
+    let mut of_variant = Vec::new();
+    for v in variants {
+        if v.realizations == 0 {
+            return Err(Error::Parameter(format!(
+                "variant {:?} analyses no realizations",
+                v.label
+            )));
+        }
+        let rules = rule_file::load_rules(&v.motifs)?;
+        let spec = StudySpec {
+            rules: v.rules,
+            motifs: MotifSet::of(&rules, &v.motifs),
+            runs: v.runs,
+            method: v.method,
+            realizations: v.realizations,
+            ..template.clone()
+        };
+        let same = |s: &StudySpec| {
+            StudySpec {
+                realizations: spec.realizations,
+                ..s.clone()
+            } == spec
+        };
+        let k = match specs.iter().position(|(s, _)| same(s)) {
+            Some(k) => {
+                let r = &mut specs[k].0.realizations;
+                *r = (*r).max(v.realizations);
+                k
+            }
+            None => {
+                specs.push((spec, rules.iter().map(CompiledRule::new).collect()));
+                specs.len() - 1
+            }
+        };
+        of_variant.push(k);
+    }
+    for (spec, rules) in &specs {
+        let opts = RunOptions {
+            out: study_dir(root, spec),
+            shard: Shard::WHOLE,
+            progress,
+        };
+        if progress {
+            eprintln!("study {}", opts.out.display());
+        }
+        study::run(spec, rules, &opts)?;
+    }
+    let mut outcomes: Vec<VariantOutcome> = Vec::new();
+    let mut analysed: Vec<Vec<super::sequence::Record>> = Vec::new();
+    for (v, &k) in variants.iter().zip(&of_variant) {
+        let spec = &specs[k].0;
+        let dir = study_dir(root, spec);
+        let records: Vec<_> = study::in_study_order(spec, study::read_records(&dir, spec)?)
+            .into_iter()
+            .filter(|r| r.index < v.realizations)
+            .collect();
+        let subset = StudySpec {
+            realizations: v.realizations,
+            ..spec.clone()
+        };
+        let summary = report::summarize(&subset, &records, bootstrap)
+            .map_err(|e| Error::Analysis(format!("variant {:?}: {e}", v.label)))?;
+        let t = summary.fss.threshold;
+        let partner = match pairing {
+            Pairing::First => (!analysed.is_empty()).then_some(0),
+            Pairing::Previous => analysed.len().checked_sub(1),
+        };
+        // Variants reading one study (realization subsets) have nothing to pair.
+        let partner = partner.filter(|&p| of_variant[p] != k);
+        let paired = partner.and_then(|p| paired_difference(spec, &analysed[p], &records));
+        let paired_with = partner
+            .filter(|_| paired.is_some())
+            .map(|p| variants[p].label.clone());
+        analysed.push(records.clone());
+        let reference = outcomes.first().map_or(t.value, |o| o.threshold.value);
+        outcomes.push(VariantOutcome {
+            label: v.label.clone(),
+            family: v.family.clone(),
+            rules: v.rules,
+            motif_rules: spec.motifs.rules,
+            runs: v.runs,
+            method: v.method,
+            realizations: v.realizations,
+            threshold: t,
+            interval_width: t.lo.zip(t.hi).map(|(lo, hi)| hi - lo),
+            nu: summary.fss.nu,
+            relative_difference: (t.value - reference) / reference,
+            paired_difference: paired,
+            paired_with,
+            cpu_seconds: report::timing(&subset, &records).cpu_seconds,
+            single_run_miss_rate: summary.order.single_run_miss_rate,
+            fresh_misses: summary.order.fresh_misses,
+            fresh_checks: summary.order.fresh_checks,
+            study: dir.display().to_string(),
+        });
+    }
+    Ok(outcomes)
+}
+
+/// Mean difference of critical densities on the sequences both sets of
+/// records have (nested protocol), with a 95% normal interval.
+fn paired_difference(
+    spec: &StudySpec,
+    first: &[super::sequence::Record],
+    records: &[super::sequence::Record],
+) -> Option<Estimate> {
+    let diffs: Vec<f64> = records
+        .iter()
+        .filter_map(|r| {
+            let f = first
+                .iter()
+                .find(|f| f.seed == r.seed && f.box_len == r.box_len)?;
+            let v = r.box_len.powi(3);
+            Some((r.critical(spec.kind)? as f64 - f.critical(spec.kind)? as f64) / v)
+        })
+        .collect();
+    if diffs.len() < 2 || spec.method != Protocol::Nested {
+        return None;
+    }
+    let (mean, sd) = crate::math::stats::mean_sd(&diffs);
+    let half = 1.96 * sd / (diffs.len() as f64).sqrt();
+    Some(Estimate {
+        value: mean,
+        lo: Some(mean - half),
+        hi: Some(mean + half),
+    })
+}
+
+/// The outcomes as a Markdown table.
+pub fn markdown(title: &str, command: &str, outcomes: &[VariantOutcome]) -> String {
+    let mut md = format!(
+        "# {title}\n\nMade by `{command}`.\n\n\
+         | variant | rules | motifs | runs | method | realizations/box | threshold | 95% interval | rel. diff. | paired diff. of critical densities (against) | nu | CPU s | single-run miss | fresh misses |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+    );
+    let interval = |e: &Estimate| match (e.lo, e.hi) {
+        (Some(lo), Some(hi)) => format!("[{lo:.3}, {hi:.3}]"),
+        _ => "—".into(),
+    };
+    for o in outcomes {
+        md += &format!(
+            "| {} | {:?} | {} | {} | {:?} | {} | {:.3} | {} | {:+.2}% | {} | {:.3} {} | {:.0} | {} | {} |\n",
+            o.label,
+            o.rules,
+            o.motif_rules,
+            o.runs,
+            o.method,
+            o.realizations,
+            o.threshold.value,
+            interval(&o.threshold),
+            100.0 * o.relative_difference,
+            o.paired_difference.as_ref().map_or("—".into(), |p| format!(
+                "{:+.3} {} (vs {})",
+                p.value,
+                interval(p),
+                o.paired_with.as_deref().unwrap_or("?")
+            )),
+            o.nu.value,
+            interval(&o.nu),
+            o.cpu_seconds,
+            o.single_run_miss_rate
+                .map_or("—".into(), |r| format!("{:.1}%", 100.0 * r)),
+            if o.fresh_checks > 0 {
+                format!("{}/{}", o.fresh_misses, o.fresh_checks)
+            } else {
+                "—".into()
+            },
+        );
+    }
+    md
+}
+
+/// The outcomes as CSV.
+pub fn csv(outcomes: &[VariantOutcome]) -> String {
+    let mut text = String::from(
+        "label,family,rules,motif_rules,runs,method,realizations,threshold,threshold_lo,threshold_hi,interval_width,nu,nu_lo,nu_hi,relative_difference,paired_difference,paired_lo,paired_hi,cpu_seconds,single_run_miss_rate,fresh_misses,fresh_checks\n",
+    );
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6}"));
+    for o in outcomes {
+        text += &format!(
+            "{},{},{:?},{},{},{:?},{},{:.6},{},{},{},{:.6},{},{},{:.6},{},{},{},{:.3},{},{},{}\n",
+            o.label,
+            o.family,
+            o.rules,
+            o.motif_rules,
+            o.runs,
+            o.method,
+            o.realizations,
+            o.threshold.value,
+            opt(o.threshold.lo),
+            opt(o.threshold.hi),
+            opt(o.interval_width),
+            o.nu.value,
+            opt(o.nu.lo),
+            opt(o.nu.hi),
+            o.relative_difference,
+            opt(o.paired_difference.map(|p| p.value)),
+            opt(o.paired_difference.and_then(|p| p.lo)),
+            opt(o.paired_difference.and_then(|p| p.hi)),
+            o.cpu_seconds,
+            opt(o.single_run_miss_rate),
+            o.fresh_misses,
+            o.fresh_checks
+        );
+    }
+    text.to_lowercase()
+}

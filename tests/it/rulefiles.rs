@@ -1,0 +1,170 @@
+//! Rule files: round trips, and clear errors for malformed or hostile files
+//! (wrong types, huge sizes, duplicate ids, forged canonical forms, patterns
+//! that are not rigid); a fuzz of the reader that must never panic.
+
+use proptest::prelude::*;
+use std::path::{Path, PathBuf};
+
+use rgc::pattern::{NodeKind, Pattern, PatternContact};
+use rgc::rule_file::{Provenance, Rule, load_rules, write_rules};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rgc-rulefiles-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn triangle() -> Pattern {
+    let c = |a: u8, b: u8| PatternContact {
+        nodes: [a, b],
+        rods: [0, 0],
+    };
+    Pattern {
+        kinds: vec![NodeKind::Rod; 3],
+        contacts: vec![c(0, 1), c(1, 2), c(0, 2)],
+    }
+}
+
+fn rule(id: &str) -> Rule {
+    Rule::new(id.into(), triangle(), Provenance::default()).unwrap()
+}
+
+fn error_of(path: &Path) -> String {
+    load_rules(&[path.to_path_buf()]).unwrap_err().to_string()
+}
+
+#[test]
+fn rules_round_trip_through_files_and_directories() {
+    let d = dir("roundtrip");
+    write_rules(&d.join("a.json"), &[rule("a")]).unwrap();
+    write_rules(&d.join("b.json"), &[rule("b")]).unwrap();
+    std::fs::write(d.join("notes.txt"), "not a rule file").unwrap();
+    let loaded = load_rules(&[d.clone()]).unwrap();
+    assert_eq!(
+        loaded.iter().map(|r| r.id.as_str()).collect::<Vec<_>>(),
+        ["a", "b"]
+    );
+    assert_eq!(loaded[0], rule("a"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn hostile_rule_files_get_clear_errors() {
+    let d = dir("hostile");
+    let f = d.join("r.json");
+    let good = serde_json::to_value(rgc::rule_file::RuleFile {
+        format: rgc::rule_file::RULE_FORMAT.into(),
+        rules: vec![rule("t")],
+    })
+    .unwrap();
+    let write = |v: &serde_json::Value| std::fs::write(&f, v.to_string()).unwrap();
+
+    std::fs::write(&f, "{ not json").unwrap();
+    assert!(error_of(&f).contains("rule file"), "{}", error_of(&f));
+
+    let mut v = good.clone();
+    v["format"] = "rgc-rules/99".into();
+    write(&v);
+    assert!(error_of(&f).contains("is not \"rgc-rules/1\""));
+
+    let mut v = good.clone();
+    v["rules"][0]["pattern"]["kinds"][0] = 7.into();
+    write(&v);
+    assert!(error_of(&f).contains("rule file"));
+
+    let mut v = good.clone();
+    let r = v["rules"][0].clone();
+    v["rules"] = serde_json::json!([r, r]);
+    write(&v);
+    assert!(error_of(&f).contains("duplicate rule id \"t\""));
+
+    let mut v = good.clone();
+    v["rules"][0]["canonical"] = "rrr:forged".into();
+    write(&v);
+    assert!(error_of(&f).contains("does not match its pattern"));
+
+    // A 4-cycle of rods claimed rigid: refused, it would create false rigidity.
+    let c = |a: u8, b: u8| PatternContact {
+        nodes: [a, b],
+        rods: [0, 0],
+    };
+    let cycle = Pattern {
+        kinds: vec![NodeKind::Rod; 4],
+        contacts: vec![c(0, 1), c(1, 2), c(2, 3), c(3, 0)],
+    };
+    let mut v = good.clone();
+    v["rules"][0]["pattern"] = serde_json::to_value(&cycle).unwrap();
+    v["rules"][0]["canonical"] = rgc::rule_file::canonical_form(&cycle).into();
+    write(&v);
+    assert!(
+        error_of(&f).contains("not rigid on every realization component"),
+        "{}",
+        error_of(&f)
+    );
+
+    let mut v = good.clone();
+    v["rules"][0]["pattern"]["kinds"] = serde_json::json!(vec!["rod"; 500]);
+    write(&v);
+    assert!(
+        error_of(&f).contains("a pattern has 1 to 24 nodes, got 500"),
+        "{}",
+        error_of(&f)
+    );
+    assert_eq!(
+        error_of(&f).matches("invalid parameter").count(),
+        1,
+        "{}",
+        error_of(&f)
+    );
+
+    let mut v = good.clone();
+    v["rules"][0]["pattern"]["contacts"][0]["nodes"] = serde_json::json!([0, 9]);
+    write(&v);
+    assert!(error_of(&f).contains("outside"), "{}", error_of(&f));
+
+    // Larger than a rule file may be: refused before it is read.
+    let big = std::fs::File::create(&f).unwrap();
+    big.set_len(rgc::rule_file::MAX_RULE_FILE_BYTES + 1)
+        .unwrap();
+    assert!(error_of(&f).contains("larger than"));
+
+    assert!(error_of(&d.join("missing.json")).contains("missing.json"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Arbitrary bytes as a rule file: an error or rules, never a panic.
+    #[test]
+    fn arbitrary_files_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+        let d = dir("fuzz-bytes");
+        let f = d.join(format!("{}.json", bytes.len()));
+        std::fs::write(&f, &bytes).unwrap();
+        let _ = load_rules(&[f]);
+    }
+
+    /// Valid files with one field replaced by an arbitrary JSON scalar.
+    #[test]
+    fn mutated_rule_files_never_panic(field in 0usize..8, n in any::<i64>(), s in ".{0,12}") {
+        let d = dir("fuzz-fields");
+        let f = d.join(format!("{field}-{n}.json"));
+        let mut v = serde_json::to_value(rgc::rule_file::RuleFile {
+            format: rgc::rule_file::RULE_FORMAT.into(),
+            rules: vec![rule("t")],
+        }).unwrap();
+        let slot = match field {
+            0 => &mut v["rules"][0]["pattern"]["kinds"][1],
+            1 => &mut v["rules"][0]["pattern"]["contacts"][0]["nodes"][1],
+            2 => &mut v["rules"][0]["pattern"]["contacts"][1]["rods"][0],
+            3 => &mut v["rules"][0]["id"],
+            4 => &mut v["rules"][0]["verdict"]["dof"],
+            5 => &mut v["rules"][0]["pattern"]["contacts"],
+            6 => &mut v["rules"],
+            _ => &mut v["format"],
+        };
+        *slot = if n % 2 == 0 { n.into() } else { s.clone().into() };
+        std::fs::write(&f, v.to_string()).unwrap();
+        let _ = load_rules(&[f]);
+    }
+}

@@ -1,0 +1,79 @@
+//! Motif rules: the base motifs written as rules, loaded and matched by the
+//! generic matcher, compress like the built-in engine.
+
+use rgc::contacts::detect;
+use rgc::engine::examples::random_graph;
+use rgc::engine::shapes::base_rules;
+use rgc::engine::{CompiledRule, Compression, Engine, Rules};
+use rgc::graph::ContactGraph;
+use rgc::rods::{RodParams, RodSystem};
+
+fn generic() -> Vec<CompiledRule> {
+    base_rules()
+        .unwrap()
+        .0
+        .iter()
+        .map(CompiledRule::new)
+        .collect()
+}
+
+/// Each engine's result is a fixpoint of the other: neither finds a motif the other left.
+fn agree(g: &ContactGraph, rules: &[CompiledRule], seed: u64) -> (Compression, Compression) {
+    let builtin = Engine::base(Rules::Sound);
+    let by_rules = Engine {
+        rules: Rules::Sound,
+        base: false,
+        extra: rules,
+    };
+    let a = builtin.compress(g, &[], seed).unwrap();
+    let b = by_rules.compress(g, &[], seed).unwrap();
+    let a_then_rules = by_rules.compress(g, &a.bodies, seed).unwrap();
+    let b_then_builtin = builtin.compress(g, &b.bodies, seed).unwrap();
+    assert_eq!(
+        a_then_rules.components, a.components,
+        "the rules compress what the built-in engine left"
+    );
+    assert_eq!(
+        b_then_builtin.components, b.components,
+        "the built-in engine compresses what the rules left"
+    );
+    (a, b)
+}
+
+#[test]
+fn base_motifs_as_rules_compress_like_the_builtin_engine() {
+    let rules = generic();
+    let (mut sum_a, mut sum_b) = (0, 0);
+    for s in 0..12 {
+        let g = random_graph(220, 0.010 + 0.0006 * s as f64, 900 + s);
+        let (a, b) = agree(&g, &rules, s);
+        sum_a += a.components;
+        sum_b += b.components;
+    }
+    for (k, density) in [35.0, 45.0].into_iter().enumerate() {
+        let system = RodSystem::generate(RodParams::new(23.0, 5.0, density).unwrap(), k as u64);
+        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+        let (a, b) = agree(&g, &rules, 3 + k as u64);
+        sum_a += a.components;
+        sum_b += b.components;
+    }
+    println!("nodes left: built-in {sum_a}, rules {sum_b}");
+}
+
+#[test]
+#[ignore]
+fn large_system_agreement() {
+    let rules = generic();
+    let system = RodSystem::generate(RodParams::new(23.0, 10.0, 40.0).unwrap(), 1);
+    let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+    let t = std::time::Instant::now();
+    let (a, b) = agree(&g, &rules, 1);
+    println!(
+        "largest: built-in {} rules {}; nodes {} {}; {:.1}s",
+        a.largest_rods(),
+        b.largest_rods(),
+        a.components,
+        b.components,
+        t.elapsed().as_secs_f64()
+    );
+}

@@ -1,0 +1,388 @@
+//! Threshold studies: exact critical numbers, reproducibility whatever the
+//! thread count, kills and resumes, shards and merges.
+
+use std::path::{Path, PathBuf};
+
+use rgc::engine::{Engine, Rules};
+use rgc::spanning::Criterion;
+use rgc::threshold::fss::Protocol;
+use rgc::threshold::report;
+use rgc::threshold::sequence::{self, Kind, Record, Sequence, Setup};
+use rgc::threshold::study::{self, MotifSet, RunOptions, STUDY_FORMAT, Shard, StudySpec};
+
+fn spec(kind: Kind, method: Protocol) -> StudySpec {
+    StudySpec {
+        format: STUDY_FORMAT.into(),
+        kind,
+        gamma: 10.0,
+        boxes: vec![3.0, 3.5, 4.0],
+        realizations: 12,
+        rules: Rules::Sound,
+        motifs: MotifSet::default(),
+        runs: 2,
+        criterion: Criterion::Wrap,
+        method,
+        grid_points: 6,
+        seed: 7,
+    }
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rgc-threshold-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn run_in(spec: &StudySpec, dir: &Path, shard: Shard, threads: usize) -> study::RunReport {
+    let opts = RunOptions {
+        out: dir.to_path_buf(),
+        shard,
+        progress: false,
+    };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| study::run(spec, &[], &opts))
+        .unwrap()
+}
+
+/// Records without their timing, in study order.
+fn results(spec: &StudySpec, dir: &Path) -> Vec<Record> {
+    study::in_study_order(spec, study::read_records(dir, spec).unwrap())
+        .into_iter()
+        .map(|r| Record { seconds: 0.0, ..r })
+        .collect()
+}
+
+fn summary_text(spec: &StudySpec, dir: &Path) -> String {
+    let records = results(spec, dir);
+    let written = report::write_study(dir, spec, &records, 50).unwrap();
+    assert!(written.files.iter().all(|f| f.exists()));
+    std::fs::read_to_string(dir.join("summary.json")).unwrap()
+}
+
+fn setup(kind: Kind, runs: usize) -> Setup<'static> {
+    Setup {
+        kind,
+        gamma: 10.0,
+        criterion: Criterion::Wrap,
+        engine: Engine::base(Rules::Sound),
+        runs,
+    }
+}
+
+fn empty_record() -> Record {
+    Record {
+        box_len: 4.0,
+        index: 0,
+        seed: 0,
+        contact_critical: 0,
+        rigid_critical: None,
+        steps: vec![],
+        fresh: None,
+        fixed: vec![],
+        contacts: vec![],
+        seconds: 0.0,
+    }
+}
+
+#[test]
+fn the_bisection_ends_on_a_spanning_system_one_rod_above_a_non_spanning_one() {
+    for seed in 0..6 {
+        let mut seq = Sequence::new(10.0, 4.0, 300, seed).unwrap();
+        let mut r = empty_record();
+        sequence::nested(&setup(Kind::Rigid, 1), &mut seq, &mut r).unwrap();
+        let (n_c, n_r) = (r.contact_critical, r.rigid_critical.unwrap());
+        assert!(n_r >= n_c, "rigid spanning needs contact spanning");
+        assert!(r.steps.iter().any(|s| s.n == n_r && s.spans), "seed {seed}");
+        assert!(
+            n_r == n_c || r.steps.iter().any(|s| s.n == n_r - 1 && !s.spans),
+            "seed {seed}: no non-spanning system one rod below {n_r}"
+        );
+        // Every step below the critical number did not span, every one at or above did.
+        for s in &r.steps {
+            assert_eq!(s.spans, s.n >= n_r, "seed {seed}: {s:?}");
+        }
+        assert_eq!(r.contacts.len(), 1);
+        assert!((r.contacts[0].density - n_r as f64 / 64.0).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn fixed_contact_spanning_is_exactly_the_nested_critical_number() {
+    let mut seq = Sequence::new(10.0, 4.0, 200, 3).unwrap();
+    let mut nested = empty_record();
+    sequence::nested(&setup(Kind::Contact, 1), &mut seq, &mut nested).unwrap();
+    let n_c = nested.contact_critical;
+    let grid: Vec<usize> = (n_c - 3..=n_c + 3).collect();
+    let mut fixed = empty_record();
+    sequence::fixed(&setup(Kind::Contact, 1), &mut seq, &grid, &mut fixed).unwrap();
+    // The fixed grid's contact numbers come from each prefix's own graph.
+    for (step, point) in fixed.fixed.iter().zip(&fixed.contacts) {
+        assert_eq!(step.spans, step.n >= n_c);
+        let graph = seq.graph(step.n);
+        assert!((point.c0 - 2.0 * graph.n_edges() as f64 / step.n as f64).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn a_sequence_grown_later_has_the_same_rods_and_contacts() {
+    let mut short = Sequence::new(10.0, 4.0, 300, 9).unwrap();
+    let long = Sequence::new(10.0, 4.0, 900, 9).unwrap();
+    assert_eq!(short.contacts_of(300), long.contacts_of(300));
+    short.reach(600).unwrap();
+    assert!(short.len() >= 600);
+    assert_eq!(short.contacts_of(600), long.contacts_of(600));
+    assert_eq!(short.system.rods[..600], long.system.rods[..600]);
+}
+
+#[test]
+fn studies_are_the_same_for_one_and_two_threads() {
+    for (kind, method) in [
+        (Kind::Rigid, Protocol::Nested),
+        (Kind::Rigid, Protocol::Fixed),
+    ] {
+        let spec = spec(kind, method);
+        let (a, b) = (scratch("t1"), scratch("t2"));
+        run_in(&spec, &a, Shard::WHOLE, 1);
+        run_in(&spec, &b, Shard::WHOLE, 2);
+        assert_eq!(results(&spec, &a), results(&spec, &b), "{method:?}");
+        assert_eq!(summary_text(&spec, &a), summary_text(&spec, &b));
+        for d in [a, b] {
+            std::fs::remove_dir_all(d).unwrap();
+        }
+    }
+}
+
+#[test]
+fn every_kind_and_method_sees_the_same_rods() {
+    let rigid = spec(Kind::Rigid, Protocol::Nested);
+    let contact = spec(Kind::Contact, Protocol::Nested);
+    let (a, b) = (scratch("kind-r"), scratch("kind-c"));
+    run_in(&rigid, &a, Shard::WHOLE, 2);
+    run_in(&contact, &b, Shard::WHOLE, 2);
+    let (ra, rb) = (results(&rigid, &a), results(&contact, &b));
+    assert_eq!(ra.len(), 36);
+    for (x, y) in ra.iter().zip(&rb) {
+        assert_eq!((x.seed, x.contact_critical), (y.seed, y.contact_critical));
+    }
+    for d in [a, b] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
+}
+
+#[test]
+fn a_killed_study_resumes_to_the_same_results() {
+    let spec = spec(Kind::Rigid, Protocol::Nested);
+    let (whole, cut) = (scratch("whole"), scratch("cut"));
+    run_in(&spec, &whole, Shard::WHOLE, 2);
+    run_in(&spec, &cut, Shard::WHOLE, 2);
+    // A kill leaves some records and half a line.
+    let path = cut.join("records.jsonl");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let kept = lines[..13].join("\n") + "\n" + &lines[13][..lines[13].len() / 2];
+    std::fs::write(&path, kept).unwrap();
+    let report = run_in(&spec, &cut, Shard::WHOLE, 1);
+    assert_eq!((report.resumed, report.ran), (13, 23));
+    assert!(report.complete);
+    assert_eq!(results(&spec, &whole), results(&spec, &cut));
+    assert_eq!(summary_text(&spec, &whole), summary_text(&spec, &cut));
+    // Nothing was recorded twice.
+    let lines = std::fs::read_to_string(&path).unwrap().lines().count();
+    assert_eq!(lines, 36);
+    for d in [whole, cut] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
+}
+
+#[test]
+fn shards_merge_to_the_whole_study() {
+    let spec = spec(Kind::Rigid, Protocol::Fixed);
+    let whole = scratch("merge-whole");
+    run_in(&spec, &whole, Shard::WHOLE, 2);
+    let dirs: Vec<PathBuf> = (0..3).map(|i| scratch(&format!("shard{i}"))).collect();
+    for (i, d) in dirs.iter().enumerate() {
+        let r = run_in(&spec, d, Shard { index: i, count: 3 }, 1);
+        assert_eq!(r.ran, 12);
+        assert!(!r.complete);
+    }
+    // Two shards are not the study.
+    let err = study::merge(&dirs[..2], &scratch("merged-partial")).unwrap_err();
+    assert!(
+        err.to_string().contains("12 realization(s) missing"),
+        "{err}"
+    );
+    let merged = scratch("merged");
+    let (_, records) = study::merge(&dirs, &merged).unwrap();
+    assert_eq!(records.len(), 36);
+    assert_eq!(results(&spec, &whole), results(&spec, &merged));
+    assert_eq!(summary_text(&spec, &whole), summary_text(&spec, &merged));
+    // Shards of one directory merge in place.
+    let together = scratch("together");
+    for i in 0..3 {
+        run_in(&spec, &together, Shard { index: i, count: 3 }, 1);
+    }
+    study::merge(std::slice::from_ref(&together), &together).unwrap();
+    assert_eq!(results(&spec, &whole), results(&spec, &together));
+    for d in dirs.into_iter().chain([whole, merged, together]) {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}
+
+#[test]
+fn another_study_in_the_same_directory_is_refused() {
+    let dir = scratch("other");
+    let a = spec(Kind::Rigid, Protocol::Nested);
+    run_in(&a, &dir, Shard::WHOLE, 2);
+    let b = StudySpec {
+        runs: 3,
+        ..a.clone()
+    };
+    let opts = RunOptions {
+        out: dir.clone(),
+        shard: Shard::WHOLE,
+        progress: false,
+    };
+    let err = study::run(&b, &[], &opts).unwrap_err().to_string();
+    assert!(
+        err.contains("another study") && err.contains("runs 2 vs 3"),
+        "{err}"
+    );
+    // A record of a realization this study does not have is named.
+    std::fs::write(
+        dir.join("records-9-of-10.jsonl"),
+        serde_json::to_string(&Record {
+            index: 99,
+            ..empty_record()
+        })
+        .unwrap()
+            + "\n",
+    )
+    .unwrap();
+    let err = study::read_records(&dir, &a).unwrap_err().to_string();
+    assert!(
+        err.contains("line 1") && err.contains("not part of this study"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn order_effects_count_fresh_misses_and_non_monotone_steps() {
+    use rgc::threshold::sequence::Step;
+    let s = |n, spans, runs_spanning| Step {
+        n,
+        spans,
+        runs_spanning,
+    };
+    let mut spec = spec(Kind::Rigid, Protocol::Fixed);
+    spec.runs = 4;
+    let r = Record {
+        fixed: vec![
+            s(10, false, 0),
+            s(11, true, 1),
+            s(12, false, 0),
+            s(13, true, 4),
+        ],
+        fresh: Some(s(12, false, 0)),
+        ..empty_record()
+    };
+    let o = report::order_effects(&spec, &[r]);
+    assert_eq!((o.nonmonotone_realizations, o.nonmonotone_steps), (1, 1));
+    assert_eq!((o.fresh_checks, o.fresh_misses), (1, 1));
+    assert_eq!(o.spanning_compressions, 2);
+    // 5 of 8 runs found the spanning body.
+    assert!((o.single_run_miss_rate.unwrap() - 3.0 / 8.0).abs() < 1e-12);
+}
+
+#[test]
+fn variants_share_studies_and_analyse_the_first_realizations() {
+    use rgc::threshold::variants::{Pairing, Variant, run_variants};
+    let root = scratch("variants");
+    let template = spec(Kind::Rigid, Protocol::Nested);
+    let v = |label: &str, rules: Rules, runs: usize, realizations: u64| Variant {
+        label: label.into(),
+        family: "test".into(),
+        rules,
+        motifs: vec![],
+        runs,
+        method: Protocol::Nested,
+        realizations,
+    };
+    let variants = [
+        v("sound", Rules::Sound, 1, 12),
+        v("sound, 8", Rules::Sound, 1, 8),
+        v("paper", Rules::Paper, 1, 12),
+        v("sound K2", Rules::Sound, 2, 12),
+    ];
+    let out = run_variants(&template, &variants, &root, 30, Pairing::First, false).unwrap();
+    assert_eq!(out.len(), 4);
+    assert_eq!(out[0].relative_difference, 0.0);
+    // The subset reads the first 8 realizations of the 12-realization study:
+    // three studies, not four.
+    assert_eq!(out[1].study, out[0].study);
+    assert_ne!(out[2].study, out[0].study);
+    assert_eq!(std::fs::read_dir(&root).unwrap().count(), 3);
+    assert!(out[1].cpu_seconds < out[0].cpu_seconds);
+    assert!(out[3].single_run_miss_rate.is_some());
+    assert!(
+        out[0].single_run_miss_rate.is_none(),
+        "one run cannot miss what one run finds"
+    );
+    std::fs::remove_dir_all(root).unwrap();
+}
+
+#[test]
+fn paired_differences_compare_the_same_sequences() {
+    use rgc::threshold::variants::{Pairing, Variant, run_variants};
+    let root = scratch("paired");
+    let template = spec(Kind::Rigid, Protocol::Nested);
+    let v = |label: &str, rules: Rules| Variant {
+        label: label.into(),
+        family: "rules".into(),
+        rules,
+        motifs: vec![],
+        runs: 1,
+        method: Protocol::Nested,
+        realizations: 12,
+    };
+    let out = run_variants(
+        &template,
+        &[v("sound", Rules::Sound), v("paper", Rules::Paper)],
+        &root,
+        20,
+        Pairing::Previous,
+        false,
+    )
+    .unwrap();
+    assert!(
+        out[0].paired_difference.is_none(),
+        "the reference has no partner"
+    );
+    let paired = out[1].paired_difference.unwrap();
+    // The mean of the per-sequence differences, computed here from the records.
+    let (a, b) = (
+        results(&template, Path::new(&out[0].study)),
+        results(
+            &StudySpec {
+                rules: Rules::Paper,
+                ..template.clone()
+            },
+            Path::new(&out[1].study),
+        ),
+    );
+    let mean = a
+        .iter()
+        .zip(&b)
+        .map(|(s, p)| {
+            (p.rigid_critical.unwrap() as f64 - s.rigid_critical.unwrap() as f64)
+                / s.box_len.powi(3)
+        })
+        .sum::<f64>()
+        / a.len() as f64;
+    assert!((paired.value - mean).abs() < 1e-12);
+    assert!(paired.lo.unwrap() <= mean && mean <= paired.hi.unwrap());
+    std::fs::remove_dir_all(root).unwrap();
+}
