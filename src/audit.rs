@@ -1,4 +1,4 @@
-//! Which rigid motifs the engine misses (DESIGN §7), and the rule files that
+//! Which rigid motifs the engine misses (MODEL §7), and the rule files that
 //! carry motifs to the engine: the base motifs written as rules, and the
 //! missed motifs the audit finds.
 
@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
 
-use crate::engine::{CompiledRule, Engine, Rules};
+use crate::engine::{CompiledRule, Engine, RuleSet};
 use crate::enumerate::{
     GraphFilter, TypedFilter, connected_small_graphs, count_connected, typed_patterns,
 };
@@ -35,7 +35,7 @@ pub struct AuditOptions {
     /// Mixed motifs (rods, planar and spatial bodies) with 2 to this many components.
     pub max_components: usize,
     /// The engine's rule set.
-    pub rules: Rules,
+    pub rules: RuleSet,
     /// Motif orders tried per pattern (compressed if any of them compresses it).
     pub runs: u64,
     /// Also audit every way a body's contacts can share its rods (mixed only).
@@ -49,7 +49,7 @@ impl Default for AuditOptions {
         AuditOptions {
             max_rods: 8,
             max_components: 4,
-            rules: Rules::Sound,
+            rules: RuleSet::Sound,
             runs: 8,
             rod_sharing: false,
             progress: true,

@@ -5,7 +5,7 @@ use serde::Serialize;
 use std::time::Instant;
 
 use crate::contacts;
-use crate::engine::{self, Rules};
+use crate::engine::{self, RuleSet};
 use crate::graph::ContactGraph;
 use crate::math::stats::median;
 use crate::rods::{RodParams, RodSystem};
@@ -80,7 +80,7 @@ fn measure(params: RodParams, repeat: usize) -> BenchRow {
         let graph = ContactGraph::from_contacts(system.len(), &found);
         det_t.push(t.elapsed().as_secs_f64());
         let t = Instant::now();
-        let c = engine::compress(&graph, Rules::Sound, k);
+        let c = engine::compress(&graph, RuleSet::Sound, k);
         comp_t.push(t.elapsed().as_secs_f64());
         last = Some((system.len(), found.len(), c));
     }

@@ -1,5 +1,5 @@
 //! Rigid bodies: unions of rods that move as one, with the geometric class
-//! that decides how they may join others (DESIGN §5).
+//! that decides how they may join others (MODEL §5).
 
 use serde::{Deserialize, Serialize};
 

@@ -1,6 +1,6 @@
 //! Motifs as typed patterns: nodes that are rods or bodies (planar or
 //! spatial), and contacts that say which rod of each node they sit on
-//! (DESIGN §6). The enumerator produces them, the rank decides them, rule
+//! (MODEL §6). The enumerator produces them, the rank decides them, rule
 //! files store them and the engine matches them.
 
 use serde::{Deserialize, Serialize};

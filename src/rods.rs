@@ -1,4 +1,4 @@
-//! Random soft-core spherocylinders in a periodic cubic box (DESIGN §1).
+//! Random soft-core spherocylinders in a periodic cubic box (MODEL §1).
 //!
 //! Lengths are in units of the core length `l = 1`. Rods are generated one
 //! after another from a single seeded stream with a fixed number of draws per

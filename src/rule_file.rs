@@ -1,4 +1,4 @@
-//! Motif rule files (DESIGN §6): typed patterns with their provenance and
+//! Motif rule files (MODEL §6): typed patterns with their provenance and
 //! exact-rank verdict, as plain JSON. Every rule is re-verified by exact
 //! rank when it is loaded, and a rule that is not rigid on every
 //! realization component is refused: it would create false rigidity.

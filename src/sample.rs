@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use crate::body::BodyClass;
 use crate::contacts::{self, Contact};
-use crate::engine::{self, Compression, MotifCounts, Rules};
+use crate::engine::{self, Compression, MotifCounts, RuleSet};
 use crate::graph::{self, ContactGraph, ContactStats};
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
@@ -18,7 +18,7 @@ pub struct SampleOptions {
     /// Independent compressions (random motif orders); a system is
     /// rigid-spanning if any of them finds a spanning body.
     pub runs: usize,
-    pub rules: Rules,
+    pub rules: RuleSet,
     pub criterion: Criterion,
 }
 
@@ -31,7 +31,7 @@ pub struct SampleReport {
     pub density: f64,
     pub seed: u64,
     pub runs: usize,
-    pub rules: Rules,
+    pub rules: RuleSet,
     pub criterion: Criterion,
     pub n_rods: usize,
     pub n_contacts: usize,

@@ -1,4 +1,4 @@
-//! Whether a cluster of rods spans the periodic box (DESIGN §1).
+//! Whether a cluster of rods spans the periodic box (MODEL §1).
 //!
 //! A periodic box has no walls, so "spanning" needs a definition; both in use
 //! give the same threshold as `L -> inf` and different finite-size curves, so
@@ -330,7 +330,7 @@ fn for_each_cluster(
     }
 }
 
-/// Contact spanning of a growing rod sequence (DESIGN §8, Newman–Ziff): rods
+/// Contact spanning of a growing rod sequence (MODEL §8, Newman–Ziff): rods
 /// and then their contacts are added in sequence order, and a union-find
 /// tells in near-constant time per contact whether some cluster spans.
 ///

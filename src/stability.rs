@@ -1,4 +1,4 @@
-//! How far the float rank can be trusted (DESIGN §4): the float verdicts
+//! How far the float rank can be trusted (MODEL §4): the float verdicts
 //! (SVD and pivoted QR) against the exact one, at realizations pushed
 //! towards degenerate positions and on growing patterns, and the speed of
 //! both.

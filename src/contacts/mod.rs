@@ -1,4 +1,4 @@
-//! Which rods touch (DESIGN §1): an O(N) periodic cell list over a robust
+//! Which rods touch (MODEL §1): an O(N) periodic cell list over a robust
 //! segment–segment distance, with the O(N^2) all-pairs reference.
 
 mod segment;

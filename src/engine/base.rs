@@ -1,4 +1,4 @@
-//! The base motifs of 3D-RGC (DESIGN §5, paper §3.2 and appendix), each found
+//! The base motifs of 3D-RGC (MODEL §5, paper §3.2 and appendix), each found
 //! from an anchor: a rod for the rods-only motifs (3-clique communities, 3D6),
 //! a pair of nodes whose relation just changed for the motifs with bodies.
 //!
@@ -10,7 +10,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use crate::pattern::{NodeKind, Pattern, PatternContact};
 
 use super::state::{Link, NO_PLANE, State};
-use super::{Motif, Rules};
+use super::{Motif, RuleSet};
 use crate::body::BodyClass;
 
 /// A motif instance ready to be compressed.
@@ -33,8 +33,8 @@ impl State<'_> {
     /// verified base rule: the published conditions admit variants with
     /// planar bodies that exact rank refutes. (The matcher then also checks
     /// the induced pattern, see [`State::induced_rigid`].)
-    fn verified(&mut self, motif: Motif, parts: &[u32], rules: Rules) -> bool {
-        rules == Rules::Paper
+    fn verified(&mut self, motif: Motif, parts: &[u32], rules: RuleSet) -> bool {
+        rules == RuleSet::Paper
             || super::shapes::sound_rules()
                 .iter()
                 .filter(|r| r.motif == motif)
@@ -121,7 +121,7 @@ impl State<'_> {
     /// Whether all `links` lie on one line: on one rod, or (under `sound`)
     /// between one plane on each side, where they sit on the line the two
     /// planes share — wherever those planar parts now belong.
-    fn on_one_line(&self, links: &[Link], rules: Rules) -> bool {
+    fn on_one_line(&self, links: &[Link], rules: RuleSet) -> bool {
         if on_one_rod(links) {
             return true;
         }
@@ -129,7 +129,7 @@ impl State<'_> {
             let p = self.plane(rod(&links[0]));
             p != NO_PLANE && links.iter().all(|l| self.plane(rod(l)) == p)
         };
-        rules == Rules::Sound && one_plane(|l| l.own) && one_plane(|l| l.other)
+        rules == RuleSet::Sound && one_plane(|l| l.own) && one_plane(|l| l.other)
     }
 }
 
@@ -277,7 +277,7 @@ impl State<'_> {
     /// 3D2A: bodies `x`, `y` with three or more contacts not all on one rod;
     /// under `sound` not all between one plane of each (two planar bodies, or
     /// planar parts of larger ones: a hinge about the line the planes share).
-    pub fn d2a(&self, x: u32, y: u32, rules: Rules) -> Option<Found> {
+    pub fn d2a(&self, x: u32, y: u32, rules: RuleSet) -> Option<Found> {
         let links = self.body_links(x, y);
         (links.len() >= 3 && !self.on_one_line(links, rules)).then(|| Found {
             motif: Motif::D2A,
@@ -288,7 +288,7 @@ impl State<'_> {
 
     /// 3D3A through bodies `x` and `y`: a third body `z` touching both, in any
     /// assignment of the roles R1, R2, R3 (R3 being the one with two contacts to each).
-    pub fn d3a(&mut self, x: u32, y: u32, rules: Rules) -> Option<Found> {
+    pub fn d3a(&mut self, x: u32, y: u32, rules: RuleSet) -> Option<Found> {
         let (small, large) = if self.nodes[x as usize].adj.len() <= self.nodes[y as usize].adj.len()
         {
             (x, y)
@@ -350,7 +350,7 @@ impl State<'_> {
         &mut self,
         x: u32,
         y: u32,
-        rules: Rules,
+        rules: RuleSet,
         buf: &mut Vec<u32>,
     ) -> Option<Found> {
         if self.body_links(x, y).len() < 2 {
@@ -374,7 +374,7 @@ impl State<'_> {
 
     /// 3D3B through body `x` and rod `r`: another body `y` with two or more
     /// contacts with `x` that `r` also touches.
-    pub fn d3b_rod(&mut self, x: u32, r: u32, rules: Rules, buf: &mut Vec<u32>) -> Option<Found> {
+    pub fn d3b_rod(&mut self, x: u32, r: u32, rules: RuleSet, buf: &mut Vec<u32>) -> Option<Found> {
         let g = self.g;
         let mut bodies: Vec<u32> = Vec::new();
         for &(nb, _) in g.neighbors(r) {
@@ -393,7 +393,7 @@ impl State<'_> {
     /// The 3D3B conditions for bodies `x`, `y` and rod `r`: contacts p1, p2 of
     /// x with y, p3 of r with x, p4 of r with y, such that neither p3 nor p4 is
     /// on one rod with both p1 and p2.
-    fn d3b(&mut self, x: u32, y: u32, r: u32, rules: Rules, buf: &mut Vec<u32>) -> Option<Found> {
+    fn d3b(&mut self, x: u32, y: u32, r: u32, rules: RuleSet, buf: &mut Vec<u32>) -> Option<Found> {
         self.rod_contacts_with(r, x, buf);
         let on_x = std::mem::take(buf);
         self.rod_contacts_with(r, y, buf);
@@ -423,7 +423,7 @@ impl State<'_> {
     /// Under `sound`, when a and c touch too the rods form a triangle, a planar
     /// body; if the three body contacts all sit in one plane of `x`, the pair
     /// is the rod prism's hinge (the contacts on the line the planes share).
-    pub fn d4(&mut self, x: u32, r: u32, rules: Rules, buf: &mut Vec<u32>) -> Option<Found> {
+    pub fn d4(&mut self, x: u32, r: u32, rules: RuleSet, buf: &mut Vec<u32>) -> Option<Found> {
         let g = self.g;
         // Rods around r that touch x, with the rods of x they touch.
         let mut touching: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
@@ -471,7 +471,7 @@ impl State<'_> {
             let plane = self.plane(rods[0]);
             let in_one_plane = plane != NO_PLANE && rods.iter().all(|&q| self.plane(q) == plane);
             let hinge =
-                rules == Rules::Sound && in_one_plane && g.edge_between(p[0], p[2]).is_some();
+                rules == RuleSet::Sound && in_one_plane && g.edge_between(p[0], p[2]).is_some();
             rods.iter().any(|&q| q != rods[0]) && !hinge && self.verified(Motif::D4, &parts, rules)
         })?;
         let mut parts = vec![x];

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::{Rules, compress_from};
+use super::{RuleSet, compress_from};
 use crate::body::{Body, BodyClass};
 use crate::graph::ContactGraph;
 
@@ -284,7 +284,7 @@ pub fn check_all(seeds: u64) -> Vec<ExampleRow> {
         .into_iter()
         .map(|e| {
             let g = e.graph();
-            let range = |rules: Rules| {
+            let range = |rules: RuleSet| {
                 let nodes: Vec<usize> = (0..seeds)
                     .map(|s| {
                         compress_from(&g, &e.bodies, rules, s)
@@ -298,7 +298,7 @@ pub fn check_all(seeds: u64) -> Vec<ExampleRow> {
                 );
                 (lo, hi)
             };
-            let (s, p) = (range(Rules::Sound), range(Rules::Paper));
+            let (s, p) = (range(RuleSet::Sound), range(RuleSet::Paper));
             let show = |(lo, hi): (usize, usize)| {
                 if lo == hi {
                     lo.to_string()

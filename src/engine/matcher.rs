@@ -1,5 +1,5 @@
 //! Motif rules loaded from files, matched in the compression state
-//! (DESIGN §6).
+//! (MODEL §6).
 //!
 //! A match maps pattern nodes to distinct host nodes and pattern contacts to
 //! distinct host contacts. It is valid when every host node is at least as
@@ -14,7 +14,7 @@
 //! contact.
 
 use super::state::{Link, NO_PLANE, State};
-use super::{Motif, Rules};
+use super::{Motif, RuleSet};
 use crate::body::BodyClass;
 use crate::pattern::{NodeKind, Pattern};
 use crate::rigidity::incidence::{Grouping, Incidence};
@@ -193,7 +193,7 @@ impl State<'_> {
         a: usize,
         x: u32,
         b: Option<(usize, u32)>,
-        rules: Rules,
+        rules: RuleSet,
     ) -> Option<(Vec<u32>, BodyClass)> {
         let n = rule.kinds.len();
         if !fits(rule.kinds[a], self.class(x)) {
@@ -233,7 +233,7 @@ impl State<'_> {
     }
 
     /// Whether `rule` matches exactly the host nodes `parts`, in some order.
-    pub fn matches_nodes(&mut self, rule: &CompiledRule, parts: &[u32], rules: Rules) -> bool {
+    pub fn matches_nodes(&mut self, rule: &CompiledRule, parts: &[u32], rules: RuleSet) -> bool {
         let n = rule.kinds.len();
         if n != parts.len() {
             return false;
@@ -249,7 +249,7 @@ impl State<'_> {
         parts: &[u32],
         v: usize,
         map: &mut Vec<Option<u32>>,
-        rules: Rules,
+        rules: RuleSet,
     ) -> bool {
         if v == map.len() {
             return self.complete(rule, map, rules);
@@ -285,7 +285,7 @@ impl State<'_> {
 
     /// Maps the remaining pattern nodes by backtracking over host neighbours,
     /// then assigns contacts.
-    fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: Rules) -> bool {
+    fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: RuleSet) -> bool {
         // Most constrained node next: the most mapped neighbours, then the
         // most neighbours (a fixed order would explore far more partial maps).
         let next = (0..map.len())
@@ -323,17 +323,22 @@ impl State<'_> {
 
     /// Whether a complete node mapping is a match: its contacts can be
     /// assigned and, under `sound`, the pattern its nodes induce is rigid.
-    fn complete(&mut self, rule: &CompiledRule, map: &[Option<u32>], rules: Rules) -> bool {
+    fn complete(&mut self, rule: &CompiledRule, map: &[Option<u32>], rules: RuleSet) -> bool {
         if !self.assign_contacts(rule, map, rules) {
             return false;
         }
         let parts: Vec<u32> = map.iter().flatten().copied().collect();
-        rules == Rules::Paper || self.induced_rigid(&parts)
+        rules == RuleSet::Paper || self.induced_rigid(&parts)
     }
 
     /// Finds an injective assignment of pattern contacts to host contacts
     /// under which the host has no collinearity the pattern did not assume.
-    fn assign_contacts(&mut self, rule: &CompiledRule, map: &[Option<u32>], rules: Rules) -> bool {
+    fn assign_contacts(
+        &mut self,
+        rule: &CompiledRule,
+        map: &[Option<u32>],
+        rules: RuleSet,
+    ) -> bool {
         let n = map.len();
         let mut pairs: Vec<(usize, usize, Vec<Link>)> = Vec::new();
         for a in 0..n {
@@ -360,10 +365,10 @@ impl State<'_> {
         i: usize,
         label: &mut Vec<Vec<(u32, u8)>>,
         chosen: &mut Vec<Vec<(Link, (u8, u8))>>,
-        rules: Rules,
+        rules: RuleSet,
     ) -> bool {
         let Some((a, b, links)) = pairs.get(k) else {
-            return rules == Rules::Paper || self.no_hidden_lines(map, chosen, pairs);
+            return rules == RuleSet::Paper || self.no_hidden_lines(map, chosen, pairs);
         };
         let wanted = &rule.between[*a][*b];
         if i == wanted.len() {

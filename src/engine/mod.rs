@@ -1,4 +1,4 @@
-//! The 3D rigid graph compression (3D-RGC) engine (DESIGN §5).
+//! The 3D rigid graph compression (3D-RGC) engine (MODEL §5).
 //!
 //! Compression repeatedly finds a rigid motif and merges its nodes into one
 //! body. Work is driven by a worklist of tasks drawn in random order: every
@@ -25,14 +25,19 @@ use base::Found;
 pub use matcher::CompiledRule;
 use state::State;
 
-/// Which motif conditions the engine applies.
+/// Which motif conditions the engine applies (MODEL §5).
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
 )]
 #[serde(rename_all = "lowercase")]
-pub enum Rules {
-    /// The published conditions, except that two planar bodies are never
-    /// joined by 3D2A (their shared contacts lie on one line: a hinge).
+pub enum RuleSet {
+    /// The published conditions minus what exact rank refutes: two planar
+    /// bodies are never joined by 3D2A (their shared contacts lie on one
+    /// line: a hinge), also when one of them is a plane kept inside a
+    /// spatial body; 3D4 is refused on a planar body whose rod path closes
+    /// a triangle (the prism's hinge); and every 3D3A, 3D3B and 3D4 instance
+    /// must have an induced pattern that is rigid by exact rank on every
+    /// realization component.
     #[default]
     Sound,
     /// The published conditions verbatim.
@@ -131,7 +136,7 @@ enum Task {
 /// motifs are on, and rules loaded from files.
 #[derive(Clone, Copy, Debug)]
 pub struct Engine<'r> {
-    pub rules: Rules,
+    pub rules: RuleSet,
     /// The built-in base motifs (off only to test the same motifs given as rules).
     pub base: bool,
     pub extra: &'r [CompiledRule],
@@ -139,7 +144,7 @@ pub struct Engine<'r> {
 
 impl<'r> Engine<'r> {
     /// The built-in base motifs only.
-    pub fn base(rules: Rules) -> Self {
+    pub fn base(rules: RuleSet) -> Self {
         Engine {
             rules,
             base: true,
@@ -148,7 +153,7 @@ impl<'r> Engine<'r> {
     }
 
     /// The base motifs plus loaded rules.
-    pub fn with_rules(rules: Rules, extra: &'r [CompiledRule]) -> Self {
+    pub fn with_rules(rules: RuleSet, extra: &'r [CompiledRule]) -> Self {
         Engine {
             rules,
             base: true,
@@ -181,7 +186,7 @@ impl<'r> Engine<'r> {
 }
 
 /// Compresses `graph` once, with the order of motif application drawn from `seed`.
-pub fn compress(graph: &ContactGraph, rules: Rules, seed: u64) -> Compression {
+pub fn compress(graph: &ContactGraph, rules: RuleSet, seed: u64) -> Compression {
     compress_from(graph, &[], rules, seed).expect("no declared bodies to reject")
 }
 
@@ -189,7 +194,7 @@ pub fn compress(graph: &ContactGraph, rules: Rules, seed: u64) -> Compression {
 pub fn compress_from(
     graph: &ContactGraph,
     bodies: &[Body],
-    rules: Rules,
+    rules: RuleSet,
     seed: u64,
 ) -> Result<Compression> {
     Engine::base(rules).compress(graph, bodies, seed)
@@ -412,7 +417,7 @@ fn examine_pair(
     state: &mut State,
     x: u32,
     y: u32,
-    rules: Rules,
+    rules: RuleSet,
     rng: &mut ChaCha8Rng,
     buf: &mut Vec<u32>,
 ) -> Option<Found> {
@@ -449,7 +454,7 @@ pub fn run_seed(seed: u64, k: u64) -> u64 {
 /// `runs` independent compressions of `graph` (rayon), in run order.
 pub fn compress_runs(
     graph: &ContactGraph,
-    rules: Rules,
+    rules: RuleSet,
     seed: u64,
     runs: usize,
 ) -> Vec<Compression> {

@@ -1,4 +1,4 @@
-//! The base motifs as rules, verified by exact rank (DESIGN §5, §6).
+//! The base motifs as rules, verified by exact rank (MODEL §5, §6).
 //!
 //! Every rod-sharing variant of each base shape that the published
 //! conditions accept is checked under every planar/spatial assignment of its
@@ -8,7 +8,7 @@
 
 use std::sync::OnceLock;
 
-use super::{CompiledRule, Engine, Rules};
+use super::{CompiledRule, Engine, RuleSet};
 use crate::Result;
 use crate::pattern::{NodeKind, Pattern, PatternContact};
 use crate::rule_file::{Provenance, Rule, canonical_form};
@@ -147,7 +147,7 @@ pub fn base_shapes() -> Vec<(&'static str, Vec<NodeKind>, Vec<(u8, u8)>)> {
 /// Also returns the variants the published conditions accept but exact rank
 /// refutes for some assignment: false rigidity in the paper's engine.
 pub fn base_rules() -> Result<(Vec<Rule>, Vec<Refuted>)> {
-    let paper = Engine::base(Rules::Paper);
+    let paper = Engine::base(RuleSet::Paper);
     let mut rules: Vec<Rule> = Vec::new();
     let mut refuted = Vec::new();
     let mut seen = std::collections::HashSet::new();

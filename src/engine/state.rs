@@ -1,5 +1,5 @@
 //! The compression state: a multigraph of rods and bodies whose edges are the
-//! original rod–rod contacts, each still knowing its two rods (DESIGN §5).
+//! original rod–rod contacts, each still knowing its two rods (MODEL §5).
 //!
 //! Nodes are identified by a representative rod (union–find over rods). Rods
 //! keep no adjacency of their own: their contacts are read from the static

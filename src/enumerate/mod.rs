@@ -1,4 +1,4 @@
-//! Enumeration of small graphs (DESIGN §7): non-isomorphic connected simple
+//! Enumeration of small graphs (MODEL §7): non-isomorphic connected simple
 //! graphs with the audit's filters pushed into generation, canonical forms,
 //! and typed multigraph patterns for mixed motifs ([`typed_patterns`]).
 //!

@@ -1,4 +1,4 @@
-//! Typed multigraph patterns for mixed motifs (DESIGN §7): nodes that are
+//! Typed multigraph patterns for mixed motifs (MODEL §7): nodes that are
 //! rods or bodies, bounded contact multiplicities, and optionally every way
 //! of letting a body's contacts share its rods.
 //!

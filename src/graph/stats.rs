@@ -1,10 +1,10 @@
-//! Contact numbers c0, c1, c2 and clustering of a contact graph (DESIGN §1).
+//! Contact numbers c0, c1, c2 and clustering of a contact graph (MODEL §1).
 
 use serde::Serialize;
 
 use super::ContactGraph;
 
-/// Contact statistics of a contact graph (DESIGN §1).
+/// Contact statistics of a contact graph (MODEL §1).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ContactStats {
     /// Mean contact number over all rods, `2 * contacts / N`.
@@ -17,7 +17,7 @@ pub struct ContactStats {
     pub clustering: f64,
 }
 
-/// Contact numbers and clustering of a contact graph (DESIGN §1), in
+/// Contact numbers and clustering of a contact graph (MODEL §1), in
 /// O(N + E sqrt(E)).
 pub fn stats(graph: &ContactGraph) -> ContactStats {
     let n = graph.n_nodes();

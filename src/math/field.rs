@@ -1,4 +1,4 @@
-//! The prime field F_p with `p = 2^61 - 1` (DESIGN §4), and the [`Scalar`]
+//! The prime field F_p with `p = 2^61 - 1` (MODEL §4), and the [`Scalar`]
 //! arithmetic that rigidity and Jacobian matrices are built with: exact F_p
 //! or floats. By Schwartz–Zippel, a matrix built from random F_p coordinates
 //! has the generic rank of its family except with probability at most

@@ -1,5 +1,5 @@
 //! Float rank: faer's SVD and pivoted QR, and the rule that reads a rank
-//! (or "undecided") off a descending spectrum (DESIGN §4).
+//! (or "undecided") off a descending spectrum (MODEL §4).
 
 use serde::Serialize;
 

@@ -96,7 +96,7 @@ pub(crate) fn node_planes<S: Copy>(
         })
         .collect()
 }
-/// Which degenerate realization a construction approaches (DESIGN §4: where
+/// Which degenerate realization a construction approaches (MODEL §4: where
 /// floats fail). Each puts the free choices of the construction `eps` away
 /// from a degenerate position; the incidences hold exactly (up to rounding)
 /// at every `eps`, so for `eps != 0` the realization is a generic member of

@@ -1,4 +1,4 @@
-//! Families of realizations and their components (DESIGN §3): the Jacobian
+//! Families of realizations and their components (MODEL §3): the Jacobian
 //! of the incidence constraints, a family's dimension against that of all
 //! realizations at its sample, and the groupings explored from the forced one.
 

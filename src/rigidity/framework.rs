@@ -1,5 +1,5 @@
 //! The point-based rigidity matrix of a contact pattern at a realization, and
-//! the exact verdict over all realization components (DESIGN §2–§4).
+//! the exact verdict over all realization components (MODEL §2–§4).
 //!
 //! Unknowns are the velocities of points: every contact point, plus
 //! auxiliary points where a part has too few of its own. A rod keeps two

@@ -1,4 +1,4 @@
-//! The incidence model of a pattern (DESIGN §3): one line per rod, one
+//! The incidence model of a pattern (MODEL §3): one line per rod, one
 //! point per contact on both its lines, and plane groupings, the families of
 //! realizations in which chosen lines share a plane.
 

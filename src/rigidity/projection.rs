@@ -1,4 +1,4 @@
-//! Numerical projection onto a family of realizations (DESIGN §3), for
+//! Numerical projection onto a family of realizations (MODEL §3), for
 //! groupings that no exact construction reaches: Levenberg–Marquardt from
 //! random starts on the incidence equations, then checks that the point
 //! found is a realization of the family and not of a more special one.

@@ -1,5 +1,5 @@
 //! The rigidity verdict of a pattern over all its realization components
-//! (DESIGN §3–§4): exact rank over F_p where an exact construction exists,
+//! (MODEL §3–§4): exact rank over F_p where an exact construction exists,
 //! floats with their gap rule and a twin realization otherwise.
 
 use rand::{Rng, SeedableRng};
@@ -183,7 +183,7 @@ fn project_forced(
 /// whose rank differs, near enough that generic ranks agree.
 pub const TWIN_NUDGE: f64 = 1e-3;
 
-/// Decides a pattern with float ranks (DESIGN §4): the same families and the
+/// Decides a pattern with float ranks (MODEL §4): the same families and the
 /// same exact component analysis as [`check_exact`], a float realization of
 /// each family and its twin ([`TWIN_NUDGE`]), their ranks by SVD or pivoted
 /// QR. Undecided, rather than a guess, when a spectrum has no clear gap

@@ -1,4 +1,4 @@
-//! Finite-size scaling (DESIGN §8, the paper's numerics protocol): from the
+//! Finite-size scaling (MODEL §8, the paper's numerics protocol): from the
 //! observations of each box size to the threshold, `nu` and their intervals.
 //!
 //! Per box size `L` a cumulative logistic `F(rho; mu, s)` is fitted by

@@ -13,7 +13,7 @@ use crate::math::stats::mean_sd;
 use crate::rods::excluded_volume;
 use crate::{Error, Result};
 
-/// What motif order did to a study's compressions (DESIGN §8: where
+/// What motif order did to a study's compressions (MODEL §8: where
 /// compression order breaks monotonicity).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct OrderEffects {

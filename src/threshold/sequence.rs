@@ -1,4 +1,4 @@
-//! One Monte Carlo realization (DESIGN §8): a random rod sequence in a box,
+//! One Monte Carlo realization (MODEL §8): a random rod sequence in a box,
 //! the number of rods at which it first spans by contacts (one union-find
 //! sweep) and rigidly (bisection over the number of rods), and the paper's
 //! fixed-density protocol on the same sequence.

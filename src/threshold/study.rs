@@ -1,4 +1,4 @@
-//! A threshold study on disk (DESIGN §9): what was asked (`study.json`), the
+//! A threshold study on disk (MODEL §9): what was asked (`study.json`), the
 //! fixed protocol's density grid (`grid.json`), and one JSON line per
 //! finished realization (`records*.jsonl`). A study killed at any moment
 //! resumes from its records; shards (`--shard i/n`) write their own record
@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use super::fss::Protocol;
 use super::sequence::{self, Kind, Record, Sequence, Setup};
-use crate::engine::{CompiledRule, Engine, Rules, run_seed};
+use crate::engine::{CompiledRule, Engine, RuleSet, run_seed};
 use crate::rods::{RodParams, excluded_volume};
 use crate::rule_file::Rule;
 use crate::spanning::Criterion;
@@ -34,7 +34,7 @@ pub struct StudySpec {
     pub gamma: f64,
     pub boxes: Vec<f64>,
     pub realizations: u64,
-    pub rules: Rules,
+    pub rules: RuleSet,
     /// Loaded rule set: how many rules and a digest of their canonical forms.
     pub motifs: MotifSet,
     pub runs: usize,

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use super::fss::{Estimate, Protocol};
 use super::report;
 use super::study::{self, MotifSet, RunOptions, Shard, StudySpec};
-use crate::engine::{CompiledRule, Rules};
+use crate::engine::{CompiledRule, RuleSet};
 use crate::rule_file;
 use crate::{Error, Result};
 
@@ -22,7 +22,7 @@ pub struct Variant {
     pub label: String,
     /// Which family of the trade-off it belongs to (`runs`, `motifs`, ...).
     pub family: String,
-    pub rules: Rules,
+    pub rules: RuleSet,
     pub motifs: Vec<PathBuf>,
     pub runs: usize,
     pub method: Protocol,
@@ -35,7 +35,7 @@ pub struct Variant {
 pub struct VariantOutcome {
     pub label: String,
     pub family: String,
-    pub rules: Rules,
+    pub rules: RuleSet,
     /// Loaded rules besides the base motifs.
     pub motif_rules: usize,
     pub runs: usize,

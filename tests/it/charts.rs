@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use rgc::Error;
-use rgc::engine::Rules;
+use rgc::engine::RuleSet;
 use rgc::plot::{compare_chart, speed_accuracy_chart};
 use rgc::threshold::fss::{Estimate, Protocol};
 use rgc::threshold::variants::VariantOutcome;
@@ -45,7 +45,7 @@ fn outcomes() -> Vec<VariantOutcome> {
         .map(|&(family, label, t, half, nu, cpu)| VariantOutcome {
             label: label.into(),
             family: family.into(),
-            rules: Rules::Sound,
+            rules: RuleSet::Sound,
             motif_rules: 0,
             runs: 1,
             method: Protocol::Nested,

@@ -4,7 +4,7 @@
 
 use rgc::body::{Body, BodyClass};
 use rgc::engine::examples::{self, Example, random_graph};
-use rgc::engine::{Compression, Rules, compress, compress_from, compress_runs};
+use rgc::engine::{Compression, RuleSet, compress, compress_from, compress_runs};
 use rgc::graph::ContactGraph;
 
 const SEEDS: u64 = 64;
@@ -18,7 +18,7 @@ fn example(name: &str) -> Example {
 
 /// The outcomes of every seed for an example, with its bodies re-classed by `mask`
 /// (bit i set: body i planar).
-fn outcomes(e: &Example, rules: Rules, mask: u32) -> Vec<Compression> {
+fn outcomes(e: &Example, rules: RuleSet, mask: u32) -> Vec<Compression> {
     let bodies: Vec<Body> = e
         .bodies
         .iter()
@@ -40,7 +40,7 @@ fn outcomes(e: &Example, rules: Rules, mask: u32) -> Vec<Compression> {
 #[test]
 fn every_example_ends_as_expected_in_every_order() {
     for e in examples::all() {
-        for (rules, expect) in [(Rules::Sound, e.expect[0]), (Rules::Paper, e.expect[1])] {
+        for (rules, expect) in [(RuleSet::Sound, e.expect[0]), (RuleSet::Paper, e.expect[1])] {
             for (seed, c) in outcomes(&e, rules, 0).iter().enumerate() {
                 assert_eq!(
                     c.components, expect,
@@ -69,7 +69,7 @@ fn each_positive_example_is_compressed_by_its_own_motif() {
         ("3D6 K_{2,4} of rods", |m| m.d6),
     ];
     for (name, count) in cases {
-        for rules in [Rules::Sound, Rules::Paper] {
+        for rules in [RuleSet::Sound, RuleSet::Paper] {
             for c in outcomes(&example(name), rules, 0) {
                 assert_eq!(count(&c.motifs), 1, "{name}: {:?}", c.motifs);
             }
@@ -87,27 +87,27 @@ fn body_classes_follow_the_motif() {
             .collect();
         classes.into_iter().collect::<Vec<_>>().join(",")
     };
-    assert_eq!(class_of("3D3C rod triangle", Rules::Sound), "Planar");
+    assert_eq!(class_of("3D3C rod triangle", RuleSet::Sound), "Planar");
     assert_eq!(
-        class_of("3-clique community (strip of 4 triangles)", Rules::Sound),
+        class_of("3-clique community (strip of 4 triangles)", RuleSet::Sound),
         "Planar"
     );
     assert_eq!(
-        class_of("3D2B rod touching a planar body twice", Rules::Sound),
+        class_of("3D2B rod touching a planar body twice", RuleSet::Sound),
         "Planar"
     );
     assert_eq!(
-        class_of("3D2B rod touching a 3D6 body twice", Rules::Sound),
+        class_of("3D2B rod touching a 3D6 body twice", RuleSet::Sound),
         "Spatial"
     );
-    assert_eq!(class_of("3D2A spatial + planar", Rules::Sound), "Spatial");
-    assert_eq!(class_of("3D6 K_{2,4} of rods", Rules::Sound), "Spatial");
+    assert_eq!(class_of("3D2A spatial + planar", RuleSet::Sound), "Spatial");
+    assert_eq!(class_of("3D6 K_{2,4} of rods", RuleSet::Sound), "Spatial");
     assert_eq!(
-        class_of("rod prism (two rod triangles, 3 contacts)", Rules::Sound),
+        class_of("rod prism (two rod triangles, 3 contacts)", RuleSet::Sound),
         "Planar"
     );
     assert_eq!(
-        class_of("rod prism (two rod triangles, 3 contacts)", Rules::Paper),
+        class_of("rod prism (two rod triangles, 3 contacts)", RuleSet::Paper),
         "Spatial"
     );
 }
@@ -115,12 +115,12 @@ fn body_classes_follow_the_motif() {
 #[test]
 fn three_and_two_body_motifs_are_rigid_under_every_class_assignment() {
     for mask in 0..8 {
-        for c in outcomes(&example("3D3A"), Rules::Sound, mask) {
+        for c in outcomes(&example("3D3A"), RuleSet::Sound, mask) {
             assert_eq!(c.components, 1, "3D3A with planar mask {mask:03b}");
         }
     }
     for mask in 0..4 {
-        for c in outcomes(&example("3D3B"), Rules::Sound, mask) {
+        for c in outcomes(&example("3D3B"), RuleSet::Sound, mask) {
             assert_eq!(c.components, 1, "3D3B with planar mask {mask:02b}");
         }
     }
@@ -129,7 +129,7 @@ fn three_and_two_body_motifs_are_rigid_under_every_class_assignment() {
 #[test]
 fn communities_sharing_a_rod_give_it_to_one_of_them() {
     let owners: std::collections::BTreeSet<Vec<u32>> =
-        outcomes(&example("two triangles sharing one rod"), Rules::Sound, 0)
+        outcomes(&example("two triangles sharing one rod"), RuleSet::Sound, 0)
             .into_iter()
             .map(|c| c.bodies[0].rods.clone())
             .collect();
@@ -152,7 +152,7 @@ fn body(rods: &[u32], class: BodyClass) -> Body {
 fn declared_bodies_are_validated() {
     let g = graph(4, &[(0, 1)]);
     let err = |bodies: &[Body]| {
-        compress_from(&g, bodies, Rules::Sound, 0)
+        compress_from(&g, bodies, RuleSet::Sound, 0)
             .unwrap_err()
             .to_string()
     };
@@ -171,8 +171,8 @@ fn declared_bodies_are_validated() {
 fn same_seed_same_result_and_bodies_partition_rods() {
     for s in 0..8 {
         let g = random_graph(300, 0.012, s);
-        let a = compress(&g, Rules::Sound, s);
-        assert_eq!(a, compress(&g, Rules::Sound, s));
+        let a = compress(&g, RuleSet::Sound, s);
+        assert_eq!(a, compress(&g, RuleSet::Sound, s));
         let mut seen = vec![false; g.n_nodes()];
         for b in &a.bodies {
             assert!(b.rods.len() >= 3, "the smallest body is a rod triangle");
@@ -194,7 +194,7 @@ fn thread_count_does_not_change_runs() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| compress_runs(&g, Rules::Sound, 11, 6))
+            .install(|| compress_runs(&g, RuleSet::Sound, 11, 6))
     };
     let one = run(1);
     assert_eq!(one, run(2));
@@ -209,7 +209,7 @@ fn thread_count_does_not_change_runs() {
 fn bodies_are_connected_by_their_own_contacts() {
     for s in 0..8 {
         let g = random_graph(300, 0.013, 100 + s);
-        for rules in [Rules::Sound, Rules::Paper] {
+        for rules in [RuleSet::Sound, RuleSet::Paper] {
             for b in compress(&g, rules, s).bodies {
                 let inside: std::collections::HashSet<u32> = b.rods.iter().copied().collect();
                 let mut seen = std::collections::HashSet::from([b.rods[0]]);
@@ -235,7 +235,7 @@ fn bodies_are_connected_by_their_own_contacts() {
 /// Restarting from a run's own bodies re-examines every pair of neighbouring
 /// nodes and every rod, so a motif the incremental worklist missed would be
 /// compressed now.
-fn assert_fixpoint(g: &ContactGraph, rules: Rules, seed: u64) {
+fn assert_fixpoint(g: &ContactGraph, rules: RuleSet, seed: u64) {
     let done = compress(g, rules, seed);
     let again = compress_from(g, &done.bodies, rules, seed ^ 0xA5A5).unwrap();
     assert_eq!(
@@ -249,7 +249,7 @@ fn assert_fixpoint(g: &ContactGraph, rules: Rules, seed: u64) {
 fn compression_ends_at_a_fixpoint_on_random_graphs() {
     for s in 0..24 {
         let g = random_graph(250, 0.008 + 0.0005 * s as f64, 500 + s);
-        for rules in [Rules::Sound, Rules::Paper] {
+        for rules in [RuleSet::Sound, RuleSet::Paper] {
             assert_fixpoint(&g, rules, s);
         }
     }
@@ -262,7 +262,7 @@ fn compression_ends_at_a_fixpoint_on_rod_systems() {
     for (k, density) in [30.0, 40.0, 50.0].into_iter().enumerate() {
         let system = RodSystem::generate(RodParams::new(23.0, 6.0, density).unwrap(), k as u64);
         let g = ContactGraph::from_contacts(system.len(), &detect(&system));
-        for rules in [Rules::Sound, Rules::Paper] {
+        for rules in [RuleSet::Sound, RuleSet::Paper] {
             assert_fixpoint(&g, rules, 7 + k as u64);
         }
     }
@@ -277,21 +277,21 @@ fn planar_parts_of_spatial_bodies_keep_their_plane() {
     let mut s = body(&[0, 1, 2, 6], BodyClass::Spatial);
     s.planes = vec![vec![0, 1, 2]];
     for seed in 0..SEEDS {
-        let sound = compress_from(&g, std::slice::from_ref(&s), Rules::Sound, seed).unwrap();
+        let sound = compress_from(&g, std::slice::from_ref(&s), RuleSet::Sound, seed).unwrap();
         assert_eq!(sound.components, 2, "seed {seed}: {sound:?}");
         assert_eq!(sound.bodies[0].planes, vec![vec![0, 1, 2]]);
-        let paper = compress_from(&g, std::slice::from_ref(&s), Rules::Paper, seed).unwrap();
+        let paper = compress_from(&g, std::slice::from_ref(&s), RuleSet::Paper, seed).unwrap();
         assert_eq!(paper.components, 1);
     }
     // The same triangle on rods 0, 1, 6, with 6 outside the plane: rigid.
     let g = graph(7, &[(3, 4), (4, 5), (3, 5), (3, 0), (4, 1), (5, 6)]);
     for seed in 0..SEEDS {
-        let sound = compress_from(&g, std::slice::from_ref(&s), Rules::Sound, seed).unwrap();
+        let sound = compress_from(&g, std::slice::from_ref(&s), RuleSet::Sound, seed).unwrap();
         assert_eq!(sound.components, 1, "seed {seed}: {sound:?}");
     }
     let mut bad = s.clone();
     bad.planes = vec![vec![0, 9]];
-    let err = compress_from(&g, &[bad], Rules::Sound, 0)
+    let err = compress_from(&g, &[bad], RuleSet::Sound, 0)
         .unwrap_err()
         .to_string();
     assert!(err.contains("plane rod 9"), "{err}");

@@ -1,4 +1,4 @@
-//! Numerical projection onto realization families (DESIGN §3): it finds
+//! Numerical projection onto realization families (MODEL §3): it finds
 //! realizations of families that do have exact constructions (and agrees
 //! with the exact verdict there), and it decides the rods-only candidates
 //! whose most generic family has no exact construction.

@@ -1,6 +1,6 @@
 //! Exact generic rigidity (rank over F_p on every realization component) of
 //! the paper's motifs, the flexible patterns the theorems exclude, and the
-//! component-dependent ones DESIGN §3 describes.
+//! component-dependent ones MODEL §3 describes.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -164,7 +164,7 @@ fn k24_coplanar_is_a_special_position_not_a_component() {
     assert!(coplanar.ambient > coplanar.dimension);
 }
 
-/// DESIGN §5's proof table: every base motif under every planar/spatial
+/// MODEL §5's proof table: every base motif under every planar/spatial
 /// assignment of its bodies is rigid on every component, except 3D2A with two
 /// planar bodies, a hinge about the line where their planes meet.
 #[test]

@@ -4,7 +4,7 @@
 use rgc::contacts::detect;
 use rgc::engine::examples::random_graph;
 use rgc::engine::shapes::base_rules;
-use rgc::engine::{CompiledRule, Compression, Engine, Rules};
+use rgc::engine::{CompiledRule, Compression, Engine, RuleSet};
 use rgc::graph::ContactGraph;
 use rgc::rods::{RodParams, RodSystem};
 
@@ -19,9 +19,9 @@ fn generic() -> Vec<CompiledRule> {
 
 /// Each engine's result is a fixpoint of the other: neither finds a motif the other left.
 fn agree(g: &ContactGraph, rules: &[CompiledRule], seed: u64) -> (Compression, Compression) {
-    let builtin = Engine::base(Rules::Sound);
+    let builtin = Engine::base(RuleSet::Sound);
     let by_rules = Engine {
-        rules: Rules::Sound,
+        rules: RuleSet::Sound,
         base: false,
         extra: rules,
     };

@@ -1,12 +1,12 @@
 //! One Monte Carlo sample end to end: reproducible from its seed whatever the
 //! thread count, and consistent between its parts.
 
-use rgc::engine::Rules;
+use rgc::engine::RuleSet;
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, SampleReport, sample};
 use rgc::spanning::{Criterion, cluster_spans};
 
-fn opts(seed: u64, rules: Rules, criterion: Criterion) -> SampleOptions {
+fn opts(seed: u64, rules: RuleSet, criterion: Criterion) -> SampleOptions {
     SampleOptions {
         params: RodParams::new(23.0, 6.0, 42.0).unwrap(),
         seed,
@@ -30,7 +30,7 @@ fn thread_count_does_not_change_a_sample() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| sample(&opts(5, Rules::Sound, Criterion::Wrap)))
+            .install(|| sample(&opts(5, RuleSet::Sound, Criterion::Wrap)))
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(one.contacts, two.contacts);
@@ -42,8 +42,8 @@ fn thread_count_does_not_change_a_sample() {
 fn report_agrees_with_its_runs() {
     for seed in 0..4 {
         for (rules, criterion) in [
-            (Rules::Sound, Criterion::Wrap),
-            (Rules::Paper, Criterion::Faces),
+            (RuleSet::Sound, Criterion::Wrap),
+            (RuleSet::Paper, Criterion::Faces),
         ] {
             let s = sample(&opts(seed, rules, criterion));
             let r = &s.report;

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use rgc::engine::{Engine, Rules};
+use rgc::engine::{Engine, RuleSet};
 use rgc::spanning::Criterion;
 use rgc::threshold::fss::Protocol;
 use rgc::threshold::report;
@@ -17,7 +17,7 @@ fn spec(kind: Kind, method: Protocol) -> StudySpec {
         gamma: 10.0,
         boxes: vec![3.0, 3.5, 4.0],
         realizations: 12,
-        rules: Rules::Sound,
+        rules: RuleSet::Sound,
         motifs: MotifSet::default(),
         runs: 2,
         criterion: Criterion::Wrap,
@@ -67,7 +67,7 @@ fn setup(kind: Kind, runs: usize) -> Setup<'static> {
         kind,
         gamma: 10.0,
         criterion: Criterion::Wrap,
-        engine: Engine::base(Rules::Sound),
+        engine: Engine::base(RuleSet::Sound),
         runs,
     }
 }
@@ -302,7 +302,7 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
     use rgc::threshold::variants::{Pairing, Variant, run_variants};
     let root = scratch("variants");
     let template = spec(Kind::Rigid, Protocol::Nested);
-    let v = |label: &str, rules: Rules, runs: usize, realizations: u64| Variant {
+    let v = |label: &str, rules: RuleSet, runs: usize, realizations: u64| Variant {
         label: label.into(),
         family: "test".into(),
         rules,
@@ -312,10 +312,10 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
         realizations,
     };
     let variants = [
-        v("sound", Rules::Sound, 1, 12),
-        v("sound, 8", Rules::Sound, 1, 8),
-        v("paper", Rules::Paper, 1, 12),
-        v("sound K2", Rules::Sound, 2, 12),
+        v("sound", RuleSet::Sound, 1, 12),
+        v("sound, 8", RuleSet::Sound, 1, 8),
+        v("paper", RuleSet::Paper, 1, 12),
+        v("sound K2", RuleSet::Sound, 2, 12),
     ];
     let out = run_variants(&template, &variants, &root, 30, Pairing::First, false).unwrap();
     assert_eq!(out.len(), 4);
@@ -339,7 +339,7 @@ fn paired_differences_compare_the_same_sequences() {
     use rgc::threshold::variants::{Pairing, Variant, run_variants};
     let root = scratch("paired");
     let template = spec(Kind::Rigid, Protocol::Nested);
-    let v = |label: &str, rules: Rules| Variant {
+    let v = |label: &str, rules: RuleSet| Variant {
         label: label.into(),
         family: "rules".into(),
         rules,
@@ -350,7 +350,7 @@ fn paired_differences_compare_the_same_sequences() {
     };
     let out = run_variants(
         &template,
-        &[v("sound", Rules::Sound), v("paper", Rules::Paper)],
+        &[v("sound", RuleSet::Sound), v("paper", RuleSet::Paper)],
         &root,
         20,
         Pairing::Previous,
@@ -367,7 +367,7 @@ fn paired_differences_compare_the_same_sequences() {
         results(&template, Path::new(&out[0].study)),
         results(
             &StudySpec {
-                rules: Rules::Paper,
+                rules: RuleSet::Paper,
                 ..template.clone()
             },
             Path::new(&out[1].study),

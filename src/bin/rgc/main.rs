@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use rgc::audit::{self, AuditOptions, AuditRow};
 use rgc::body::Body;
-use rgc::engine::{self, CompiledRule, Compression, Engine, Rules};
+use rgc::engine::{self, CompiledRule, Compression, Engine, RuleSet};
 use rgc::enumerate::GraphFilter;
 use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
@@ -139,9 +139,9 @@ struct EngineArgs {
     /// Independent compressions; a system is rigid-spanning if any finds a spanning body.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
     runs: u64,
-    /// Motif conditions: `sound` never joins two planar bodies by 3D2A; `paper` is verbatim.
-    #[arg(long, value_enum, default_value_t = Rules::Sound)]
-    rules: Rules,
+    /// Motif conditions: `paper` is verbatim; `sound` refuses what exact rank refutes (3D2A between planes, 3D4 closing a triangle on a plane, instances whose induced pattern is not rigid).
+    #[arg(long, value_enum, default_value_t = RuleSet::Sound)]
+    rules: RuleSet,
 }
 
 #[derive(Args)]
@@ -163,9 +163,9 @@ struct ThresholdArgs {
     /// Realizations (random rod sequences) per box.
     #[arg(long, default_value_t = 200)]
     realizations: u64,
-    /// Motif conditions: `sound` never joins two planar bodies by 3D2A; `paper` is verbatim.
-    #[arg(long, value_enum, default_value_t = Rules::Sound)]
-    rules: Rules,
+    /// Motif conditions: `paper` is verbatim; `sound` refuses what exact rank refutes (3D2A between planes, 3D4 closing a triangle on a plane, instances whose induced pattern is not rigid).
+    #[arg(long, value_enum, default_value_t = RuleSet::Sound)]
+    rules: RuleSet,
     /// Motif rule files (a file or a directory of `*.json`), used with the base motifs.
     #[arg(long)]
     motifs: Vec<PathBuf>,
@@ -350,8 +350,8 @@ struct AuditArgs {
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u64).range(0..=5))]
     max_components: u64,
     /// The engine's rule set.
-    #[arg(long, value_enum, default_value_t = Rules::Sound)]
-    rules: Rules,
+    #[arg(long, value_enum, default_value_t = RuleSet::Sound)]
+    rules: RuleSet,
     /// Motif orders tried per pattern.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=1000))]
     runs: u64,
@@ -501,7 +501,7 @@ fn run_sample(a: SampleArgs, out: &mut String) -> Result<()> {
 struct CompressReport<'a> {
     nodes: usize,
     contacts: usize,
-    rules: Rules,
+    rules: RuleSet,
     seed: u64,
     runs: u64,
     /// Nodes left in the reported run (the one with fewest).
@@ -1028,7 +1028,7 @@ impl VariantArgs {
             gamma: self.gamma,
             boxes: self.boxes.clone(),
             realizations: self.realizations,
-            rules: Rules::Sound,
+            rules: RuleSet::Sound,
             motifs: MotifSet::default(),
             runs: 1,
             criterion: self.criterion,
@@ -1093,7 +1093,7 @@ fn command_line() -> String {
 
 fn run_compare(a: CompareArgs, out: &mut String) -> Result<()> {
     let c = &a.common;
-    let variant = |label: &str, rules: Rules, motifs: &[PathBuf]| Variant {
+    let variant = |label: &str, rules: RuleSet, motifs: &[PathBuf]| Variant {
         label: label.into(),
         family: "rules".into(),
         rules,
@@ -1103,9 +1103,9 @@ fn run_compare(a: CompareArgs, out: &mut String) -> Result<()> {
         realizations: c.realizations,
     };
     let variants = [
-        variant("paper base", Rules::Paper, &[]),
-        variant("sound base", Rules::Sound, &[]),
-        variant("sound + extended", Rules::Sound, &a.extended),
+        variant("paper base", RuleSet::Paper, &[]),
+        variant("sound base", RuleSet::Sound, &[]),
+        variant("sound + extended", RuleSet::Sound, &a.extended),
     ];
     let title = format!(
         "Rigidity threshold, gamma {}: paper base against sound base against sound + extended motifs",
@@ -1133,7 +1133,7 @@ fn run_tradeoff(a: TradeoffArgs, out: &mut String) -> Result<()> {
     let base = Variant {
         label: String::new(),
         family: String::new(),
-        rules: Rules::Sound,
+        rules: RuleSet::Sound,
         motifs: Vec::new(),
         runs: 1,
         method: Protocol::Nested,
