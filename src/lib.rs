@@ -1,8 +1,9 @@
 //! `rgc`: rigidity percolation in random 3-D rod systems.
 //!
-//! The modules form layers; each one uses only those listed before it
-//! (`src/ARCHITECTURE.md` draws the diagram and the data flow, and
-//! `src/MODEL.md` states the model that the `MODEL §n` references cite).
+//! The modules form layers: each one uses only modules declared before it
+//! here (a test checks it). `src/ARCHITECTURE.md` draws the diagram and the
+//! data flow, and `src/MODEL.md` states the model that the `MODEL §n`
+//! references cite.
 //!
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
@@ -26,9 +27,10 @@
 pub mod error;
 pub mod math;
 
+pub mod rods;
+
 pub mod contacts;
 pub mod graph;
-pub mod rods;
 
 pub mod body;
 pub mod spanning;

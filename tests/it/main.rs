@@ -8,6 +8,7 @@ mod enumerate;
 mod float;
 mod fss;
 mod graphio;
+mod layers;
 mod projection;
 mod rank;
 mod rigidity;
