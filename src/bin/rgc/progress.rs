@@ -43,7 +43,7 @@ impl Progress for Reporter {
                 let pb = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
                 pb.set_style(
                     ProgressStyle::with_template(
-                        "{msg} [{elapsed_precise}] {wide_bar} {percent}% (about {eta} left)",
+                        "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} {percent}% (about {eta} left)",
                     )
                     .expect("a valid template"),
                 );

@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use rgc::engine::CompiledRule;
-use rgc::progress::Progress;
 use rgc::threshold::variants::{self, Design, VariantOutcome};
 use rgc::{Error, Result, rule_file};
 
 use crate::args::VariantArgs;
+use crate::progress::Reporter;
 
 pub mod aspect_ratios;
 pub mod audit;
@@ -68,14 +68,13 @@ fn run_experiment(
 ) -> Result<Vec<VariantOutcome>> {
     let template = args.study.spec();
     template.validate()?;
-    let progress: &dyn Progress = &crate::progress::Reporter::new(args.quiet);
     let outcomes = variants::run_variants(
         &template,
         &design.variants,
         &args.studies,
         args.study.bootstrap,
         design.pairing,
-        progress,
+        &Reporter::new(args.quiet),
     )?;
     let dir = &args.results;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
