@@ -38,6 +38,7 @@ pub struct AspectRow {
 }
 
 impl AspectRow {
+    /// The threshold with its interval, as the fits and the chart take it.
     pub fn estimate(&self) -> Estimate {
         Estimate {
             value: self.threshold,
