@@ -2,7 +2,6 @@
 //! carry motifs to the engine: the base motifs written as rules, and the
 //! missed motifs the audit finds.
 
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
@@ -12,6 +11,7 @@ use crate::enumerate::{
     GraphFilter, TypedFilter, connected_small_graphs, count_connected, typed_patterns,
 };
 use crate::pattern::Pattern;
+use crate::progress::Progress;
 use crate::rigidity::check_exact;
 use crate::rule_file::{Provenance, Rule};
 use crate::{Error, Result};
@@ -27,6 +27,41 @@ pub fn compresses(engine: &Engine, pattern: &Pattern, runs: u64) -> Result<bool>
     Ok(false)
 }
 
+/// Checks, before an audit relies on the engine, that it compresses the base
+/// motifs' own examples as expected under both rule sets; returns how many
+/// examples there are, or an error naming the first that failed.
+pub fn self_check() -> Result<usize> {
+    let examples = crate::engine::examples::check_all(16);
+    match examples.iter().find(|r| !r.pass) {
+        Some(bad) => Err(Error::Parameter(format!(
+            "base motif example {:?} did not compress as expected",
+            bad.name
+        ))),
+        None => Ok(examples.len()),
+    }
+}
+
+/// The rows as a text table: a header of [`AuditRow::COLUMNS`] and one line
+/// per row, each column right-aligned to its name (at least 7 wide).
+pub fn table(rows: &[AuditRow]) -> String {
+    let width = |k: usize| AuditRow::COLUMNS[k].len().max(7);
+    let line = |cells: &[String]| -> String {
+        let mut text = cells
+            .iter()
+            .enumerate()
+            .map(|(k, c)| format!("{c:>w$}", w = width(k)))
+            .collect::<Vec<_>>()
+            .join(" ");
+        text.push('\n');
+        text
+    };
+    let mut text = line(&AuditRow::COLUMNS.map(String::from));
+    for r in rows {
+        text += &line(&r.cells());
+    }
+    text
+}
+
 /// What to audit.
 #[derive(Clone, Debug)]
 pub struct AuditOptions {
@@ -40,8 +75,6 @@ pub struct AuditOptions {
     pub runs: u64,
     /// Also audit every way a body's contacts can share its rods (mixed only).
     pub rod_sharing: bool,
-    /// Show progress bars.
-    pub progress: bool,
 }
 
 impl Default for AuditOptions {
@@ -52,7 +85,6 @@ impl Default for AuditOptions {
             rules: RuleSet::Sound,
             runs: 8,
             rod_sharing: false,
-            progress: true,
         }
     }
 }
@@ -109,33 +141,19 @@ struct Outcome {
     compressed: bool,
 }
 
-fn bar(len: u64, label: String, show: bool) -> ProgressBar {
-    if !show {
-        return ProgressBar::hidden();
-    }
-    let pb = ProgressBar::new(len);
-    pb.set_style(
-        ProgressStyle::with_template("{msg:>22} [{bar:30}] {pos}/{len} ({eta} left)")
-            .expect("a valid template")
-            .progress_chars("=> "),
-    );
-    pb.set_message(label);
-    pb
-}
-
 /// Checks candidates in parallel: exact verdict and whether the engine compresses each.
 fn outcomes(
     candidates: &[Pattern],
     engine: &Engine,
     runs: u64,
-    pb: &ProgressBar,
+    progress: &dyn Progress,
 ) -> Result<Vec<Outcome>> {
     candidates
         .par_iter()
         .map(|p| {
             let v = check_exact(p, crate::rule_file::RULE_SEED)?;
             let compressed = compresses(engine, p, runs)?;
-            pb.inc(1);
+            progress.advance(1);
             Ok(Outcome {
                 class: v.class,
                 compressed,
@@ -221,8 +239,8 @@ fn irreducible(
 const CHUNK: usize = 1 << 16;
 
 /// Audits rods-only motifs of 2 to `max_rods` rods and mixed motifs of 2 to
-/// `max_components` components against the engine.
-pub fn run(opts: &AuditOptions) -> Result<Audit> {
+/// `max_components` components against the engine, one progress stage per size.
+pub fn run(opts: &AuditOptions, progress: &dyn Progress) -> Result<Audit> {
     let mut audit = Audit::default();
     let base = Engine::base(opts.rules);
     let mut known: Vec<CompiledRule> = Vec::new();
@@ -239,14 +257,14 @@ pub fn run(opts: &AuditOptions) -> Result<Audit> {
         // there are 9 million, too many to hold as patterns.
         let graphs = connected_small_graphs(n, &GraphFilter::maxwell_rods(n).with_min_degree(2))?;
         row.maxwell = graphs.len() as u64;
-        let pb = bar(row.maxwell, format!("rods n={n}"), opts.progress);
+        progress.start(&format!("rods n={n}"), row.maxwell);
         let mut missed = Vec::new();
         for chunk in graphs.chunks(CHUNK) {
             let candidates: Vec<Pattern> = chunk
                 .iter()
                 .map(|g| Pattern::from_graph(&g.to_contact_graph()))
                 .collect::<Result<_>>()?;
-            let out = outcomes(&candidates, &base, opts.runs, &pb)?;
+            let out = outcomes(&candidates, &base, opts.runs, progress)?;
             missed.extend(tally(
                 &mut row,
                 &candidates,
@@ -255,7 +273,7 @@ pub fn run(opts: &AuditOptions) -> Result<Audit> {
             ));
         }
         row.missed = missed.len() as u64;
-        pb.finish_and_clear();
+        progress.finish();
         let enumeration = format!("connected rods-only graphs, n={n}, min degree 2, Maxwell");
         let rules = irreducible(&missed, opts, &known, &format!("rods-{n}"), &enumeration)?;
         row.irreducible = rules.len() as u64;
@@ -282,13 +300,9 @@ pub fn run(opts: &AuditOptions) -> Result<Audit> {
         };
         let candidates = typed_patterns(&filter(2, true))?;
         row.maxwell = candidates.len() as u64;
-        let pb = bar(
-            candidates.len() as u64,
-            format!("mixed k={k}"),
-            opts.progress,
-        );
-        let out = outcomes(&candidates, &base, opts.runs, &pb)?;
-        pb.finish_and_clear();
+        progress.start(&format!("mixed k={k}"), candidates.len() as u64);
+        let out = outcomes(&candidates, &base, opts.runs, progress)?;
+        progress.finish();
         let missed = tally(&mut row, &candidates, &out, &mut audit.false_rigidity);
         row.missed = missed.len() as u64;
         let enumeration = format!(

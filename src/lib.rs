@@ -6,6 +6,7 @@
 //! references cite.
 //!
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
+//! * [`progress`] — how long computations report progress to their caller;
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
 //! * [`contacts`] — which rods touch (cell list, robust segment distance);
 //! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
@@ -26,6 +27,7 @@
 
 pub mod error;
 pub mod math;
+pub mod progress;
 
 pub mod rods;
 

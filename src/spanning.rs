@@ -12,9 +12,8 @@ use crate::graph::ContactGraph;
 use crate::rods::RodSystem;
 
 /// Which definition of spanning to use.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Criterion {
     /// A cluster spans if it connects a rod to one of its own periodic images:

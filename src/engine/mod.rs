@@ -26,9 +26,8 @@ pub use matcher::CompiledRule;
 use state::State;
 
 /// Which motif conditions the engine applies (MODEL §5).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum RuleSet {
     /// The published conditions minus what exact rank refutes: two planar

@@ -4,11 +4,11 @@
 
 use std::path::{Path, PathBuf};
 
-use nalgebra::{DMatrix, DVector};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{Chart, Drawn, RHO, colour, error_bars, legend, log_ticks, render, show, span, tick};
+use crate::threshold::aspect::{PowerLaw, VexFit};
 use crate::threshold::fss::{self, BoxData, Estimate, Fss, Protocol};
 use crate::threshold::report::StudyReport;
 use crate::threshold::sequence::Kind;
@@ -389,10 +389,10 @@ impl Chart for Width<'_> {
 
 /// Draws thresholds against `1/V_ex` across aspect ratios, `points` as
 /// `(gamma, 1/V_ex, threshold)`, on log-log axes with the two fits of the
-/// paper's Fig. D: `rho_c = c / V_ex` (exponent fixed to 1) and the free
-/// power law `rho_c = A (1/V_ex)^m` (with two or more distinct `V_ex`).
+/// paper's Fig. D that [`crate::threshold::aspect::fit`] made of them.
 pub fn threshold_vs_vex(
     points: &[(f64, f64, Estimate)],
+    fit: &VexFit,
     title: &str,
     svg: &Path,
     png: &Path,
@@ -402,42 +402,13 @@ pub fn threshold_vs_vex(
             "no thresholds to plot against 1/V_ex".into(),
         ));
     }
-    if let Some(p) = points
-        .iter()
-        .find(|p| !(p.1 > 0.0 && p.2.value > 0.0 && p.1.is_finite() && p.2.value.is_finite()))
-    {
-        return Err(Error::Parameter(format!(
-            "threshold {} at 1/V_ex = {} (gamma {}) cannot go on log axes",
-            p.2.value, p.1, p.0
-        )));
-    }
-    let n = points.len();
-    let lx: Vec<f64> = points.iter().map(|p| p.1.ln()).collect();
-    let ly: Vec<f64> = points.iter().map(|p| p.2.value.ln()).collect();
-    let fixed = (ly.iter().zip(&lx).map(|(y, x)| y - x).sum::<f64>() / n as f64).exp();
-    let design = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { lx[i] });
-    let free = crate::math::stats::least_squares(&design, &DVector::from_vec(ly))
-        .map(|(b, r2, _)| (b[0].exp(), b[1], r2));
-    render(
-        &Vex {
-            title,
-            points,
-            fixed,
-            free,
-        },
-        SIZE,
-        svg,
-        png,
-    )
+    render(&Vex { title, points, fit }, SIZE, svg, png)
 }
 
 struct Vex<'a> {
     title: &'a str,
     points: &'a [(f64, f64, Estimate)],
-    /// `c` of `rho_c = c / V_ex`.
-    fixed: f64,
-    /// `(A, m, R²)` of `rho_c = A (1/V_ex)^m`.
-    free: Option<(f64, f64, f64)>,
+    fit: &'a VexFit,
 }
 
 impl Chart for Vex<'_> {
@@ -472,7 +443,7 @@ impl Chart for Vex<'_> {
             .draw()?;
         let ends = |f: &dyn Fn(f64) -> f64| vec![(x0, f(x0)), (x1, f(x1))];
         let black = BLACK.stroke_width(2);
-        let c = self.fixed;
+        let c = self.fit.fixed;
         chart
             .draw_series(DashedLineSeries::new(ends(&|x| c * x), 4, 6, black))?
             .label(format!("ρc = {c:.3} / V_ex (exponent fixed to 1)"))
@@ -481,7 +452,7 @@ impl Chart for Vex<'_> {
                     + PathElement::new(vec![(0, 0), (6, 0)], black)
                     + PathElement::new(vec![(12, 0), (18, 0)], black)
             });
-        if let Some((a, m, r2)) = self.free {
+        if let Some(PowerLaw { a, m, r2 }) = self.fit.free {
             let grey = RGBColor(128, 128, 128).stroke_width(3);
             chart
                 .draw_series(LineSeries::new(ends(&|x| a * x.powf(m)), grey))?

@@ -17,7 +17,8 @@ use crate::pattern::Pattern;
 use crate::{Error, Result};
 
 /// How a verdict was reached.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// Rank over F_p at exact realizations of every component; a most

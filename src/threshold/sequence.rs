@@ -15,9 +15,8 @@ use crate::spanning::{self, Criterion, SpanChecker};
 use crate::{Error, Result};
 
 /// Which spanning cluster defines the threshold.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
     /// A connected cluster of touching rods spans.

@@ -4,7 +4,6 @@
 //! resumes from its records; shards (`--shard i/n`) write their own record
 //! files, in one directory or several, and [`merge`] combines them exactly.
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -17,6 +16,7 @@ use std::time::Instant;
 use super::fss::Protocol;
 use super::sequence::{self, Kind, Record, Sequence, Setup};
 use crate::engine::{CompiledRule, Engine, RuleSet, run_seed};
+use crate::progress::Progress;
 use crate::rods::{RodParams, excluded_volume};
 use crate::rule_file::Rule;
 use crate::spanning::Criterion;
@@ -43,6 +43,36 @@ pub struct StudySpec {
     /// Densities of the fixed protocol's grid per box (ignored by `nested`).
     pub grid_points: usize,
     pub seed: u64,
+}
+
+impl StudySpec {
+    /// A study in the current format of the rigidity threshold under the
+    /// sound base motifs, one run per system, by the nested protocol (with
+    /// 12 grid points should it be switched to fixed): what `rgc threshold`
+    /// does by default, and what the variants of `compare` and `tradeoff`
+    /// start from. Change the fields that differ.
+    pub fn new(
+        gamma: f64,
+        boxes: Vec<f64>,
+        realizations: u64,
+        criterion: Criterion,
+        seed: u64,
+    ) -> StudySpec {
+        StudySpec {
+            format: STUDY_FORMAT.into(),
+            kind: Kind::Rigid,
+            gamma,
+            boxes,
+            realizations,
+            rules: RuleSet::Sound,
+            motifs: MotifSet::default(),
+            runs: 1,
+            criterion,
+            method: Protocol::Nested,
+            grid_points: 12,
+            seed,
+        }
+    }
 }
 
 /// The identity of a loaded rule set, independent of file names and order.
@@ -287,7 +317,6 @@ fn realize(
 pub struct RunOptions {
     pub out: PathBuf,
     pub shard: Shard,
-    pub progress: bool,
 }
 
 /// What [`run`] did.
@@ -304,7 +333,14 @@ pub struct RunReport {
 
 /// Runs the realizations of `shard` not yet recorded in `opts.out`, appending
 /// each record as it finishes (rayon over realizations, largest boxes first).
-pub fn run(spec: &StudySpec, rules: &[CompiledRule], opts: &RunOptions) -> Result<RunReport> {
+/// Progress is one stage counted in box volume (L³ per realization), which
+/// the work follows, so it runs evenly although the largest boxes come first.
+pub fn run(
+    spec: &StudySpec,
+    rules: &[CompiledRule],
+    opts: &RunOptions,
+    progress: &dyn Progress,
+) -> Result<RunReport> {
     let started = Instant::now();
     spec.validate()?;
     let dir = &opts.out;
@@ -340,25 +376,14 @@ pub fn run(spec: &StudySpec, rules: &[CompiledRule], opts: &RunOptions) -> Resul
     // Largest boxes first, so the last realizations to finish are short.
     todo.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let weight = |l: f64| (l.powi(3)).ceil() as u64;
-    let pb = if opts.progress {
-        ProgressBar::new(todo.iter().map(|t| weight(t.0)).sum())
-    } else {
-        ProgressBar::hidden()
-    };
-    if opts.progress {
-        pb.set_draw_target(ProgressDrawTarget::stderr());
-        pb.set_style(
-            ProgressStyle::with_template(
-                "{msg} [{elapsed_precise}] {wide_bar} {percent}% (about {eta} left)",
-            )
-            .expect("valid template"),
-        );
-        pb.set_message(format!(
-            "{} realizations, {} done before",
+    progress.start(
+        &format!(
+            "{} realizations, {} done before (counted by box volume)",
             todo.len(),
             resumed
-        ));
-    }
+        ),
+        todo.iter().map(|t| weight(t.0)).sum(),
+    );
     let path = dir.join(opts.shard.file_name());
     let writer = Mutex::new(open_for_append(&path)?);
     todo.par_iter()
@@ -373,11 +398,11 @@ pub fn run(spec: &StudySpec, rules: &[CompiledRule], opts: &RunOptions) -> Resul
             w.write_all(line.as_bytes())
                 .and_then(|_| w.flush())
                 .map_err(|e| Error::io(&path, e))?;
-            pb.inc(weight(l));
+            progress.advance(weight(l));
             Ok(())
         })
         .collect::<Result<()>>()?;
-    pb.finish_and_clear();
+    progress.finish();
     let total = spec.boxes.len() * spec.realizations as usize;
     let complete = read_records(dir, spec)?.len() == total;
     Ok(RunReport {

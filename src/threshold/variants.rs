@@ -13,6 +13,7 @@ use super::fss::{Estimate, Protocol};
 use super::report;
 use super::study::{self, MotifSet, RunOptions, Shard, StudySpec};
 use crate::engine::{CompiledRule, RuleSet};
+use crate::progress::Progress;
 use crate::rule_file;
 use crate::{Error, Result};
 
@@ -73,6 +74,106 @@ pub enum Pairing {
     Previous,
 }
 
+/// Variants to measure against each other, and which one each is paired with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Design {
+    pub variants: Vec<Variant>,
+    pub pairing: Pairing,
+}
+
+/// `rgc compare`: the paper's base motifs, the sound base motifs, and the
+/// sound ones with the `extended` rule files, each with `runs` runs per
+/// system on `realizations` per box; each is paired with the one before, so
+/// the chain shows what each step changes.
+pub fn compare_design(runs: usize, realizations: u64, extended: &[PathBuf]) -> Design {
+    let variant = |label: &str, rules: RuleSet, motifs: &[PathBuf]| Variant {
+        label: label.into(),
+        family: "rules".into(),
+        rules,
+        motifs: motifs.to_vec(),
+        runs,
+        method: Protocol::Nested,
+        realizations,
+    };
+    Design {
+        variants: vec![
+            variant("paper base", RuleSet::Paper, &[]),
+            variant("sound base", RuleSet::Sound, &[]),
+            variant("sound + extended", RuleSet::Sound, extended),
+        ],
+        pairing: Pairing::Previous,
+    }
+}
+
+/// `rgc tradeoff`: threshold and interval width against CPU time, each
+/// variant changing one thing of the sound base motifs, one run, nested,
+/// `realizations` per box, and paired with that first variant:
+/// * `runs`: each count of `runs_list`; more than 10 runs analyse half the
+///   realizations, which is where their cost puts them;
+/// * `motifs`: the audit's rule files in `rule_dir`, added size by size
+///   (`rods-6.json`, then `rods-8.json`, then `mixed-4.json`);
+/// * `realizations`: a quarter and a half of them;
+/// * `method`: the fixed protocol with 1 and 10 runs.
+pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) -> Design {
+    let r = realizations;
+    let base = Variant {
+        label: String::new(),
+        family: String::new(),
+        rules: RuleSet::Sound,
+        motifs: Vec::new(),
+        runs: 1,
+        method: Protocol::Nested,
+        realizations: r,
+    };
+    let mut variants = Vec::new();
+    for &k in runs_list {
+        variants.push(Variant {
+            label: format!("K={k}"),
+            family: "runs".into(),
+            runs: k,
+            realizations: if k > 10 { r / 2 } else { r },
+            ..base.clone()
+        });
+    }
+    let m = |f: &str| rule_dir.join(f);
+    for (label, files) in [
+        ("+rods<=6 (=<=7)", vec![m("rods-6.json")]),
+        ("+rods<=8", vec![m("rods-6.json"), m("rods-8.json")]),
+        (
+            "+rods<=8 +mixed<=4",
+            vec![m("rods-6.json"), m("rods-8.json"), m("mixed-4.json")],
+        ),
+    ] {
+        variants.push(Variant {
+            label: label.into(),
+            family: "motifs".into(),
+            motifs: files,
+            ..base.clone()
+        });
+    }
+    for n in [r / 4, r / 2] {
+        variants.push(Variant {
+            label: format!("R={n}"),
+            family: "realizations".into(),
+            realizations: n,
+            ..base.clone()
+        });
+    }
+    for k in [1, 10] {
+        variants.push(Variant {
+            label: format!("fixed K={k}"),
+            family: "method".into(),
+            runs: k,
+            method: Protocol::Fixed,
+            ..base.clone()
+        });
+    }
+    Design {
+        variants,
+        pairing: Pairing::First,
+    }
+}
+
 /// A study directory name from what determines its records.
 fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
     let motifs = if spec.motifs.rules == 0 {
@@ -99,7 +200,7 @@ pub fn run_variants(
     root: &Path,
     bootstrap: usize,
     pairing: Pairing,
-    progress: bool,
+    progress: &dyn Progress,
 ) -> Result<Vec<VariantOutcome>> {
     // One study per distinct record-determining spec, with as many
     // realizations as its most demanding variant analyses.
@@ -144,12 +245,9 @@ pub fn run_variants(
         let opts = RunOptions {
             out: study_dir(root, spec),
             shard: Shard::WHOLE,
-            progress,
         };
-        if progress {
-            eprintln!("study {}", opts.out.display());
-        }
-        study::run(spec, rules, &opts)?;
+        progress.note(&format!("study {}", opts.out.display()));
+        study::run(spec, rules, &opts, progress)?;
     }
     let mut outcomes: Vec<VariantOutcome> = Vec::new();
     let mut analysed: Vec<Vec<super::sequence::Record>> = Vec::new();

@@ -446,7 +446,8 @@ fn csv_and_charts_are_written() {
     ];
     let (svg, png) = (dir.join("vex.svg"), dir.join("vex.png"));
     let title = "Rigidity threshold against the inverse excluded volume";
-    rgc::plot::threshold_vs_vex(&points, title, &svg, &png).unwrap();
+    let fit = rgc::threshold::aspect::fit(&points).unwrap();
+    rgc::plot::threshold_vs_vex(&points, &fit, title, &svg, &png).unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.contains(title), "{text}");
     assert!(std::fs::read(&png).unwrap().len() > 10_000);

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use rgc::engine::{Engine, RuleSet};
+use rgc::progress::Silent;
 use rgc::spanning::Criterion;
 use rgc::threshold::fss::Protocol;
 use rgc::threshold::report;
@@ -37,13 +38,12 @@ fn run_in(spec: &StudySpec, dir: &Path, shard: Shard, threads: usize) -> study::
     let opts = RunOptions {
         out: dir.to_path_buf(),
         shard,
-        progress: false,
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap()
-        .install(|| study::run(spec, &[], &opts))
+        .install(|| study::run(spec, &[], &opts, &Silent))
         .unwrap()
 }
 
@@ -243,9 +243,8 @@ fn another_study_in_the_same_directory_is_refused() {
     let opts = RunOptions {
         out: dir.clone(),
         shard: Shard::WHOLE,
-        progress: false,
     };
-    let err = study::run(&b, &[], &opts).unwrap_err().to_string();
+    let err = study::run(&b, &[], &opts, &Silent).unwrap_err().to_string();
     assert!(
         err.contains("another study") && err.contains("runs 2 vs 3"),
         "{err}"
@@ -317,7 +316,7 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
         v("paper", RuleSet::Paper, 1, 12),
         v("sound K2", RuleSet::Sound, 2, 12),
     ];
-    let out = run_variants(&template, &variants, &root, 30, Pairing::First, false).unwrap();
+    let out = run_variants(&template, &variants, &root, 30, Pairing::First, &Silent).unwrap();
     assert_eq!(out.len(), 4);
     assert_eq!(out[0].relative_difference, 0.0);
     // The subset reads the first 8 realizations of the 12-realization study:
@@ -354,7 +353,7 @@ fn paired_differences_compare_the_same_sequences() {
         &root,
         20,
         Pairing::Previous,
-        false,
+        &Silent,
     )
     .unwrap();
     assert!(

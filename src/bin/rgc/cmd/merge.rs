@@ -1,0 +1,33 @@
+//! `rgc merge`: the shards of a threshold study combined and analysed.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use rgc::Result;
+use rgc::threshold::study;
+
+#[derive(Args)]
+pub struct MergeArgs {
+    /// Study directories holding the shards (one directory may hold them all).
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Where the merged records and the analysis go (default: the first directory).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Bootstrap resamples for the intervals.
+    #[arg(long, default_value_t = 200)]
+    bootstrap: usize,
+}
+
+pub fn run(a: MergeArgs, out: &mut String) -> Result<()> {
+    let dest = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
+    let (spec, records) = study::merge(&a.dirs, &dest)?;
+    say!(
+        out,
+        "Merged {} realizations from {} director{}.",
+        records.len(),
+        a.dirs.len(),
+        if a.dirs.len() == 1 { "y" } else { "ies" }
+    );
+    super::threshold::analyse(&dest, &spec, &records, a.bootstrap, out)
+}

@@ -1,0 +1,255 @@
+//! Thresholds across aspect ratios against the inverse excluded volume (the
+//! paper's Fig. D): finished studies side by side, and the two fits
+//! `rho_c = c / V_ex` (exponent fixed to 1, the excluded-volume argument)
+//! and the free power law `rho_c = A (1/V_ex)^m`, which says how far the
+//! rods are from that limit.
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::{DMatrix, DVector};
+use serde::{Serialize, Serializer};
+
+use super::fss::Estimate;
+use super::report::Summary;
+use super::sequence::Kind;
+use crate::{Error, Result};
+
+/// One finished study: a row of the CSV, in its column order.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AspectRow {
+    #[serde(serialize_with = "plain")]
+    pub gamma: f64,
+    /// `1 / V_ex`, per rod length cubed.
+    #[serde(serialize_with = "six")]
+    pub inv_vex: f64,
+    #[serde(serialize_with = "six")]
+    pub threshold: f64,
+    #[serde(serialize_with = "six_or_empty")]
+    pub threshold_lo: Option<f64>,
+    #[serde(serialize_with = "six_or_empty")]
+    pub threshold_hi: Option<f64>,
+    /// `rho_c V_ex`: the mean contact number at the threshold.
+    #[serde(serialize_with = "six")]
+    pub threshold_times_vex: f64,
+    #[serde(serialize_with = "six")]
+    pub nu: f64,
+    /// The study directory, as given.
+    pub study: String,
+}
+
+impl AspectRow {
+    /// The threshold with its interval, as the fits and the chart take it.
+    pub fn estimate(&self) -> Estimate {
+        Estimate {
+            value: self.threshold,
+            lo: self.threshold_lo,
+            hi: self.threshold_hi,
+        }
+    }
+}
+
+/// `rho_c = A (1/V_ex)^m`, fitted by least squares on the logarithms.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PowerLaw {
+    pub a: f64,
+    pub m: f64,
+    /// R² of the fit on the logarithms.
+    pub r2: f64,
+}
+
+/// The two fits of the threshold against `1/V_ex`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct VexFit {
+    /// `c` of `rho_c = c / V_ex`: the geometric mean of `rho_c V_ex`.
+    pub fixed: f64,
+    /// The free power law; absent with fewer than two distinct `V_ex`.
+    pub free: Option<PowerLaw>,
+}
+
+/// Finished studies of one kind at several aspect ratios, and their fits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AspectRatios {
+    pub kind: Kind,
+    pub rows: Vec<AspectRow>,
+    pub fit: VexFit,
+}
+
+impl AspectRatios {
+    /// The rows as `(gamma, 1/V_ex, threshold)`, as [`fit`] and the chart take them.
+    pub fn points(&self) -> Vec<(f64, f64, Estimate)> {
+        points(&self.rows)
+    }
+}
+
+fn points(rows: &[AspectRow]) -> Vec<(f64, f64, Estimate)> {
+    rows.iter()
+        .map(|r| (r.gamma, r.inv_vex, r.estimate()))
+        .collect()
+}
+
+/// Reads the `summary.json` of each study directory (all of one kind: a
+/// contact and a rigidity threshold do not go on one line) and fits them.
+pub fn read(studies: &[PathBuf]) -> Result<AspectRatios> {
+    let mut rows = Vec::new();
+    let mut kind = None;
+    for dir in studies {
+        let path = dir.join("summary.json");
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let s: Summary = serde_json::from_str(&text).map_err(|e| Error::Study {
+            path: path.clone(),
+            reason: format!("not a study summary: {e}"),
+        })?;
+        if kind.is_some_and(|k| k != s.study.kind) {
+            return Err(Error::Parameter(format!(
+                "{} is a {:?} study; the others are {:?}",
+                dir.display(),
+                s.study.kind,
+                kind.unwrap_or_default()
+            )));
+        }
+        kind = Some(s.study.kind);
+        let t = s.fss.threshold;
+        rows.push(AspectRow {
+            gamma: s.study.gamma,
+            inv_vex: 1.0 / s.excluded_volume,
+            threshold: t.value,
+            threshold_lo: t.lo,
+            threshold_hi: t.hi,
+            threshold_times_vex: s.threshold_times_vex,
+            nu: s.fss.nu.value,
+            study: dir.display().to_string(),
+        });
+    }
+    Ok(AspectRatios {
+        kind: kind.unwrap_or_default(),
+        fit: fit(&points(&rows))?,
+        rows,
+    })
+}
+
+/// Fits `points` as `(gamma, 1/V_ex, threshold)`: both must be positive and
+/// finite, since the fits live on log-log axes.
+pub fn fit(points: &[(f64, f64, Estimate)]) -> Result<VexFit> {
+    if points.is_empty() {
+        return Err(Error::Parameter(
+            "no thresholds to fit against 1/V_ex".into(),
+        ));
+    }
+    if let Some(p) = points
+        .iter()
+        .find(|p| !(p.1 > 0.0 && p.2.value > 0.0 && p.1.is_finite() && p.2.value.is_finite()))
+    {
+        return Err(Error::Parameter(format!(
+            "threshold {} at 1/V_ex = {} (gamma {}) cannot go on log axes",
+            p.2.value, p.1, p.0
+        )));
+    }
+    let n = points.len();
+    let lx: Vec<f64> = points.iter().map(|p| p.1.ln()).collect();
+    let ly: Vec<f64> = points.iter().map(|p| p.2.value.ln()).collect();
+    let fixed = (ly.iter().zip(&lx).map(|(y, x)| y - x).sum::<f64>() / n as f64).exp();
+    let design = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { lx[i] });
+    let free =
+        crate::math::stats::least_squares(&design, &DVector::from_vec(ly)).map(|(b, r2, _)| {
+            PowerLaw {
+                a: b[0].exp(),
+                m: b[1],
+                r2,
+            }
+        });
+    Ok(VexFit { fixed, free })
+}
+
+/// Writes the rows as CSV with a header (fields quoted where they need it).
+pub fn write_csv(path: &Path, rows: &[AspectRow]) -> Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r).map_err(|e| Error::io(path, e.into()))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| Error::io(path, e.into_error()))?;
+    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+}
+
+/// Six decimals, as the other tables of `results/` print their densities.
+fn six<S: Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(&format!("{x:.6}"))
+}
+
+fn six_or_empty<S: Serializer>(x: &Option<f64>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(&x.map_or(String::new(), |v| format!("{v:.6}")))
+}
+
+/// As written on the command line (`23`, not `23.0`).
+fn plain<S: Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(&x.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(inv_vex: f64, value: f64) -> (f64, f64, Estimate) {
+        let e = Estimate {
+            value,
+            lo: None,
+            hi: None,
+        };
+        (1.0, inv_vex, e)
+    }
+
+    #[test]
+    fn an_exact_power_law_is_recovered() {
+        let points: Vec<_> = [0.5, 1.0, 4.0]
+            .iter()
+            .map(|&x: &f64| at(x, 3.0 * x.powf(0.9)))
+            .collect();
+        let f = fit(&points).unwrap();
+        let p = f.free.unwrap();
+        assert!(
+            (p.a - 3.0).abs() < 1e-9 && (p.m - 0.9).abs() < 1e-9,
+            "{p:?}"
+        );
+        assert!((p.r2 - 1.0).abs() < 1e-12);
+        // The fixed exponent's c is the geometric mean of rho_c V_ex.
+        let c = points
+            .iter()
+            .map(|p| (p.2.value / p.1).ln())
+            .sum::<f64>()
+            .exp()
+            .powf(1.0 / 3.0);
+        assert!((f.fixed - c).abs() < 1e-12);
+    }
+
+    #[test]
+    fn one_aspect_ratio_has_no_free_fit_and_bad_points_are_named() {
+        assert!(fit(&[at(0.2, 10.0)]).unwrap().free.is_none());
+        let err = fit(&[at(0.2, 10.0), at(0.0, 5.0)]).unwrap_err();
+        assert!(err.to_string().contains("cannot go on log axes"), "{err}");
+        assert!(fit(&[]).is_err());
+    }
+
+    #[test]
+    fn study_paths_with_commas_are_quoted() {
+        let row = AspectRow {
+            gamma: 23.0,
+            inv_vex: 0.5,
+            threshold: 19.25,
+            threshold_lo: None,
+            threshold_hi: Some(20.0),
+            threshold_times_vex: 1.5,
+            nu: 0.9,
+            study: "runs/a,b".into(),
+        };
+        let path = std::env::temp_dir().join(format!("rgc-aspect-{}.csv", std::process::id()));
+        write_csv(&path, &[row]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(
+            text,
+            "gamma,inv_vex,threshold,threshold_lo,threshold_hi,threshold_times_vex,nu,study\n\
+             23,0.500000,19.250000,,20.000000,1.500000,0.900000,\"runs/a,b\"\n"
+        );
+    }
+}
