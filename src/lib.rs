@@ -5,6 +5,7 @@
 //! `src/MODEL.md` states the model that the `MODEL §n` references cite).
 //!
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
+//! * [`output`] — files written atomically, writable paths checked up front, CSV;
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
 //! * [`contacts`] — which rods touch (cell list, robust segment distance);
 //! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
@@ -25,6 +26,7 @@
 
 pub mod error;
 pub mod math;
+pub mod output;
 
 pub mod contacts;
 pub mod graph;
