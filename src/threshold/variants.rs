@@ -324,8 +324,11 @@ fn interval(lo: Option<f64>, hi: Option<f64>) -> String {
     }
 }
 
-/// The Markdown table's columns: heading and cell, from a [`Row`].
-const MARKDOWN: [(&str, fn(&Row) -> String); 14] = [
+/// A Markdown column: its heading and how a [`Row`] fills its cell.
+type Column = (&'static str, fn(&Row) -> String);
+
+/// The Markdown table's columns.
+const MARKDOWN: [Column; 14] = [
     ("variant", |r| r.label.to_string()),
     ("rules", |r| format!("{:?}", r.rules)),
     ("motifs", |r| r.motif_rules.to_string()),
