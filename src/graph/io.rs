@@ -137,6 +137,20 @@ pub fn read_graph6_file(path: &Path) -> Result<Vec<ContactGraph>> {
     Ok(graphs)
 }
 
+/// Writes graphs as a graph6 file, one per line (what [`read_graph6_file`]
+/// and nauty read), atomically.
+pub fn save_graph6_file<'a>(
+    graphs: impl IntoIterator<Item = &'a ContactGraph>,
+    path: &Path,
+) -> Result<()> {
+    let mut text = String::new();
+    for g in graphs {
+        text += &to_graph6(g);
+        text.push('\n');
+    }
+    output::write_atomic(path, text)
+}
+
 /// Parses a contact edge list held in memory; `path` only labels error
 /// messages. See [`read_edge_list_from`] for the format.
 pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
@@ -529,6 +543,18 @@ mod tests {
         assert!(edges(format!("{limit} 0\n").as_bytes()).is_err());
         let g = edges(b"# nodes 1000000\n999999 0\n").unwrap();
         assert_eq!((g.n_nodes(), g.n_edges()), (1_000_000, 1));
+    }
+
+    #[test]
+    fn saved_graph6_files_read_back() {
+        let graphs = [
+            ContactGraph::new(3, vec![[0, 1], [1, 2]]).unwrap(),
+            ContactGraph::new(70, vec![[0, 69]]).unwrap(),
+        ];
+        let path = std::env::temp_dir().join(format!("rgc-io-{}.g6", std::process::id()));
+        save_graph6_file(&graphs, &path).unwrap();
+        assert_eq!(read_graph6_file(&path).unwrap(), graphs);
+        std::fs::remove_file(path).unwrap();
     }
 
     #[test]
