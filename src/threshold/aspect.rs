@@ -162,14 +162,7 @@ pub fn fit(points: &[(f64, f64, Estimate)]) -> Result<VexFit> {
 
 /// Writes the rows as CSV with a header (fields quoted where they need it).
 pub fn write_csv(path: &Path, rows: &[AspectRow]) -> Result<()> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in rows {
-        w.serialize(r).map_err(|e| Error::io(path, e.into()))?;
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| Error::io(path, e.into_error()))?;
-    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+    crate::output::write_csv(path, rows)
 }
 
 /// Six decimals, as the other tables of `results/` print their densities.
