@@ -76,8 +76,7 @@ fn sample_json_has_the_contract_fields() {
 
 #[test]
 fn sample_is_reproducible_and_saves_its_contacts() {
-    let dir = std::env::temp_dir().join(format!("rgc-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::scratch("cli-sample-saves");
     let path = dir.join("contacts.txt");
     let bodies_path = dir.join("bodies.json");
     let args = |p: &str| {
@@ -131,16 +130,55 @@ fn sample_is_reproducible_and_saves_its_contacts() {
         runs_spanning > 0,
         "the reported run is a spanning one when any is"
     );
-    // The saved graph compresses the same way through `rgc compress`.
+    // The saved graph compresses the same way through `rgc compress`: with
+    // the sample's seed and runs, every run ends with the same number of
+    // nodes as on the sample's own graph, and the reported runs' bodies are
+    // the same rods with the same classes.
     let c = json(&[
         "compress",
         "--edges",
         path.to_str().unwrap(),
         "--json",
+        "--seed",
+        "9",
         "--runs",
-        "1",
+        "3",
+        "--rules",
+        "paper",
     ]);
     assert_eq!(c["nodes"], first["n_rods"]);
+    assert_eq!(c["contacts"], first["n_contacts"]);
+    let own = rgc::sample::sample(&rgc::sample::SampleOptions {
+        params: rgc::rods::RodParams::new(10.0, 4.0, 12.0).unwrap(),
+        seed: 9,
+        runs: 3,
+        rules: rgc::engine::RuleSet::Paper,
+        criterion: rgc::spanning::Criterion::Faces,
+    });
+    let per_run: Vec<usize> = own.runs.iter().map(|r| r.components).collect();
+    assert_eq!(c["components_per_run"], serde_json::json!(per_run));
+    let k = first["reported_run"].as_u64().unwrap() as usize;
+    assert_eq!(first["components"], serde_json::json!(per_run[k]));
+    let best = c["reported_run"].as_u64().unwrap() as usize;
+    let body_list = |bodies: &[rgc::body::Body]| -> Value {
+        bodies
+            .iter()
+            .map(|b| serde_json::json!({ "rods": b.rods, "class": b.class }))
+            .collect()
+    };
+    let strip = |list: &Value| -> Value {
+        list.as_array()
+            .unwrap()
+            .iter()
+            .map(|b| serde_json::json!({ "rods": b["rods"], "class": b["class"] }))
+            .collect()
+    };
+    assert_eq!(strip(&c["bodies"]), body_list(&own.runs[best].bodies));
+    assert_eq!(strip(&bodies["bodies"]), body_list(&own.runs[k].bodies));
+    assert!(
+        own.runs.iter().any(|r| !r.bodies.is_empty()),
+        "a graph with bodies, so that the comparison says something"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -218,8 +256,7 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
     );
     fails(&["compress"], "required");
     fails(&["compress", "--graph6", "A_", "--runs", "0"], "--runs");
-    let dir = std::env::temp_dir().join(format!("rgc-cli-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::scratch("cli-bad-input");
     let bad = dir.join("bad.txt");
     std::fs::write(&bad, "0 1\n1 x\n").unwrap();
     fails(&["compress", "--edges", bad.to_str().unwrap()], "line 2");
@@ -228,29 +265,47 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-#[test]
-fn audit_writes_its_tables_and_rule_files() {
-    let dir = std::env::temp_dir().join(format!("rgc-cli-audit-{}", std::process::id()));
+/// A CSV table without its last column (`seconds` in the audit tables,
+/// which no run repeats).
+fn without_last_column(table: &str) -> Vec<String> {
+    table
+        .lines()
+        .map(|l| l.rsplit_once(',').map_or(l, |(head, _)| head).to_string())
+        .collect()
+}
+
+/// The committed table of `results/`, without timings.
+fn committed(name: &str) -> Vec<String> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("results")
+        .join(name);
+    without_last_column(&std::fs::read_to_string(path).unwrap())
+}
+
+/// Runs `rgc audit` with tables and rule files in `dir`.
+fn audit_into(dir: &std::path::Path, extra: &[&str], threads: Option<&str>) -> String {
     let d = dir.to_str().unwrap();
-    let out = rgc(&[
-        "audit",
-        "--max-rods",
-        "6",
-        "--max-components",
-        "3",
-        "--results",
-        d,
-        "--motifs",
-        d,
-    ]);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_rgc"));
+    cmd.args(["audit", "--results", d, "--motifs", d])
+        .args(extra);
+    if let Some(t) = threads {
+        cmd.env("RAYON_NUM_THREADS", t);
+    }
+    let out = cmd.output().expect("the binary runs");
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let text = String::from_utf8_lossy(&out.stdout);
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn audit_writes_its_tables_and_rule_files() {
+    let dir = crate::scratch("cli-audit");
+    let text = audit_into(&dir, &["--max-rods", "7", "--max-components", "3"], None);
     assert!(
-        text.contains("base motif examples compress as expected"),
+        text.contains("27 base motif examples compress as expected"),
         "{text}"
     );
     assert!(
@@ -258,34 +313,42 @@ fn audit_writes_its_tables_and_rule_files() {
         "{text}"
     );
     let rods = std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap();
-    let lines: Vec<&str> = rods.lines().collect();
-    assert_eq!(lines.len(), 6, "header and sizes 2..=6: {rods}");
-    // Connected graphs on 6 nodes: 112; with minimum degree 2: 61.
-    assert!(lines[5].starts_with("rods,6,112,61,"), "{}", lines[5]);
+    let rows = without_last_column(&rods);
+    assert_eq!(rows.len(), 7, "header and sizes 2..=7: {rods}");
+    // Six rods: 112 connected graphs, 61 with minimum degree 2 (geng), 55 of
+    // them Maxwell; 45 rigid, 2 component-dependent (the prism, K_{3,3}), 8
+    // flexible; the engine compresses 44, misses 1 rigid motif (irreducible)
+    // and compresses nothing falsely.
+    assert_eq!(rows[5], "rods,6,112,61,55,45,2,8,0,44,1,1,0");
+    // Seven rods: the engine falsely compresses 2 patterns under `sound`
+    // (K_{3,4} is one of them).
+    let seven: Vec<&str> = rows[6].split(',').collect();
+    assert_eq!(seven[..4], ["rods", "7", "853", "507"]);
+    assert_eq!(seven[12], "2", "{}", rows[6]);
+    // The same numbers as the committed audit (sizes 2 to 7 of rods, 2 and 3
+    // components of mixed motifs).
+    assert_eq!(rows, committed("audit-rods.csv")[..7]);
     let mixed = std::fs::read_to_string(dir.join("audit-mixed.csv")).unwrap();
-    assert_eq!(mixed.lines().count(), 3);
-    // The irreducible missed motifs of six rods are written as rules that load.
-    let irreducible: usize = lines[5].split(',').nth(11).unwrap().parse().unwrap();
-    assert!(
-        irreducible >= 1,
-        "the base motifs miss rigid six-rod motifs: {}",
-        lines[5]
+    assert_eq!(
+        without_last_column(&mixed),
+        committed("audit-mixed.csv")[..3]
     );
+    // The irreducible missed motif of six rods is written as a rule that
+    // loads (re-verified by exact rank), and is the committed one.
     let rules = rgc::rule_file::load_rules(&[dir.join("rods-6.json")]).unwrap();
-    assert_eq!(rules.len(), irreducible);
+    assert_eq!(rules.len(), 1);
+    let committed_rules =
+        rgc::rule_file::load_rules(&[
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs/rods-6.json")
+        ])
+        .unwrap();
+    assert_eq!(rules[0].canonical, committed_rules[0].canonical);
+    assert!(
+        !dir.join("rods-7.json").exists(),
+        "nothing irreducible at seven rods"
+    );
     // A rods-only rerun rewrites the rods table and keeps the mixed one.
-    let out = rgc(&[
-        "audit",
-        "--max-rods",
-        "4",
-        "--max-components",
-        "0",
-        "--results",
-        d,
-        "--motifs",
-        d,
-    ]);
-    assert!(out.status.success());
+    audit_into(&dir, &["--max-rods", "4", "--max-components", "0"], None);
     let rods = std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap();
     assert_eq!(rods.lines().count(), 4, "header and sizes 2..=4: {rods}");
     assert_eq!(
@@ -293,6 +356,44 @@ fn audit_writes_its_tables_and_rule_files() {
         mixed
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn audit_results_do_not_depend_on_the_thread_count() {
+    let args = ["--max-rods", "7", "--max-components", "3"];
+    let (one, two) = (
+        crate::scratch("cli-audit-1-thread"),
+        crate::scratch("cli-audit-2-threads"),
+    );
+    audit_into(&one, &args, Some("1"));
+    audit_into(&two, &args, Some("2"));
+    for table in ["audit-rods.csv", "audit-mixed.csv"] {
+        let read = |d: &std::path::Path| {
+            without_last_column(&std::fs::read_to_string(d.join(table)).unwrap())
+        };
+        assert_eq!(read(&one), read(&two), "{table}");
+    }
+    let files = |d: &std::path::Path| {
+        let mut names: Vec<_> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|n| n.to_string_lossy().ends_with(".json"))
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(files(&one), files(&two));
+    assert!(!files(&one).is_empty());
+    for name in files(&one) {
+        assert_eq!(
+            std::fs::read(one.join(&name)).unwrap(),
+            std::fs::read(two.join(&name)).unwrap(),
+            "{name:?}"
+        );
+    }
+    for d in [one, two] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
 }
 
 /// A small threshold study's arguments, with some options replaced or added.
@@ -318,8 +419,7 @@ fn threshold_args<'a>(out: &'a str, changes: &[(&'a str, &'a str)]) -> Vec<&'a s
 
 #[test]
 fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
-    let base = std::env::temp_dir().join(format!("rgc-cli-kill-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&base);
+    let base = crate::scratch("cli-threshold-kill");
     let (whole, killed) = (base.join("whole"), base.join("killed"));
     let (w, k) = (whole.to_str().unwrap(), killed.to_str().unwrap());
     let out = rgc(&threshold_args(w, &[]));
@@ -330,10 +430,15 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
+        text.contains("120 realizations run in") && text.contains("(0 found done)"),
+        "{text}"
+    );
+    assert!(
         text.contains("threshold rho_c = ") && text.contains("nu = "),
         "{text}"
     );
 
+    // Killed as soon as its first record is on disk, with 119 realizations to go.
     let mut child = Command::new(env!("CARGO_BIN_EXE_rgc"))
         .args(threshold_args(k, &[]))
         .stdout(std::process::Stdio::null())
@@ -341,13 +446,33 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
         .unwrap();
     let records = killed.join("records.jsonl");
     let started = std::time::Instant::now();
-    while std::fs::read_to_string(&records).map_or(0, |t| t.lines().count()) < 5 {
+    while !std::fs::read_to_string(&records).is_ok_and(|t| t.contains('\n')) {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the study ended before its first record was seen"
+        );
         assert!(started.elapsed().as_secs() < 120, "no records appear");
-        std::thread::sleep(std::time::Duration::from_millis(5));
+        std::thread::sleep(std::time::Duration::from_millis(1));
     }
     child.kill().unwrap();
-    child.wait().unwrap();
-    let before = std::fs::read_to_string(&records).unwrap().lines().count();
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "the study finished before it was killed");
+    // Complete lines only: a line cut by the kill is not a record.
+    let before = std::fs::read_to_string(&records)
+        .unwrap()
+        .matches('\n')
+        .count();
+    assert!(
+        (1..120).contains(&before),
+        "{before} records before the kill"
+    );
+    assert!(
+        !killed.join("summary.json").exists(),
+        "a killed study is not analysed"
+    );
+
+    // The same command resumes: it finds the records of before the kill and
+    // runs only the rest.
     let out = rgc(&threshold_args(k, &[]));
     assert!(
         out.status.success(),
@@ -356,8 +481,9 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains(&format!("({before} found done)")) || before == 120,
-        "{text}"
+        text.contains(&format!("{} realizations run in", 120 - before))
+            && text.contains(&format!("({before} found done)")),
+        "{before} records before the kill: {text}"
     );
     let read = |d: &std::path::Path| std::fs::read_to_string(d.join("summary.json")).unwrap();
     assert_eq!(read(&whole), read(&killed));
@@ -373,7 +499,7 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
 
 #[test]
 fn threshold_rejects_bad_parameters() {
-    let dir = std::env::temp_dir().join(format!("rgc-cli-bad-{}", std::process::id()));
+    let dir = crate::scratch("cli-threshold-bad");
     let d = dir.to_str().unwrap();
     fails(&threshold_args(d, &[("--shard", "3/2")]), "shard \"3/2\"");
     fails(
@@ -406,8 +532,7 @@ fn threshold_rejects_bad_parameters() {
 
 #[test]
 fn aspect_ratios_chart_thresholds_of_finished_studies() {
-    let base = std::env::temp_dir().join(format!("rgc-cli-aspect-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&base);
+    let base = crate::scratch("cli-aspect-ratios");
     let dirs: Vec<String> = ["g10", "g20", "rigid"]
         .iter()
         .map(|d| base.join(d).to_str().unwrap().to_string())
@@ -481,4 +606,414 @@ fn bench_reports_rank_throughput() {
         "{text}"
     );
     fails(&["bench", "--rank", "2"], "throughput needs 3 to");
+}
+
+/// A file of the repository, read-only.
+fn repo(path: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// Runs a command that must succeed and returns its stdout.
+fn stdout_of(args: &[&str]) -> String {
+    let out = rgc(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn check_gives_the_exact_verdicts_of_known_motifs() {
+    // K_{2,4} of rods (3D6): rigid on its one component.
+    let v = json(&["check", "--graph6", "E]r?", "--json"]);
+    assert_eq!(
+        (&v["class"], &v["dof"], &v["rigid"]),
+        (&"rigid".into(), &0.into(), &true.into())
+    );
+    // The rod prism: rigid only when all six rods share a plane.
+    let prism = json(&["check", "--graph6", "E{Sw", "--json"]);
+    assert_eq!(prism["class"], "component-dependent");
+    assert_eq!(prism["dof"], 1);
+    assert_eq!(prism["rigid"], false);
+    let dofs: Vec<u64> = prism["components"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["component"] == true)
+        .map(|c| c["dof"].as_u64().unwrap())
+        .collect();
+    assert!(dofs.contains(&0) && dofs.contains(&1), "{prism}");
+    // A 4-cycle of rods flexes.
+    let cycle = json(&["check", "--graph6", "Cl", "--json"]);
+    assert_eq!(
+        (&cycle["class"], &cycle["rigid"]),
+        (&"flexible".into(), &false.into())
+    );
+    // Floats agree with the exact verdict away from special positions.
+    let svd = json(&["check", "--graph6", "E{Sw", "--method", "svd", "--json"]);
+    assert_eq!(
+        (&svd["class"], &svd["dof"]),
+        (&prism["class"], &prism["dof"])
+    );
+    assert_eq!(svd["method"], "svd");
+    // Every rule of a rule file, as a list: all rigid (they were verified
+    // when written, and are again now).
+    let rules = json(&[
+        "check",
+        "--motif",
+        repo("motifs/rods-8.json").to_str().unwrap(),
+        "--json",
+    ]);
+    let list = rules.as_array().unwrap();
+    assert_eq!(list.len(), 13);
+    assert!(list.iter().all(|v| v["class"] == "rigid" && v["dof"] == 0));
+    // The summary names the pattern, its class and DOF, one line per component.
+    let text = stdout_of(&["check", "--graph6", "E{Sw"]);
+    let first = text.lines().next().unwrap();
+    assert!(
+        first.starts_with("E{Sw: component-dependent (DOF 1, rank "),
+        "{text}"
+    );
+    assert_eq!(
+        text.lines().count(),
+        1 + prism["components"].as_array().unwrap().len(),
+        "{text}"
+    );
+    fails(
+        &["check", "--graph6", "E{Sw", "--method", "lu"],
+        "invalid value",
+    );
+}
+
+#[test]
+fn rules_writes_the_committed_base_rules() {
+    let dir = crate::scratch("cli-rules");
+    let path = dir.join("base.json");
+    let text = stdout_of(&["rules", "--out", path.to_str().unwrap()]);
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        std::fs::read(repo("motifs/base.json")).unwrap(),
+        "the base rules differ from motifs/base.json"
+    );
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        format!(
+            "59 base motif rules written to {}; 3 variants the published conditions accept are refuted by exact rank:",
+            path.display()
+        )
+    );
+    // The refuted variants: 3D2A between two planar bodies, whatever rods
+    // the contacts share (a hinge on the planes' common line).
+    assert_eq!(lines.len(), 4, "{text}");
+    for l in &lines[1..] {
+        assert!(
+            l.starts_with(
+                "  3D2A component-dependent (DOF Some(1)): {\"kinds\":[\"planar\",\"planar\"]"
+            ),
+            "{l}"
+        );
+    }
+    // The committed record of the same command says the same.
+    let committed = std::fs::read_to_string(repo("results/base-rules.txt")).unwrap();
+    assert_eq!(
+        text.replace(path.to_str().unwrap(), "motifs/base.json"),
+        committed
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn enumerate_lists_the_graphs_geng_lists() {
+    let canonical = |text: &str| -> std::collections::BTreeSet<String> {
+        text.lines()
+            .map(|l| rgc::enumerate::canonical_graph6(&rgc::graph::io::parse_graph6(l).unwrap()))
+            .collect()
+    };
+    let out = stdout_of(&[
+        "enumerate",
+        "--nodes",
+        "7",
+        "--min-degree",
+        "2",
+        "--maxwell",
+    ]);
+    assert_eq!(out.lines().count(), 467);
+    let geng = std::fs::read_to_string(repo("graphs/maxwell-mindeg2-n7.g6")).unwrap();
+    assert_eq!(canonical(&out), canonical(&geng));
+    for (args, count) in [
+        (vec!["--nodes", "6"], "112"),
+        (vec!["--nodes", "7"], "853"),
+        (vec!["--nodes", "6", "--min-degree", "2"], "61"),
+        (vec!["--nodes", "5", "--min-degree", "2", "--maxwell"], "7"),
+        (vec!["--nodes", "6", "--min-edges", "14"], "2"),
+        (vec!["--nodes", "6", "--max-edges", "5"], "6"),
+    ] {
+        let mut a = vec!["enumerate", "--count"];
+        a.extend(args.iter().copied());
+        assert_eq!(stdout_of(&a).trim(), count, "{a:?}");
+    }
+    fails(&["enumerate", "--nodes", "13"], "13");
+}
+
+/// Records of a study directory by (box, seed): their critical number of rods.
+fn criticals(dir: &str) -> std::collections::BTreeMap<(u64, u64), (f64, u64)> {
+    std::fs::read_to_string(std::path::Path::new(dir).join("records.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let r: Value = serde_json::from_str(l).unwrap();
+            let l = r["box"].as_f64().unwrap();
+            (
+                (l.to_bits(), r["seed"].as_u64().unwrap()),
+                (l, r["rigid_critical"].as_u64().unwrap()),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn compare_runs_the_three_rule_sets_on_the_same_rods() {
+    let dir = crate::scratch("cli-compare");
+    let (studies, results) = (dir.join("studies"), dir.join("results"));
+    let text = stdout_of(&[
+        "compare",
+        "--gamma",
+        "5",
+        "--boxes",
+        "2.5,3,3.5",
+        "--realizations",
+        "12",
+        "--bootstrap",
+        "20",
+        "--extended",
+        repo("motifs/rods-6.json").to_str().unwrap(),
+        "--studies",
+        studies.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        text.starts_with("# Rigidity threshold, gamma 5: paper base against sound base against sound + extended motifs"),
+        "{text}"
+    );
+    let md = std::fs::read_to_string(results.join("compare-base-extended.md")).unwrap();
+    assert_eq!(text.trim_end(), md.trim_end());
+    let report: Value = serde_json::from_str(
+        &std::fs::read_to_string(results.join("compare-base-extended.json")).unwrap(),
+    )
+    .unwrap();
+    let v = report["variants"].as_array().unwrap();
+    let field = |k: &str| v.iter().map(|x| x[k].clone()).collect::<Vec<_>>();
+    assert_eq!(
+        field("label"),
+        ["paper base", "sound base", "sound + extended"].map(Value::from)
+    );
+    assert_eq!(field("rules"), ["paper", "sound", "sound"].map(Value::from));
+    assert_eq!(field("motif_rules"), [0, 0, 1].map(Value::from));
+    assert_eq!(field("realizations"), [12, 12, 12].map(Value::from));
+    // Three studies of 36 realizations each, on the same rod sequences.
+    assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 3);
+    let runs: Vec<_> = v
+        .iter()
+        .map(|x| criticals(x["study"].as_str().unwrap()))
+        .collect();
+    for r in &runs {
+        assert_eq!(r.len(), 36);
+        assert!(r.keys().eq(runs[0].keys()), "the same sequences");
+    }
+    // Thresholds relative to the first variant, and paired differences of
+    // each sequence's critical density to the variant before, recomputed
+    // from the records.
+    let t0 = v[0]["threshold"]["value"].as_f64().unwrap();
+    for (k, x) in v.iter().enumerate() {
+        let t = x["threshold"]["value"].as_f64().unwrap();
+        assert!((x["relative_difference"].as_f64().unwrap() - (t - t0) / t0).abs() < 1e-12);
+        if k == 0 {
+            assert!(x["paired_difference"].is_null());
+            continue;
+        }
+        assert_eq!(x["paired_with"], v[k - 1]["label"]);
+        let diffs: Vec<f64> = runs[k]
+            .iter()
+            .map(|(key, &(l, n))| (n as f64 - runs[k - 1][key].1 as f64) / l.powi(3))
+            .collect();
+        let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+        let paired = x["paired_difference"]["value"].as_f64().unwrap();
+        assert!((paired - mean).abs() < 1e-12, "{paired} vs {mean}");
+    }
+    // The CSV holds the same numbers, one line per variant.
+    let csv = std::fs::read_to_string(results.join("compare-base-extended.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 4);
+    assert!(
+        lines[0].starts_with("label,family,rules,motif_rules,runs,method,realizations,threshold,")
+    );
+    for (line, x) in lines[1..].iter().zip(v) {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells[0], x["label"].as_str().unwrap());
+        let t: f64 = cells[7].parse().unwrap();
+        assert!((t - x["threshold"]["value"].as_f64().unwrap()).abs() < 1e-6);
+    }
+    let svg = std::fs::read_to_string(results.join("compare-base-extended.svg")).unwrap();
+    assert!(svg.contains("sound + extended"));
+    let png = std::fs::read(results.join("compare-base-extended.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn tradeoff_measures_every_family_of_variants() {
+    let dir = crate::scratch("cli-tradeoff");
+    // Small rule files under the names the trade-off reads: the committed
+    // six-rod rule, and two rules each of the larger sets.
+    let motifs = dir.join("motifs");
+    std::fs::create_dir_all(&motifs).unwrap();
+    for (name, keep) in [("rods-6", 1), ("rods-8", 2), ("mixed-4", 2)] {
+        let file = repo(&format!("motifs/{name}.json"));
+        let mut f: Value = serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+        f["rules"].as_array_mut().unwrap().truncate(keep);
+        std::fs::write(motifs.join(format!("{name}.json")), f.to_string()).unwrap();
+    }
+    let (studies, results) = (dir.join("studies"), dir.join("results"));
+    let text = stdout_of(&[
+        "tradeoff",
+        "--gamma",
+        "5",
+        "--boxes",
+        "2.5,3,3.5",
+        "--realizations",
+        "20",
+        "--bootstrap",
+        "20",
+        "--runs-list",
+        "1,2",
+        "--motifs-dir",
+        motifs.to_str().unwrap(),
+        "--studies",
+        studies.to_str().unwrap(),
+        "--results",
+        results.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        text.starts_with("# Speed against accuracy, rigidity threshold, gamma 5"),
+        "{text}"
+    );
+    let report: Value = serde_json::from_str(
+        &std::fs::read_to_string(results.join("speed-accuracy.json")).unwrap(),
+    )
+    .unwrap();
+    let v = report["variants"].as_array().unwrap();
+    let field = |k: &str| v.iter().map(|x| x[k].clone()).collect::<Vec<_>>();
+    assert_eq!(
+        field("label"),
+        [
+            "K=1",
+            "K=2",
+            "+rods<=6 (=<=7)",
+            "+rods<=8",
+            "+rods<=8 +mixed<=4",
+            "R=5",
+            "R=10",
+            "fixed K=1",
+            "fixed K=10"
+        ]
+        .map(Value::from)
+    );
+    assert_eq!(field("runs"), [1, 2, 1, 1, 1, 1, 1, 1, 10].map(Value::from));
+    assert_eq!(
+        field("motif_rules"),
+        [0, 0, 1, 3, 5, 0, 0, 0, 0].map(Value::from)
+    );
+    assert_eq!(
+        field("realizations"),
+        [20, 20, 20, 20, 20, 5, 10, 20, 20].map(Value::from)
+    );
+    assert_eq!(
+        field("method"),
+        [
+            "nested", "nested", "nested", "nested", "nested", "nested", "nested", "fixed", "fixed"
+        ]
+        .map(Value::from)
+    );
+    // The realization subsets read the K=1 study: seven studies for nine variants.
+    assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 7);
+    assert_eq!(v[5]["study"], v[0]["study"]);
+    assert_eq!(v[6]["study"], v[0]["study"]);
+    assert!(v[5]["cpu_seconds"].as_f64() < v[6]["cpu_seconds"].as_f64());
+    // Several runs per system measure how often one run misses.
+    for (k, x) in v.iter().enumerate() {
+        let several = x["runs"].as_u64().unwrap() > 1;
+        assert_eq!(
+            !x["single_run_miss_rate"].is_null(),
+            several,
+            "{}",
+            x["label"]
+        );
+        // The nested protocol checks a fresh compression per realization.
+        let checks = if x["method"] == "nested" {
+            3 * x["realizations"].as_u64().unwrap()
+        } else {
+            0
+        };
+        assert_eq!(x["fresh_checks"], checks, "{}", x["label"]);
+        let paired = !x["paired_difference"].is_null();
+        let expect = (1..=4).contains(&k);
+        assert_eq!(
+            paired, expect,
+            "{}: paired with K=1 on the same sequences",
+            x["label"]
+        );
+        if paired {
+            assert_eq!(x["paired_with"], "K=1");
+        }
+    }
+    // The studies hold the realizations each variant analyses, K = 2 with two
+    // runs recorded per compression.
+    for x in v {
+        let records = std::fs::read_to_string(
+            std::path::Path::new(x["study"].as_str().unwrap()).join("records.jsonl"),
+        )
+        .unwrap();
+        assert!(records.lines().count() as u64 >= 3 * x["realizations"].as_u64().unwrap());
+    }
+    let csv = std::fs::read_to_string(results.join("speed-accuracy.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 10);
+    for ext in ["md", "svg", "png"] {
+        assert!(
+            results.join(format!("speed-accuracy.{ext}")).exists(),
+            "{ext}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn stability_reproduces_the_committed_study() {
+    let dir = crate::scratch("cli-stability");
+    let text = stdout_of(&["stability", "--out", dir.to_str().unwrap()]);
+    assert_eq!(
+        text.trim_end(),
+        format!(
+            "104 rows written to {}/rank-stability.{{csv,svg,png}}",
+            dir.display()
+        )
+    );
+    let csv = std::fs::read_to_string(dir.join("rank-stability.csv")).unwrap();
+    // Every fraction as committed (the median gap, the last column, is a
+    // float that moves with the rank's arithmetic).
+    assert_eq!(without_last_column(&csv), committed("rank-stability.csv"));
+    // Never a wrong decided verdict.
+    for line in csv.lines().skip(1) {
+        assert_eq!(line.split(',').nth(7), Some("0.0000"), "{line}");
+    }
+    let svg = std::fs::read_to_string(dir.join("rank-stability.svg")).unwrap();
+    assert!(svg.contains("nearly parallel rods"));
+    let png = std::fs::read(dir.join("rank-stability.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -43,9 +43,20 @@ fn patterns() -> Vec<(String, Pattern)> {
 
 #[test]
 fn svd_and_qr_agree_with_the_exact_verdict_at_generic_realizations() {
-    let mut checked = 0;
+    let mut classes = std::collections::BTreeSet::new();
     for (name, p) in patterns() {
         let exact = check_exact(&p, 7).unwrap();
+        classes.insert(exact.class.clone());
+        // The reference patterns' known verdicts.
+        let known = match name.as_str() {
+            "K_{3,3}" | "rod prism" => Some(("component-dependent", Some(1))),
+            "K_{2,4}" => Some(("rigid", Some(0))),
+            "4-cycle" => Some(("flexible", Some(2))),
+            _ => None,
+        };
+        if let Some(known) = known {
+            assert_eq!((exact.class.as_str(), exact.dof), known, "{name}");
+        }
         for method in [Method::Svd, Method::Qr] {
             for seed in 0..3 {
                 let v = check_float(&p, method, seed).unwrap();
@@ -57,19 +68,22 @@ fn svd_and_qr_agree_with_the_exact_verdict_at_generic_realizations() {
                 assert_eq!(v.method, method);
                 let gap = v.gap.expect("a float verdict reports its gap");
                 assert!(gap > RankRule::SVD.grey, "{name}: gap {gap}");
-                checked += 1;
             }
         }
     }
-    assert!(checked >= 6 * 30);
+    // The floats were checked on rigid, flexible and component-dependent patterns.
+    assert_eq!(
+        classes.into_iter().collect::<Vec<_>>(),
+        ["component-dependent", "flexible", "rigid"]
+    );
 }
 
 #[test]
 fn the_trivial_motions_lie_in_every_float_kernel() {
-    let mut matrices = 0;
     for (name, p) in patterns() {
         let inc = Incidence::new(&p);
         let (families, _) = family::families(&inc, 1, 5);
+        assert!(!families.is_empty(), "{name}: no realization family");
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         for fam in &families {
             for seed in 0..2 {
@@ -79,11 +93,9 @@ fn the_trivial_motions_lie_in_every_float_kernel() {
                 // Rows have unit length: the residual is relative.
                 let r = trivial_residual(&f);
                 assert!(r < 1e-12, "{name}, {}: {r}", fam.grouping.describe(&inc));
-                matrices += 1;
             }
         }
     }
-    assert!(matrices > 80, "only {matrices} matrices");
 }
 
 /// Exactly parallel directions, coincident points, collinear points

@@ -393,8 +393,7 @@ fn csv_and_charts_are_written() {
         ..Default::default()
     };
     let r = analyse(&data, &opts).unwrap();
-    let dir = std::env::temp_dir().join(format!("rgc-fss-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::scratch("fss-csv");
     fss::write_csv(&r, &data, &dir).unwrap();
     let boxes = std::fs::read_to_string(dir.join("boxes.csv")).unwrap();
     assert_eq!(boxes.lines().count(), 6);

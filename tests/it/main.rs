@@ -18,3 +18,14 @@ mod sample;
 mod spanning;
 mod stability;
 mod threshold;
+
+use std::path::PathBuf;
+
+/// An empty scratch directory of one test: the process id and the test's
+/// own name, so tests running in parallel never share (or delete) a folder.
+pub fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rgc-it-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}

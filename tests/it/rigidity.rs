@@ -221,7 +221,6 @@ fn planar_mask(e: &Example) -> u32 {
 /// on every family: a wrong realization breaks exactly that.
 #[test]
 fn trivial_motions_are_in_every_kernel() {
-    let mut matrices = 0;
     let mut patterns: Vec<Pattern> = examples::all()
         .iter()
         .map(|e| pattern(e, planar_mask(e)))
@@ -232,17 +231,18 @@ fn trivial_motions_are_in_every_kernel() {
     for p in &patterns {
         let inc = Incidence::new(p);
         let (families, _) = family::families(&inc, 2, 11);
+        assert!(!families.is_empty(), "{p:?}: no realization family");
         for fam in &families {
+            assert_eq!(fam.samples.len(), 2, "{p:?}");
             for s in &fam.samples {
                 let f = framework(&inc, s, &mut || Fp::random(&mut rng));
+                assert_eq!(f.trivial_dimension(), 6, "{p:?}: points on one line");
                 for t in f.trivial_motions() {
                     assert!(f.matrix.apply(&t).iter().all(|x| x.negligible()), "{p:?}");
                 }
-                matrices += 1;
             }
         }
     }
-    assert!(matrices > 60, "only {matrices} matrices built");
 }
 
 #[test]

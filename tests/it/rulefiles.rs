@@ -168,3 +168,133 @@ proptest! {
         let _ = load_rules(&[f]);
     }
 }
+
+fn rods_pattern(edges: &[(u8, u8)]) -> Pattern {
+    let n = edges.iter().map(|&(a, b)| a.max(b)).max().unwrap() as usize + 1;
+    Pattern {
+        kinds: vec![NodeKind::Rod; n],
+        contacts: edges
+            .iter()
+            .map(|&(a, b)| PatternContact {
+                nodes: [a, b],
+                rods: [0, 0],
+            })
+            .collect(),
+    }
+}
+
+/// The rod prism and K_{3,3}: rigid on one realization component (all rods
+/// in one plane), flexible on the other.
+fn component_dependent() -> [(&'static str, Pattern); 2] {
+    let prism: Vec<(u8, u8)> = rgc::engine::examples::PRISM
+        .iter()
+        .map(|&(a, b)| (a as u8, b as u8))
+        .collect();
+    let k33: Vec<(u8, u8)> = (0..3).flat_map(|a| (3..6).map(move |b| (a, b))).collect();
+    [("prism", rods_pattern(&prism)), ("k33", rods_pattern(&k33))]
+}
+
+#[test]
+fn component_dependent_patterns_are_refused_as_rules() {
+    let d = dir("component-dependent");
+    for (name, p) in component_dependent() {
+        let expected = format!(
+            "rule {name} is not rigid on every realization component (exact rank: component-dependent, 1 DOF): loading it would create false rigidity"
+        );
+        let err = Rule::new(name.into(), p.clone(), Provenance::default()).unwrap_err();
+        assert_eq!(err.to_string(), format!("invalid parameter: {expected}"));
+        // A file that claims the pattern rigid, with its true canonical form
+        // and a forged verdict, is refused when it is loaded.
+        let mut forged = serde_json::to_value(rgc::rule_file::RuleFile {
+            format: rgc::rule_file::RULE_FORMAT.into(),
+            rules: vec![rule(name)],
+        })
+        .unwrap();
+        forged["rules"][0]["pattern"] = serde_json::to_value(&p).unwrap();
+        forged["rules"][0]["canonical"] = rgc::rule_file::canonical_form(&p).into();
+        let f = d.join(format!("{name}.json"));
+        std::fs::write(&f, forged.to_string()).unwrap();
+        assert_eq!(
+            error_of(&f),
+            format!("invalid parameter: rule file {}: {expected}", f.display())
+        );
+        // The command line says the same in one line, with exit code 2.
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rgc"))
+            .args([
+                "compress",
+                "--graph6",
+                "E]r?",
+                "--motifs",
+                f.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(
+            stderr.trim_end(),
+            format!(
+                "rgc: error: invalid parameter: rule file {}: {expected}",
+                f.display()
+            )
+        );
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+fn committed(file: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("motifs")
+        .join(file)
+}
+
+/// The committed rule files load, every rule re-verified by exact rank with
+/// the verdict it stores; `base.json` is the built-in base rules.
+#[test]
+fn committed_rule_files_are_verified_on_load() {
+    let counts = [
+        ("base.json", 59),
+        ("rods-6.json", 1),
+        ("rods-8.json", 13),
+        ("mixed-4.json", 124),
+    ];
+    for (file, count) in counts {
+        let rules = load_rules(&[committed(file)]).unwrap();
+        assert_eq!(rules.len(), count, "{file}");
+        for r in &rules {
+            let v = rgc::rigidity::check_exact(&r.pattern, r.verdict.seed).unwrap();
+            assert_eq!(
+                (v.class.as_str(), v.dof),
+                ("rigid", Some(0)),
+                "{file} {}",
+                r.id
+            );
+            assert_eq!(v.components, r.verdict.components, "{file} {}", r.id);
+            assert_eq!(r.canonical, rgc::rule_file::canonical_form(&r.pattern));
+        }
+    }
+    // The whole directory, in name order.
+    let all = load_rules(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs")]).unwrap();
+    assert_eq!(all.len(), 59 + 1 + 13 + 124);
+    let (base, _) = rgc::engine::shapes::base_rules().unwrap();
+    assert_eq!(load_rules(&[committed("base.json")]).unwrap(), base);
+    // Verification happens on load: one committed rule turned into the prism
+    // (with a matching canonical form) is refused, naming the rule.
+    let d = dir("tampered");
+    let mut file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(committed("rods-8.json")).unwrap()).unwrap();
+    let (_, prism) = component_dependent()[0].clone();
+    let id = file["rules"][3]["id"].as_str().unwrap().to_string();
+    file["rules"][3]["pattern"] = serde_json::to_value(&prism).unwrap();
+    file["rules"][3]["canonical"] = rgc::rule_file::canonical_form(&prism).into();
+    let f = d.join("rods-8.json");
+    std::fs::write(&f, file.to_string()).unwrap();
+    let err = error_of(&f);
+    assert!(
+        err.contains(&format!(
+            "rule {id} is not rigid on every realization component"
+        )),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -40,28 +40,42 @@ fn agree(g: &ContactGraph, rules: &[CompiledRule], seed: u64) -> (Compression, C
     (a, b)
 }
 
-#[test]
-fn base_motifs_as_rules_compress_like_the_builtin_engine() {
-    let rules = generic();
-    let (mut sum_a, mut sum_b) = (0, 0);
-    for s in 0..12 {
-        let g = random_graph(220, 0.010 + 0.0006 * s as f64, 900 + s);
-        let (a, b) = agree(&g, &rules, s);
-        sum_a += a.components;
-        sum_b += b.components;
-    }
-    for (k, density) in [35.0, 45.0].into_iter().enumerate() {
-        let system = RodSystem::generate(RodParams::new(23.0, 5.0, density).unwrap(), k as u64);
-        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
-        let (a, b) = agree(&g, &rules, 3 + k as u64);
-        sum_a += a.components;
-        sum_b += b.components;
-    }
-    println!("nodes left: built-in {sum_a}, rules {sum_b}");
+/// Bodies as (rods, class), the parts both engines must agree on.
+fn shapes(c: &Compression) -> Vec<(Vec<u32>, rgc::body::BodyClass)> {
+    c.bodies.iter().map(|b| (b.rods.clone(), b.class)).collect()
 }
 
 #[test]
-#[ignore]
+fn base_motifs_as_rules_compress_like_the_builtin_engine() {
+    let rules = generic();
+    // Random graphs: the same bodies, run by run.
+    let mut bodies = 0;
+    for s in 0..12 {
+        let g = random_graph(220, 0.010 + 0.0006 * s as f64, 900 + s);
+        let (a, b) = agree(&g, &rules, s);
+        assert_eq!(a.components, b.components, "graph {s}");
+        assert_eq!(shapes(&a), shapes(&b), "graph {s}");
+        bodies += a.bodies.len();
+    }
+    assert!(bodies >= 30, "graphs with bodies to compare ({bodies})");
+    // Rod systems, with every motif in play: each engine's result is a
+    // fixpoint of the other. Their node counts are not compared: the two
+    // engines draw different motif orders, and the engine's result depends
+    // on the order (on the first system, 3183 to 3253 nodes over six orders
+    // for the built-in engine). Nor is it the order alone: on the 11-rod
+    // graph `Jb?lIb`BCO_` (three rod communities, rigid only on some
+    // realization components) the rules compress to one body in every order
+    // tried, the built-in engine in 7 of 64 (false rigidity both ways);
+    // reported with the suite's findings.
+    for (k, density) in [35.0, 45.0].into_iter().enumerate() {
+        let system = RodSystem::generate(RodParams::new(23.0, 5.0, density).unwrap(), k as u64);
+        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+        agree(&g, &rules, 3 + k as u64);
+    }
+}
+
+#[test]
+#[ignore = "times both engines on a 40,000-rod system (box 10, density 40); run with --ignored"]
 fn large_system_agreement() {
     let rules = generic();
     let system = RodSystem::generate(RodParams::new(23.0, 10.0, 40.0).unwrap(), 1);
