@@ -6,6 +6,7 @@
 //! references cite.
 //!
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
+//! * [`output`] — files written atomically, writable paths checked up front, CSV;
 //! * [`progress`] — how long computations report progress to their caller;
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
 //! * [`contacts`] — which rods touch (cell list, robust segment distance);
@@ -27,6 +28,7 @@
 
 pub mod error;
 pub mod math;
+pub mod output;
 pub mod progress;
 
 pub mod rods;

@@ -1,0 +1,317 @@
+//! Output files, written so that a failure never leaves half of one.
+//!
+//! Every file the library writes goes through [`write_atomic`] (or
+//! [`replace_with`] for writers that need a path): the content goes to a
+//! temporary file in the target's directory, is flushed and synced, and is
+//! then renamed over the target. A full disk or a kill leaves the old file
+//! (or none), never a truncated one. The only exception is the record files
+//! of a threshold study, which grow one finished line at a time.
+//!
+//! [`check_file`] and [`check_dir`] let a command refuse an unwritable
+//! output before it does its work, and [`csv`] writes tables through the
+//! `csv` crate, so that a field holding a comma or a quote is quoted.
+
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::{Error, Result};
+
+/// Replaces `path` by `bytes` atomically (see the module docs).
+pub fn write_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
+    replace_with(path, |tmp| {
+        std::fs::write(tmp, bytes.as_ref()).map_err(|e| Error::io(path, e))
+    })
+}
+
+/// Replaces `path` by what `write` puts in the file it is given: a
+/// temporary file beside `path`, with the same extension (some writers pick
+/// the format by it), synced and renamed over `path` once `write` succeeds
+/// and removed if it fails.
+pub fn replace_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temporary_beside(path);
+    let done = write(&tmp).and_then(|()| {
+        std::fs::File::open(&tmp)
+            .and_then(|f| f.sync_all())
+            .map_err(|e| Error::io(path, e))?;
+        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+    });
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    done
+}
+
+/// A fresh hidden name in `path`'s directory ending in `path`'s file name:
+/// unique per process and call, so parallel writers never share one.
+fn temporary_beside(path: &Path) -> PathBuf {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let k = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let name = path
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".rgc-tmp-{}-{k}-{name}", std::process::id()))
+}
+
+/// Checks that a file can be written at `path`: it is not a directory, and
+/// its directory exists (it is created if missing) and takes new files.
+pub fn check_file(path: &Path) -> Result<()> {
+    if path.is_dir() {
+        return Err(Error::io(
+            path,
+            std::io::Error::other("is a directory, not a file"),
+        ));
+    }
+    match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) => check_dir(dir),
+        None => check_dir(Path::new(".")),
+    }
+}
+
+/// Checks that files can be written into `dir`, creating it if missing: a
+/// command that will write there fails now rather than after its work.
+pub fn check_dir(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let probe = temporary_beside(&dir.join("probe"));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map_err(|e| Error::io(dir, e))?;
+    std::fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
+}
+
+/// A CSV table of `rows`, headed by their field names (also when empty).
+pub fn csv<T: Serialize + Default>(rows: impl IntoIterator<Item = T>) -> Vec<u8> {
+    table(field_names(&T::default()), rows)
+}
+
+/// A CSV table whose rows are a struct followed by a varying number of
+/// further cells (one per parameter of the analysis, say): headed by the
+/// struct's field names and then `more`.
+pub fn csv_with_more<T, M>(more: &[String], rows: impl IntoIterator<Item = (T, M)>) -> Vec<u8>
+where
+    T: Serialize + Default,
+    M: Serialize,
+{
+    let mut header = field_names(&T::default());
+    header.extend(more.iter().cloned());
+    table(header, rows)
+}
+
+fn table<R: Serialize>(header: Vec<String>, rows: impl IntoIterator<Item = R>) -> Vec<u8> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.write_record(&header)
+        .expect("writing to memory cannot fail");
+    for row in rows {
+        w.serialize(row).expect("rows serialize as CSV");
+    }
+    w.into_inner().expect("writing to memory cannot fail")
+}
+
+/// The header the `csv` crate writes for a struct: its field names as serialized.
+fn field_names<T: Serialize>(sample: &T) -> Vec<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.serialize(sample).expect("rows serialize as CSV");
+    let text = w.into_inner().expect("writing to memory cannot fail");
+    let mut r = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(&text[..]);
+    let mut header = csv::StringRecord::new();
+    r.read_record(&mut header).expect("a header was written");
+    header.iter().map(String::from).collect()
+}
+
+/// Writes the CSV table of `rows` to `path` atomically.
+pub fn write_csv<T: Serialize + Default>(
+    path: &Path,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<()> {
+    write_atomic(path, csv(rows))
+}
+
+/// How numbers appear in a CSV cell, for `#[serde(serialize_with =
+/// "output::cell::fixed::<6, _>")]` and the like: the `csv` crate would
+/// write `4.0` for 4 and its own shortest form otherwise, while the tables
+/// have always used Rust's formatting.
+pub mod cell {
+    use serde::{Serialize, Serializer};
+    use std::fmt::Display;
+
+    /// A value written as Rust's `{}` where no field attribute can go (the
+    /// varying cells of [`super::csv_with_more`]).
+    pub struct Shown<T>(pub T);
+
+    impl<T: Display> Serialize for Shown<T> {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            s.collect_str(&self.0)
+        }
+    }
+
+    /// Rust's `{}`: `4` for 4.0, the shortest round-trip digits otherwise.
+    pub fn display<T: Display, S: Serializer>(v: &T, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(v)
+    }
+
+    /// [`display`], an empty cell for `None`.
+    pub fn display_opt<T: Display, S: Serializer>(v: &Option<T>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => s.collect_str(v),
+            None => s.serialize_none(),
+        }
+    }
+
+    /// `P` digits after the point.
+    pub fn fixed<const P: usize, S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.P$}"))
+    }
+
+    /// [`fixed`], an empty cell for `None`.
+    pub fn fixed_opt<const P: usize, S: Serializer>(
+        v: &Option<f64>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => fixed::<P, S>(v, s),
+            None => s.serialize_none(),
+        }
+    }
+
+    /// Scientific notation with `P` digits after the point (`1.2526e13`).
+    pub fn sci<const P: usize, S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{v:.P$e}"))
+    }
+
+    /// Shortest scientific notation (`1e-1`), an empty cell for `None`.
+    pub fn sci_opt<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => s.collect_str(&format_args!("{v:e}")),
+            None => s.serialize_none(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("rgc-output-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_failed_write_keeps_the_old_file_and_leaves_no_temporary() {
+        let dir = scratch("atomic");
+        let path = dir.join("table.csv");
+        write_atomic(&path, "old\n").unwrap();
+        let err = replace_with(&path, |tmp| {
+            std::fs::write(tmp, "half a li").unwrap();
+            Err(Error::io(tmp, std::io::Error::other("disk full")))
+        })
+        .unwrap_err();
+        assert!(err.to_string().contains("disk full"), "{err}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "old\n");
+        assert_eq!(names(&dir), ["table.csv"]);
+        write_atomic(&path, "new\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new\n");
+        assert_eq!(names(&dir), ["table.csv"]);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn the_temporary_keeps_the_extension() {
+        let tmp = temporary_beside(Path::new("out/chart.png"));
+        assert_eq!(tmp.parent(), Some(Path::new("out")));
+        assert_eq!(tmp.extension().unwrap(), "png");
+        assert_ne!(tmp, temporary_beside(Path::new("out/chart.png")));
+    }
+
+    #[test]
+    fn unwritable_outputs_are_found_before_the_work() {
+        let dir = scratch("check");
+        check_file(&dir.join("new/deeper/table.csv")).unwrap();
+        assert!(dir.join("new/deeper").is_dir());
+        check_dir(&dir.join("fresh")).unwrap();
+        assert_eq!(names(&dir.join("fresh")), Vec::<String>::new());
+        // A directory where a file should go, and a file where a directory should.
+        let err = check_file(&dir.join("new")).unwrap_err().to_string();
+        assert!(err.contains("is a directory"), "{err}");
+        std::fs::write(dir.join("plain"), "").unwrap();
+        let err = check_file(&dir.join("plain/table.csv")).unwrap_err();
+        assert!(
+            matches!(&err, Error::Io { path, .. } if path.ends_with("plain")),
+            "{err}"
+        );
+        assert!(check_dir(&dir.join("plain")).is_err());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[derive(Default, Serialize)]
+    struct Row {
+        name: String,
+        #[serde(serialize_with = "cell::display")]
+        x: f64,
+        #[serde(serialize_with = "cell::fixed_opt::<2, _>")]
+        y: Option<f64>,
+        #[serde(serialize_with = "cell::sci::<1, _>")]
+        z: f64,
+    }
+
+    #[test]
+    fn csv_quotes_what_needs_it_and_formats_as_asked() {
+        let rows = [
+            Row {
+                name: "results/g23, \"rigid\"".into(),
+                x: 4.0,
+                y: Some(0.125),
+                z: 12345.0,
+            },
+            Row {
+                name: "plain".into(),
+                x: 0.1,
+                y: None,
+                z: 0.0,
+            },
+        ];
+        let rows = || {
+            rows.iter().map(|r| Row {
+                name: r.name.clone(),
+                ..*r
+            })
+        };
+        assert_eq!(
+            String::from_utf8(csv(rows())).unwrap(),
+            "name,x,y,z\n\"results/g23, \"\"rigid\"\"\",4,0.12,1.2e4\nplain,0.1,,0.0e0\n"
+        );
+        assert_eq!(
+            String::from_utf8(csv(Vec::<Row>::new())).unwrap(),
+            "name,x,y,z\n"
+        );
+        let more = ["a".to_string(), "b".to_string()];
+        let text = csv_with_more(
+            &more,
+            rows().map(|r| {
+                let cells = [cell::Shown(r.x), cell::Shown(2.0 * r.x)];
+                (r, cells)
+            }),
+        );
+        assert_eq!(
+            String::from_utf8(text).unwrap(),
+            "name,x,y,z,a,b\n\"results/g23, \"\"rigid\"\"\",4,0.12,1.2e4,4,8\nplain,0.1,,0.0e0,0.1,0.2\n"
+        );
+    }
+}
