@@ -113,7 +113,8 @@ impl MotifSet {
 }
 
 impl StudySpec {
-    /// Checks what a person can get wrong on the command line.
+    /// Checks what a person can get wrong on the command line, including a
+    /// study too small for the scaling analysis ([`super::fss::check_design`]).
     pub fn validate(&self) -> Result<()> {
         let bad = |m: String| Err(Error::Parameter(m));
         if self.boxes.is_empty() {
@@ -131,6 +132,7 @@ impl StudySpec {
         if self.realizations == 0 {
             return bad("--realizations must be at least 1".into());
         }
+        super::fss::check_design(self.boxes.len(), self.realizations, self.method)?;
         if self.runs == 0 {
             return bad("--runs must be at least 1".into());
         }
@@ -141,7 +143,7 @@ impl StudySpec {
     }
 
     /// Whether `other` is the same study (file names of the rules aside).
-    fn same(&self, other: &StudySpec) -> bool {
+    pub fn same(&self, other: &StudySpec) -> bool {
         let strip = |s: &StudySpec| StudySpec {
             motifs: MotifSet::default(),
             ..s.clone()
