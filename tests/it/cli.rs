@@ -273,7 +273,8 @@ fn audit_writes_its_tables_and_rule_files() {
     );
     let rules = rgc::rule_file::load_rules(&[dir.join("rods-6.json")]).unwrap();
     assert_eq!(rules.len(), irreducible);
-    // A rods-only rerun rewrites the rods table and keeps the mixed one.
+    // A rods-only rerun rewrites the rods table (when forced: it was made
+    // with other parameters) and keeps the mixed one.
     let out = rgc(&[
         "audit",
         "--max-rods",
@@ -284,6 +285,7 @@ fn audit_writes_its_tables_and_rule_files() {
         d,
         "--motifs",
         d,
+        "--force",
     ]);
     assert!(out.status.success());
     let rods = std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap();
@@ -397,8 +399,8 @@ fn threshold_rejects_bad_parameters() {
         &threshold_args(d, &[("--boxes", "3,4"), ("--realizations", "8")]),
         "nu needs at least 3 box sizes, got 2",
     );
-    // The analysis failed, but the realizations are kept for a rerun.
-    assert!(dir.join("records.jsonl").exists());
+    // Refused before any realization runs: nothing was written.
+    assert!(!dir.join("records.jsonl").exists());
     let missing = dir.join("no-such-study");
     fails(&["merge", missing.to_str().unwrap()], "study.json");
     let _ = std::fs::remove_dir_all(&dir);
