@@ -31,7 +31,9 @@ pub fn write_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
 pub fn replace_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let tmp = temporary_beside(path);
     let done = write(&tmp).and_then(|()| {
-        std::fs::File::open(&tmp)
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(&tmp)
             .and_then(|f| f.sync_all())
             .map_err(|e| Error::io(path, e))?;
         std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
@@ -81,29 +83,46 @@ pub fn check_dir(dir: &Path) -> Result<()> {
     std::fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))
 }
 
-/// A CSV table of `rows`, headed by their field names (also when empty).
-pub fn csv<T: Serialize + Default>(rows: impl IntoIterator<Item = T>) -> Vec<u8> {
-    table(field_names(&T::default()), rows)
+/// A CSV table of `rows`, headed by their field names (as the `csv` crate
+/// does, from the first row: a table without rows is an empty file).
+pub fn csv<T: Serialize>(rows: impl IntoIterator<Item = T>) -> Vec<u8> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in rows {
+        w.serialize(row).expect("rows serialize as CSV");
+    }
+    w.into_inner().expect("writing to memory cannot fail")
 }
 
 /// A CSV table whose rows are a struct followed by a varying number of
 /// further cells (one per parameter of the analysis, say): headed by the
-/// struct's field names and then `more`.
+/// struct's field names and then `more` (empty without rows, as [`csv`]).
 pub fn csv_with_more<T, M>(more: &[String], rows: impl IntoIterator<Item = (T, M)>) -> Vec<u8>
 where
-    T: Serialize + Default,
+    T: Serialize,
     M: Serialize,
 {
-    let mut header = field_names(&T::default());
+    let mut rows = rows.into_iter().peekable();
+    let Some((first, _)) = rows.peek() else {
+        return Vec::new();
+    };
+    let mut header = field_names(first);
     header.extend(more.iter().cloned());
-    table(header, rows)
+    csv_headed(header, rows)
 }
 
-fn table<R: Serialize>(header: Vec<String>, rows: impl IntoIterator<Item = R>) -> Vec<u8> {
+/// A CSV table of `rows` (tuples or sequences of cells) under `header`.
+pub fn csv_headed<H, R>(
+    header: impl IntoIterator<Item = H>,
+    rows: impl IntoIterator<Item = R>,
+) -> Vec<u8>
+where
+    H: AsRef<[u8]>,
+    R: Serialize,
+{
     let mut w = csv::WriterBuilder::new()
         .has_headers(false)
         .from_writer(Vec::new());
-    w.write_record(&header)
+    w.write_record(header)
         .expect("writing to memory cannot fail");
     for row in rows {
         w.serialize(row).expect("rows serialize as CSV");
@@ -125,10 +144,7 @@ fn field_names<T: Serialize>(sample: &T) -> Vec<String> {
 }
 
 /// Writes the CSV table of `rows` to `path` atomically.
-pub fn write_csv<T: Serialize + Default>(
-    path: &Path,
-    rows: impl IntoIterator<Item = T>,
-) -> Result<()> {
+pub fn write_csv<T: Serialize>(path: &Path, rows: impl IntoIterator<Item = T>) -> Result<()> {
     write_atomic(path, csv(rows))
 }
 
@@ -260,7 +276,7 @@ mod tests {
         std::fs::remove_dir_all(dir).unwrap();
     }
 
-    #[derive(Default, Serialize)]
+    #[derive(Serialize)]
     struct Row {
         name: String,
         #[serde(serialize_with = "cell::display")]
@@ -296,10 +312,6 @@ mod tests {
         assert_eq!(
             String::from_utf8(csv(rows())).unwrap(),
             "name,x,y,z\n\"results/g23, \"\"rigid\"\"\",4,0.12,1.2e4\nplain,0.1,,0.0e0\n"
-        );
-        assert_eq!(
-            String::from_utf8(csv(Vec::<Row>::new())).unwrap(),
-            "name,x,y,z\n"
         );
         let more = ["a".to_string(), "b".to_string()];
         let text = csv_with_more(

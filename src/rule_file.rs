@@ -197,5 +197,5 @@ pub fn write_rules(path: &std::path::Path, rules: &[Rule]) -> Result<()> {
         rules: rules.to_vec(),
     };
     let text = serde_json::to_string_pretty(&file).expect("rules serialize");
-    std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))
+    crate::output::write_atomic(path, text + "\n")
 }

@@ -4,6 +4,7 @@
 //! give the same threshold as `L -> inf` and different finite-size curves, so
 //! every result must say which one it used.
 
+use petgraph::unionfind::UnionFind;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
@@ -341,16 +342,16 @@ fn for_each_cluster(
 #[derive(Clone, Debug)]
 pub struct Sweep {
     criterion: Criterion,
-    /// Wrap: union-find parents and each rod's offset from its parent.
+    /// Wrap: union-find parents and each rod's offset from its parent (by
+    /// hand: petgraph's `UnionFind` keeps no data along the path).
     parent: Vec<u32>,
     offset: Vec<[i32; 3]>,
-    /// Faces: per axis, union-find parents, and per root which faces its cluster reaches.
-    axis_parent: [Vec<u32>; 3],
+    size: Vec<u32>,
+    /// Faces: per axis, the clusters, and per root which faces its cluster reaches.
+    axis_sets: [UnionFind<u32>; 3],
     faces: [Vec<(bool, bool)>; 3],
     /// Faces: each rod's description, for the boundary-crossing test.
     members: Vec<Member>,
-    size: Vec<u32>,
-    axis_size: [Vec<u32>; 3],
     spans: bool,
 }
 
@@ -360,11 +361,10 @@ impl Sweep {
             criterion,
             parent: Vec::new(),
             offset: Vec::new(),
-            axis_parent: Default::default(),
+            size: Vec::new(),
+            axis_sets: Default::default(),
             faces: Default::default(),
             members: Vec::new(),
-            size: Vec::new(),
-            axis_size: Default::default(),
             spans: false,
         }
     }
@@ -399,8 +399,7 @@ impl Sweep {
             Criterion::Faces => {
                 let m = Member::of(system, rod);
                 for d in 0..3 {
-                    self.axis_parent[d].push(rod);
-                    self.axis_size[d].push(1);
+                    self.axis_sets[d].new_set();
                     self.faces[d].push((m.low[d], m.high[d]));
                     self.spans |= m.low[d] && m.high[d];
                 }
@@ -466,31 +465,14 @@ impl Sweep {
         self.size[root as usize] += self.size[child as usize];
     }
 
-    fn find_axis(&mut self, d: usize, mut x: u32) -> u32 {
-        let mut root = x;
-        while self.axis_parent[d][root as usize] != root {
-            root = self.axis_parent[d][root as usize];
-        }
-        while self.axis_parent[d][x as usize] != root {
-            let next = self.axis_parent[d][x as usize];
-            self.axis_parent[d][x as usize] = root;
-            x = next;
-        }
-        root
-    }
-
     fn join_axis(&mut self, d: usize, a: u32, b: u32) {
-        let (ra, rb) = (self.find_axis(d, a), self.find_axis(d, b));
-        if ra == rb {
+        let sets = &mut self.axis_sets[d];
+        let (ra, rb) = (sets.find_mut(a), sets.find_mut(b));
+        if !sets.union(ra, rb) {
             return;
         }
-        let (child, root) = if self.axis_size[d][ra as usize] >= self.axis_size[d][rb as usize] {
-            (rb, ra)
-        } else {
-            (ra, rb)
-        };
-        self.axis_parent[d][child as usize] = root;
-        self.axis_size[d][root as usize] += self.axis_size[d][child as usize];
+        let root = sets.find_mut(ra);
+        let child = if root == ra { rb } else { ra };
         let (cl, ch) = self.faces[d][child as usize];
         let f = &mut self.faces[d][root as usize];
         *f = (f.0 || cl, f.1 || ch);

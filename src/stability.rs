@@ -28,6 +28,7 @@ use crate::engine::examples;
 use crate::math::float::{FloatRank, rank_qr, rank_svd};
 use crate::math::stats::quantile;
 use crate::math::{Fp, Matrix, rank_fp};
+use crate::output;
 use crate::pattern::{NodeKind, Pattern, PatternContact};
 use crate::rigidity::construction::{self, Degeneracy, Geometry};
 use crate::rigidity::family;
@@ -510,29 +511,48 @@ fn size_trial(p: &Pattern, method: Method, seed: u64) -> Result<Trial> {
     })
 }
 
-/// Writes the rows as CSV (empty cells for absent values).
+/// A row of `rank-stability.csv`: fractions to 4 places, the gap in
+/// scientific notation, empty cells for absent values.
+#[derive(Serialize)]
+struct CsvRow {
+    axis: &'static str,
+    #[serde(serialize_with = "output::cell::sci_opt")]
+    eps: Option<f64>,
+    rods: Option<usize>,
+    method: &'static str,
+    trials: usize,
+    #[serde(serialize_with = "output::cell::fixed::<4, _>")]
+    correct: f64,
+    #[serde(serialize_with = "output::cell::fixed::<4, _>")]
+    undecided: f64,
+    #[serde(serialize_with = "output::cell::fixed::<4, _>")]
+    wrong: f64,
+    #[serde(serialize_with = "output::cell::fixed::<4, _>")]
+    naive_wrong: f64,
+    #[serde(serialize_with = "output::cell::fixed::<4, _>")]
+    single_wrong: f64,
+    #[serde(serialize_with = "output::cell::sci::<4, _>")]
+    median_gap: f64,
+}
+
+/// Writes the rows as CSV.
 pub fn write_csv(rows: &[StabilityRow], path: &Path) -> Result<()> {
-    let opt = |x: Option<String>| x.unwrap_or_default();
-    let mut out = String::from(
-        "axis,eps,rods,method,trials,correct,undecided,wrong,naive_wrong,single_wrong,median_gap\n",
-    );
-    for r in rows {
-        out.push_str(&format!(
-            "{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4e}\n",
-            r.axis.name(),
-            opt(r.eps.map(|e| format!("{e:e}"))),
-            opt(r.rods.map(|n| n.to_string())),
-            method_name(r.method),
-            r.trials,
-            r.correct,
-            r.undecided,
-            r.wrong,
-            r.naive_wrong,
-            r.single_wrong,
-            r.median_gap
-        ));
-    }
-    std::fs::write(path, out).map_err(|e| Error::io(path, e))
+    output::write_csv(
+        path,
+        rows.iter().map(|r| CsvRow {
+            axis: r.axis.name(),
+            eps: r.eps,
+            rods: r.rods,
+            method: method_name(r.method),
+            trials: r.trials,
+            correct: r.correct,
+            undecided: r.undecided,
+            wrong: r.wrong,
+            naive_wrong: r.naive_wrong,
+            single_wrong: r.single_wrong,
+            median_gap: r.median_gap,
+        }),
+    )
 }
 
 pub fn method_name(m: Method) -> &'static str {
@@ -682,4 +702,48 @@ fn random_candidate(n: usize, rng: &mut ChaCha8Rng) -> Pattern {
         }
     }
     rods(n, &edges)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The committed table, read back into rows, is written byte for byte.
+    #[test]
+    fn the_committed_table_is_written_unchanged() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/rank-stability.csv");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let axes = [
+            Axis::Parallel,
+            Axis::Coincident,
+            Axis::Collinear,
+            Axis::Size,
+        ];
+        let methods = [Method::Exact, Method::Svd, Method::Qr];
+        let rows: Vec<StabilityRow> = text
+            .lines()
+            .skip(1)
+            .map(|line| {
+                let c: Vec<&str> = line.split(',').collect();
+                let f = |k: usize| c[k].parse::<f64>().unwrap();
+                StabilityRow {
+                    axis: *axes.iter().find(|a| a.name() == c[0]).unwrap(),
+                    eps: (!c[1].is_empty()).then(|| f(1)),
+                    rods: (!c[2].is_empty()).then(|| c[2].parse().unwrap()),
+                    method: *methods.iter().find(|&&m| method_name(m) == c[3]).unwrap(),
+                    trials: c[4].parse().unwrap(),
+                    correct: f(5),
+                    undecided: f(6),
+                    wrong: f(7),
+                    naive_wrong: f(8),
+                    single_wrong: f(9),
+                    median_gap: f(10),
+                }
+            })
+            .collect();
+        let out = std::env::temp_dir().join(format!("rgc-stability-{}.csv", std::process::id()));
+        write_csv(&rows, &out).unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+        std::fs::remove_file(out).unwrap();
+    }
 }

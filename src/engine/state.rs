@@ -31,6 +31,9 @@ pub(super) struct Node {
 
 pub(super) struct State<'g> {
     pub g: &'g ContactGraph,
+    /// Union-find over rods, by hand: the root must be the part that keeps
+    /// the merged node's data ([`State::merge`] picks it), which petgraph's
+    /// rank-based `UnionFind` cannot be told.
     parent: Vec<u32>,
     /// Class of each node (`None` for a rod), apart from the bulky node data
     /// so that the hot membership tests stay in cache.

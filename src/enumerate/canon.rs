@@ -224,7 +224,9 @@ pub(crate) struct Canon {
     cert: Vec<u64>,
     inv: Vec<u32>,
     /// Orbits (union-find) of the stabilizer of the first path's first `j`
-    /// vertices, for each level `j` of the first path: `orb[j * n + v]`.
+    /// vertices, for each level `j` of the first path: `orb[j * n + v]`. By
+    /// hand, in one buffer reset in place: petgraph's `UnionFind` has no
+    /// reset and would allocate per level in each of millions of searches.
     orb: Vec<u32>,
     /// Generators found, `n` entries each, when requested.
     gens: Vec<u32>,

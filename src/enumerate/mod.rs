@@ -633,6 +633,8 @@ struct Worker<S> {
     filter: GraphFilter,
     canon: Canon,
     /// Union-find over neighbourhood masks, for orbits of the parent's group.
+    /// By hand: only the masks a node tries are reset, where petgraph's
+    /// `UnionFind` would rebuild all 2^15 entries at every node of the search.
     uf: Vec<u16>,
     /// Neighbourhoods still to try, for every node on the current path.
     reps: Vec<u16>,

@@ -12,14 +12,17 @@
 //!
 //! Edge lists are plain text, one `u v` pair per line, readable by networkx's
 //! `read_edgelist(path, nodetype=int)`; a `# nodes N` line keeps isolated rods.
+//! They are read line by line, and an undeclared node count far beyond what
+//! the edges can touch is refused before anything is allocated for it.
 
-use std::io::Write;
+use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 
 use rustc_hash::FxHashMap;
 
 use crate::error::{Error, Result};
 use crate::graph::ContactGraph;
+use crate::output;
 
 /// Optional header that nauty writes before graph6 data (`-h` option).
 const GRAPH6_HEADER: &str = ">>graph6<<";
@@ -134,15 +137,54 @@ pub fn read_graph6_file(path: &Path) -> Result<Vec<ContactGraph>> {
     Ok(graphs)
 }
 
-/// Parses a contact edge list; `path` only labels error messages.
+/// Writes graphs as a graph6 file, one per line (what [`read_graph6_file`]
+/// and nauty read), atomically.
+pub fn save_graph6_file<'a>(
+    graphs: impl IntoIterator<Item = &'a ContactGraph>,
+    path: &Path,
+) -> Result<()> {
+    let mut text = String::new();
+    for g in graphs {
+        text += &to_graph6(g);
+        text.push('\n');
+    }
+    output::write_atomic(path, text)
+}
+
+/// Parses a contact edge list held in memory; `path` only labels error
+/// messages. See [`read_edge_list_from`] for the format.
+pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
+    read_edge_list_from(text.as_bytes(), path)
+}
+
+/// Reads a contact edge list file (see [`read_edge_list_from`]).
+pub fn read_edge_list(path: &Path) -> Result<ContactGraph> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    read_edge_list_from(BufReader::new(file), path)
+}
+
+/// Largest node count an edge list may imply without declaring it: nodes
+/// that no edge names are isolated rods, and an index far beyond what the
+/// edges can touch is far more likely a typo than a system of mostly
+/// isolated rods (which `write_edge_list` declares with `# nodes N`).
+fn implied_node_limit(edges: usize) -> usize {
+    (2 * edges).saturating_add(IMPLIED_SLACK).min(MAX_NODES)
+}
+
+/// Isolated rods an edge list may imply beyond the ends of its edges.
+const IMPLIED_SLACK: usize = 1 << 16;
+
+/// Reads a contact edge list line by line; `path` only labels error messages.
 ///
 /// Each data line holds two non-negative node indices separated by whitespace
 /// or by one comma. Blank lines and text after `#` are ignored, except that a
 /// comment of the exact form `# nodes N` before the first edge sets the node
-/// count; without it the count is the largest index plus one. Self-loops,
-/// repeated pairs (in either order) and indices outside the declared count are
-/// errors, since a pair of rods touches at most once.
-pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
+/// count; without it the count is the largest index plus one, which must
+/// not exceed twice the number of edges plus 65536. Self-loops, repeated
+/// pairs (in either order) and indices outside the declared count are
+/// errors, since a pair of rods touches at most once. A UTF-8 byte order
+/// mark at the start is skipped; other invalid UTF-8 is an error.
+pub fn read_edge_list_from(mut reader: impl BufRead, path: &Path) -> Result<ContactGraph> {
     let fail = |line: usize, reason: String| Error::EdgeList {
         path: path.to_path_buf(),
         line,
@@ -152,11 +194,27 @@ pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
     let mut declared: Option<(usize, usize)> = None;
     let mut edges: Vec<[u32; 2]> = Vec::new();
     let mut first_seen: FxHashMap<(u32, u32), usize> = FxHashMap::default();
-    let mut max_index: Option<u32> = None;
+    // Largest index seen and the line it is on.
+    let mut max_index: Option<(u32, usize)> = None;
     let mut last_line = 0;
-    for (k, raw) in text.lines().enumerate() {
-        let line = k + 1;
+    let mut bytes = Vec::new();
+    loop {
+        bytes.clear();
+        let read = reader
+            .read_until(b'\n', &mut bytes)
+            .map_err(|e| Error::io(path, e))?;
+        if read == 0 {
+            break;
+        }
+        let line = last_line + 1;
         last_line = line;
+        let mut raw =
+            std::str::from_utf8(&bytes).map_err(|_| fail(line, "not valid UTF-8".into()))?;
+        if line == 1 {
+            raw = raw.strip_prefix('\u{feff}').unwrap_or(raw);
+        }
+        let raw = raw.strip_suffix('\n').unwrap_or(raw);
+        let raw = raw.strip_suffix('\r').unwrap_or(raw);
         let (data, comment) = match raw.split_once('#') {
             Some((data, comment)) => (data.trim(), Some(comment)),
             None => (raw.trim(), None),
@@ -227,12 +285,29 @@ pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
         }
         first_seen.insert(key, line);
         edges.push([u, v]);
-        max_index = max_index.max(Some(key.1));
+        if max_index.is_none_or(|(m, _)| key.1 > m) {
+            max_index = Some((key.1, line));
+        }
     }
     let end = last_line.max(1);
     let n = match (declared, max_index) {
         (Some((n, _)), _) => n,
-        (None, Some(m)) => m as usize + 1,
+        (None, Some((m, at))) => {
+            let limit = implied_node_limit(edges.len());
+            if m as usize >= limit {
+                return Err(fail(
+                    at,
+                    format!(
+                        "node {m} would make {} rods, but {} edge(s) touch at most {}: \
+                         declare the count with a '# nodes N' line first",
+                        m as usize + 1,
+                        edges.len(),
+                        2 * edges.len()
+                    ),
+                ));
+            }
+            m as usize + 1
+        }
         (None, None) => {
             return Err(fail(end, "no edges and no '# nodes N' line".into()));
         }
@@ -240,21 +315,11 @@ pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
     ContactGraph::new(n, edges).map_err(|e| fail(end, e.to_string()))
 }
 
-/// Reads a contact edge list file (see [`parse_edge_list`]).
-pub fn read_edge_list(path: &Path) -> Result<ContactGraph> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    match std::str::from_utf8(&bytes) {
-        Ok(text) => parse_edge_list(text, path),
-        Err(e) => {
-            let valid = &bytes[..e.valid_up_to()];
-            let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
-            Err(Error::EdgeList {
-                path: path.to_path_buf(),
-                line,
-                reason: "not valid UTF-8".into(),
-            })
-        }
-    }
+/// Writes `graph` as an edge list file (see [`write_edge_list`]) atomically.
+pub fn save_edge_list(graph: &ContactGraph, path: &Path) -> Result<()> {
+    let mut text = Vec::new();
+    write_edge_list(graph, &mut text).expect("writing to memory cannot fail");
+    output::write_atomic(path, text)
 }
 
 /// Writes `# nodes N` and then one `u v` line per edge, in edge order.
@@ -443,5 +508,61 @@ mod tests {
     fn eight_byte_form_below_its_range_is_non_canonical() {
         let err = decode_size(b"~~?????~").unwrap_err();
         assert!(err.contains("non-canonical"), "{err}");
+    }
+
+    fn edges(text: &[u8]) -> Result<ContactGraph> {
+        read_edge_list_from(text, Path::new("contacts.txt"))
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let plain = edges(b"# nodes 4\n0 1\n2 3\n").unwrap();
+        assert_eq!(edges(b"\xef\xbb\xbf# nodes 4\n0 1\n2 3\n").unwrap(), plain);
+        assert_eq!(edges(b"\xef\xbb\xbf0 1\r\n2 3\r\n").unwrap(), plain);
+        // Only at the start of the file.
+        let err = edges(b"0 1\n\xef\xbb\xbf2 3\n").unwrap_err().to_string();
+        assert!(err.contains("line 2: node index"), "{err}");
+    }
+
+    #[test]
+    fn an_undeclared_node_count_must_fit_the_edges() {
+        let err = edges(b"49999999 0\n").unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "malformed edge list contacts.txt: line 1: node 49999999 would make 50000000 rods, \
+             but 1 edge(s) touch at most 2: declare the count with a '# nodes N' line first"
+        );
+        // The line of the largest index is named, wherever it is.
+        let err = edges(b"0 1\n1 2\n900000 3\n3 4\n").unwrap_err().to_string();
+        assert!(err.contains("line 3: node 900000"), "{err}");
+        // Within the slack, and with a declared count, isolated rods are fine.
+        let limit = implied_node_limit(1);
+        assert_eq!(limit, 2 + IMPLIED_SLACK);
+        let g = edges(format!("{} 0\n", limit - 1).as_bytes()).unwrap();
+        assert_eq!(g.n_nodes(), limit);
+        assert!(edges(format!("{limit} 0\n").as_bytes()).is_err());
+        let g = edges(b"# nodes 1000000\n999999 0\n").unwrap();
+        assert_eq!((g.n_nodes(), g.n_edges()), (1_000_000, 1));
+    }
+
+    #[test]
+    fn saved_graph6_files_read_back() {
+        let graphs = [
+            ContactGraph::new(3, vec![[0, 1], [1, 2]]).unwrap(),
+            ContactGraph::new(70, vec![[0, 69]]).unwrap(),
+        ];
+        let path = std::env::temp_dir().join(format!("rgc-io-{}.g6", std::process::id()));
+        save_graph6_file(&graphs, &path).unwrap();
+        assert_eq!(read_graph6_file(&path).unwrap(), graphs);
+        std::fs::remove_file(path).unwrap();
+    }
+
+    #[test]
+    fn saved_edge_lists_read_back() {
+        let g = ContactGraph::new(5, vec![[0, 3], [1, 2]]).unwrap();
+        let path = std::env::temp_dir().join(format!("rgc-io-{}.edges", std::process::id()));
+        save_edge_list(&g, &path).unwrap();
+        assert_eq!(read_edge_list(&path).unwrap(), g);
+        std::fs::remove_file(path).unwrap();
     }
 }

@@ -1,5 +1,6 @@
 //! Contact numbers c0, c1, c2 and clustering of a contact graph (MODEL §1).
 
+use petgraph::unionfind::UnionFind;
 use serde::Serialize;
 
 use super::ContactGraph;
@@ -42,7 +43,8 @@ pub fn stats(graph: &ContactGraph) -> ContactStats {
     }
 }
 
-/// Membership of the 2-core: peel nodes of degree < 2 until none is left.
+/// Membership of the 2-core: peel nodes of degree < 2 until none is left
+/// (petgraph 0.8 has no k-core algorithm).
 fn two_core(graph: &ContactGraph) -> Vec<bool> {
     let n = graph.n_nodes();
     let mut degree: Vec<usize> = (0..n as u32).map(|i| graph.degree(i)).collect();
@@ -68,34 +70,29 @@ fn two_core(graph: &ContactGraph) -> Vec<bool> {
 
 /// Mean degree `2 E_C / N_C` of the largest connected component `C` of the
 /// subgraph induced by the `alive` nodes (ties: the component of the smallest
-/// node); 0 if no node is alive.
+/// node); 0 if no node is alive. Components come from petgraph's union-find.
 fn largest_component_mean_degree(graph: &ContactGraph, alive: &[bool]) -> f64 {
     let n = graph.n_nodes();
-    let mut seen = vec![false; n];
-    let mut queue = Vec::new();
+    let inside = |&[a, b]: &[u32; 2]| alive[a as usize] && alive[b as usize];
+    let mut components = UnionFind::<u32>::new(n);
+    for &[a, b] in graph.edges().iter().filter(|e| inside(e)) {
+        components.union(a, b);
+    }
+    let root = components.into_labeling();
+    // Nodes and degree sum of each component, at its root.
+    let mut size = vec![(0usize, 0usize); n];
+    for &[a, _] in graph.edges().iter().filter(|e| inside(e)) {
+        size[root[a as usize] as usize].1 += 2;
+    }
+    for i in (0..n).filter(|&i| alive[i]) {
+        size[root[i] as usize].0 += 1;
+    }
+    // In node order, a component first comes up at its smallest node.
     let mut best = (0usize, 0usize);
-    for root in 0..n {
-        if !alive[root] || seen[root] {
-            continue;
-        }
-        seen[root] = true;
-        queue.clear();
-        queue.push(root as u32);
-        let (mut nodes, mut degree_sum) = (0usize, 0usize);
-        while let Some(i) = queue.pop() {
-            nodes += 1;
-            for &(j, _) in graph.neighbors(i) {
-                if alive[j as usize] {
-                    degree_sum += 1;
-                    if !seen[j as usize] {
-                        seen[j as usize] = true;
-                        queue.push(j);
-                    }
-                }
-            }
-        }
-        if nodes > best.0 {
-            best = (nodes, degree_sum);
+    for i in (0..n).filter(|&i| alive[i]) {
+        let s = size[root[i] as usize];
+        if s.0 > best.0 {
+            best = s;
         }
     }
     if best.0 == 0 {
@@ -156,4 +153,26 @@ fn average_clustering(graph: &ContactGraph) -> f64 {
         })
         .sum();
     sum / n as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_largest_component_and_its_ties() {
+        // A triangle {0, 1, 2} and a path 3-4-5 of as many nodes: the tie
+        // goes to the component of node 0; a fourth node on the path wins.
+        let g = ContactGraph::new(6, vec![[0, 1], [1, 2], [2, 0], [3, 4], [4, 5]]).unwrap();
+        let all = vec![true; 6];
+        assert_eq!(largest_component_mean_degree(&g, &all), 2.0);
+        let g = ContactGraph::new(7, vec![[0, 1], [1, 2], [2, 0], [3, 4], [4, 5], [5, 6]]).unwrap();
+        assert_eq!(largest_component_mean_degree(&g, &[true; 7]), 1.5);
+        // Dead nodes split components and their edges do not count.
+        let mut alive = vec![true; 7];
+        alive[4] = false;
+        assert_eq!(largest_component_mean_degree(&g, &alive), 2.0);
+        assert_eq!(two_core(&g), [true, true, true, false, false, false, false]);
+        assert_eq!(largest_component_mean_degree(&g, &[false; 7]), 0.0);
+    }
 }

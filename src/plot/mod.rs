@@ -13,6 +13,7 @@ use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+use crate::output;
 use crate::threshold::fss::Estimate;
 use crate::{Error, Result};
 
@@ -51,7 +52,8 @@ trait Chart {
 }
 
 /// Draws `chart` as `svg` and `png` of `size` pixels, so both files always
-/// show the same picture; a drawing error names the file it concerns.
+/// show the same picture; a drawing error names the file it concerns. Each
+/// file is drawn beside its target and renamed when complete.
 fn render(chart: &impl Chart, size: (u32, u32), svg: &Path, png: &Path) -> Result<()> {
     plotters::style::register_font(
         "sans-serif",
@@ -60,13 +62,16 @@ fn render(chart: &impl Chart, size: (u32, u32), svg: &Path, png: &Path) -> Resul
     )
     .map_err(|_| Error::Parameter("the embedded chart font does not load".into()))?;
     let fail = |path: &Path, e: String| Error::io(path, std::io::Error::other(e));
-    chart
-        .draw(SVGBackend::new(svg, size).into_drawing_area())
-        .map_err(|e| fail(svg, e.to_string()))?;
-    chart
-        .draw(BitMapBackend::new(png, size).into_drawing_area())
-        .map_err(|e| fail(png, e.to_string()))?;
-    Ok(())
+    output::replace_with(svg, |tmp| {
+        chart
+            .draw(SVGBackend::new(tmp, size).into_drawing_area())
+            .map_err(|e| fail(svg, e.to_string()))
+    })?;
+    output::replace_with(png, |tmp| {
+        chart
+            .draw(BitMapBackend::new(tmp, size).into_drawing_area())
+            .map_err(|e| fail(png, e.to_string()))
+    })
 }
 
 /// Colours of the series (matplotlib's tab10, then again).

@@ -2,6 +2,7 @@
 //! (MODEL §3–§4): exact rank over F_p where an exact construction exists,
 //! floats with their gap rule and a twin realization otherwise.
 
+use petgraph::unionfind::UnionFind;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -426,19 +427,9 @@ fn verdict(
 }
 
 fn connected(p: &Pattern) -> bool {
-    let n = p.n_nodes();
-    let mut seen = vec![false; n];
-    let mut stack = vec![0usize];
-    seen[0] = true;
-    while let Some(a) = stack.pop() {
-        for c in &p.contacts {
-            for (x, y) in [(c.nodes[0], c.nodes[1]), (c.nodes[1], c.nodes[0])] {
-                if x as usize == a && !seen[y as usize] {
-                    seen[y as usize] = true;
-                    stack.push(y as usize);
-                }
-            }
-        }
+    let mut components = UnionFind::<usize>::new(p.n_nodes());
+    for c in &p.contacts {
+        components.union(c.nodes[0] as usize, c.nodes[1] as usize);
     }
-    seen.into_iter().all(|s| s)
+    (1..p.n_nodes()).all(|v| components.equiv(0, v))
 }

@@ -8,7 +8,6 @@
 //! the threshold. Intervals come from a case bootstrap over realizations.
 
 use std::f64::consts::PI;
-use std::fmt::Write as _;
 use std::path::Path;
 
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
@@ -18,6 +17,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::math::stats::{least_squares, percentile_interval};
+use crate::output::{self, cell};
 use crate::{Error, Result};
 
 /// Contact numbers measured on one system of a realization.
@@ -1019,75 +1019,125 @@ pub fn pi_curve(data: &BoxData, protocol: Protocol) -> Vec<(f64, f64, usize)> {
     }
 }
 
-fn opt(v: Option<f64>) -> String {
-    v.map(|v| v.to_string()).unwrap_or_default()
+/// A row of `boxes.csv`, before its `rho_x_{x}` cells.
+#[derive(Serialize)]
+struct BoxRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    realizations: usize,
+    #[serde(serialize_with = "cell::display")]
+    mu: f64,
+    #[serde(serialize_with = "cell::display_opt")]
+    mu_lo: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    mu_hi: Option<f64>,
+    #[serde(serialize_with = "cell::display")]
+    s: f64,
+    #[serde(serialize_with = "cell::display")]
+    delta_rho: f64,
+    #[serde(serialize_with = "cell::display_opt")]
+    delta_rho_lo: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    delta_rho_hi: Option<f64>,
+    #[serde(serialize_with = "cell::display")]
+    log_likelihood: f64,
 }
 
-fn write_file(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+/// A row of `pi.csv`.
+#[derive(Serialize)]
+struct PiRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    #[serde(serialize_with = "cell::display")]
+    density: f64,
+    #[serde(serialize_with = "cell::display")]
+    pi: f64,
+    n: usize,
+    #[serde(serialize_with = "cell::display")]
+    fitted: f64,
+}
+
+/// A row of `rho_x.csv`.
+#[derive(Serialize)]
+struct RhoXRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    #[serde(serialize_with = "cell::display")]
+    x: f64,
+    #[serde(serialize_with = "cell::display")]
+    rho_x: f64,
+    #[serde(serialize_with = "cell::display_opt")]
+    rho_x_lo: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    rho_x_hi: Option<f64>,
+    #[serde(serialize_with = "cell::display")]
+    l_pow_minus_inv_nu: f64,
+    #[serde(serialize_with = "cell::display")]
+    fitted: f64,
 }
 
 /// Writes `boxes.csv` (one row per box size), `pi.csv` (empirical and
 /// fitted spanning probability) and `rho_x.csv` (the extrapolated points)
 /// into `dir`, which must exist.
 pub fn write_csv(fss: &Fss, data: &[BoxData], dir: &Path) -> Result<()> {
-    let mut boxes = String::from(
-        "box_len,realizations,mu,mu_lo,mu_hi,s,delta_rho,delta_rho_lo,delta_rho_hi,log_likelihood",
-    );
-    for x in &fss.xs {
-        let _ = write!(boxes, ",rho_x_{x}");
-    }
-    boxes.push('\n');
-    for b in &fss.boxes {
-        let _ = write!(
-            boxes,
-            "{},{},{},{},{},{},{},{},{},{}",
-            b.box_len,
-            b.realizations,
-            b.mu,
-            opt(b.mu_interval.map(|i| i.0)),
-            opt(b.mu_interval.map(|i| i.1)),
-            b.s,
-            b.delta_rho,
-            opt(b.delta_rho_interval.map(|i| i.0)),
-            opt(b.delta_rho_interval.map(|i| i.1)),
-            b.log_likelihood
-        );
-        for r in &b.rho_x {
-            let _ = write!(boxes, ",{r}");
-        }
-        boxes.push('\n');
-    }
-    write_file(&dir.join("boxes.csv"), &boxes)?;
+    let more: Vec<String> = fss.xs.iter().map(|x| format!("rho_x_{x}")).collect();
+    let boxes = fss.boxes.iter().map(|b| {
+        let row = BoxRow {
+            box_len: b.box_len,
+            realizations: b.realizations,
+            mu: b.mu,
+            mu_lo: b.mu_interval.map(|i| i.0),
+            mu_hi: b.mu_interval.map(|i| i.1),
+            s: b.s,
+            delta_rho: b.delta_rho,
+            delta_rho_lo: b.delta_rho_interval.map(|i| i.0),
+            delta_rho_hi: b.delta_rho_interval.map(|i| i.1),
+            log_likelihood: b.log_likelihood,
+        };
+        (
+            row,
+            b.rho_x.iter().map(|&r| cell::Shown(r)).collect::<Vec<_>>(),
+        )
+    });
+    output::write_atomic(&dir.join("boxes.csv"), output::csv_with_more(&more, boxes))?;
 
-    let mut pi = String::from("box_len,density,pi,n,fitted\n");
+    let mut pi = Vec::new();
     for b in &fss.boxes {
         let Some(d) = data.iter().find(|d| d.box_len == b.box_len) else {
             continue;
         };
         let fit = b.logistic();
-        for (rho, frac, n) in pi_curve(d, fss.protocol) {
-            let _ = writeln!(pi, "{},{rho},{frac},{n},{}", b.box_len, fit.cdf(rho));
-        }
+        pi.extend(
+            pi_curve(d, fss.protocol)
+                .into_iter()
+                .map(|(rho, frac, n)| PiRow {
+                    box_len: b.box_len,
+                    density: rho,
+                    pi: frac,
+                    n,
+                    fitted: fit.cdf(rho),
+                }),
+        );
     }
-    write_file(&dir.join("pi.csv"), &pi)?;
+    output::write_csv(&dir.join("pi.csv"), pi)?;
 
-    let mut rx = String::from("box_len,x,rho_x,rho_x_lo,rho_x_hi,l_pow_minus_inv_nu,fitted\n");
+    let mut rx = Vec::new();
     for b in &fss.boxes {
         let t = fss.scaled(b.box_len);
-        for (j, (x, r)) in fss.xs.iter().zip(&b.rho_x).enumerate() {
+        for (j, (&x, &r)) in fss.xs.iter().zip(&b.rho_x).enumerate() {
             let iv = b.rho_x_intervals.get(j);
-            let _ = writeln!(
-                rx,
-                "{},{x},{r},{},{},{t},{}",
-                b.box_len,
-                opt(iv.map(|i| i.0)),
-                opt(iv.map(|i| i.1)),
-                fss.threshold.value + fss.slopes[j] * t
-            );
+            rx.push(RhoXRow {
+                box_len: b.box_len,
+                x,
+                rho_x: r,
+                rho_x_lo: iv.map(|i| i.0),
+                rho_x_hi: iv.map(|i| i.1),
+                l_pow_minus_inv_nu: t,
+                fitted: fss.threshold.value + fss.slopes[j] * t,
+            });
         }
     }
-    write_file(&dir.join("rho_x.csv"), &rx)
+    output::write_csv(&dir.join("rho_x.csv"), rx)
 }
 
 impl BoxFit {

@@ -9,10 +9,10 @@ use std::path::{Path, PathBuf};
 use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol};
 use super::sequence::{Kind, Record};
 use super::study::StudySpec;
+use crate::Result;
 use crate::math::stats::mean_sd;
 use crate::output::{self, cell};
 use crate::rods::excluded_volume;
-use crate::{Error, Result};
 
 /// What motif order did to a study's compressions (MODEL §8: where
 /// compression order breaks monotonicity).
@@ -170,30 +170,42 @@ pub fn summarize(spec: &StudySpec, records: &[Record], bootstrap: usize) -> Resu
     })
 }
 
+/// A row of `records.csv`: one realization, densities to 6 places.
+#[derive(Serialize)]
+struct RecordRow {
+    #[serde(rename = "box", serialize_with = "cell::display")]
+    box_len: f64,
+    index: u64,
+    seed: u64,
+    contact_critical: usize,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    contact_critical_density: f64,
+    rigid_critical: Option<usize>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    rigid_critical_density: Option<f64>,
+    compressions: usize,
+    fresh_spans: Option<bool>,
+    #[serde(serialize_with = "cell::fixed::<4, _>")]
+    seconds: f64,
+}
+
 /// Per-realization table: one row per record.
-fn records_csv(records: &[Record]) -> String {
-    let mut text = String::from(
-        "box,index,seed,contact_critical,contact_critical_density,rigid_critical,rigid_critical_density,compressions,fresh_spans,seconds\n",
-    );
-    for r in records {
+fn records_csv(records: &[Record]) -> Vec<u8> {
+    output::csv(records.iter().map(|r| {
         let v = r.box_len.powi(3);
-        let opt = |x: Option<usize>| x.map_or(String::new(), |n| n.to_string());
-        text += &format!(
-            "{},{},{},{},{:.6},{},{},{},{},{:.4}\n",
-            r.box_len,
-            r.index,
-            r.seed,
-            r.contact_critical,
-            r.contact_critical as f64 / v,
-            opt(r.rigid_critical),
-            r.rigid_critical
-                .map_or(String::new(), |n| format!("{:.6}", n as f64 / v)),
-            r.steps.len() + r.fixed.len(),
-            r.fresh.map_or(String::new(), |s| s.spans.to_string()),
-            r.seconds
-        );
-    }
-    text
+        RecordRow {
+            box_len: r.box_len,
+            index: r.index,
+            seed: r.seed,
+            contact_critical: r.contact_critical,
+            contact_critical_density: r.contact_critical as f64 / v,
+            rigid_critical: r.rigid_critical,
+            rigid_critical_density: r.rigid_critical.map(|n| n as f64 / v),
+            compressions: r.steps.len() + r.fixed.len(),
+            fresh_spans: r.fresh.map(|s| s.spans),
+            seconds: r.seconds,
+        }
+    }))
 }
 
 /// How long a study took, kept apart from `summary.json` (which must not
@@ -223,10 +235,6 @@ pub fn timing(spec: &StudySpec, records: &[Record]) -> Timing {
     }
 }
 
-fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
-}
-
 /// What [`write_study`] computed and wrote.
 pub struct StudyReport {
     pub summary: Summary,
@@ -246,19 +254,20 @@ pub fn write_study(
     let summary = summarize(spec, records, bootstrap)?;
     let data = observations(spec, records);
     let mut files = Vec::new();
-    let mut put = |name: &str, text: String| -> Result<()> {
+    let mut put = |name: &str, text: Vec<u8>| -> Result<()> {
         let path = dir.join(name);
-        write(&path, &text)?;
+        output::write_atomic(&path, text)?;
         files.push(path);
         Ok(())
     };
     put(
         "summary.json",
-        serde_json::to_string_pretty(&summary).expect("summaries serialize") + "\n",
+        (serde_json::to_string_pretty(&summary).expect("summaries serialize") + "\n").into(),
     )?;
     put(
         "timing.json",
-        serde_json::to_string_pretty(&timing(spec, records)).expect("timings serialize") + "\n",
+        (serde_json::to_string_pretty(&timing(spec, records)).expect("timings serialize") + "\n")
+            .into(),
     )?;
     put("records.csv", records_csv(records))?;
     fss::write_csv(&summary.fss, &data, dir)?;
@@ -330,7 +339,7 @@ pub fn write_per_box(
     let table = output::csv_with_more(&more, rows);
     let mut files = Vec::new();
     for (name, bytes) in [
-        ("records.csv", records_csv(records).into_bytes()),
+        ("records.csv", records_csv(records)),
         (
             "timing.json",
             (serde_json::to_string_pretty(&timing(spec, records)).expect("timings serialize")

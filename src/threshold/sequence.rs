@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::fss::ContactPoint;
+use super::fss::{ContactPoint, Protocol};
 use crate::body::Body;
 use crate::contacts::{self, Contact};
 use crate::engine::{Engine, run_seed};
@@ -170,6 +170,159 @@ impl Record {
             Kind::Rigid => self.rigid_critical,
         }
     }
+
+    /// Checks that the record is one [`nested`] or [`fixed`] could have
+    /// written for a study of `kind`, `protocol` and `runs` runs per system,
+    /// so that an edited or damaged line cannot move a threshold: the rigid
+    /// critical number is where its steps' bisection ends and not below the
+    /// contact critical number, the fixed protocol's steps follow `grid`
+    /// (its numbers of rods for this box, when known) and contact spanning,
+    /// every step's run count fits, and the contact numbers were measured
+    /// at the densities the protocol measures them.
+    pub fn check(
+        &self,
+        kind: Kind,
+        protocol: Protocol,
+        runs: usize,
+        grid: Option<&[usize]>,
+    ) -> std::result::Result<(), String> {
+        let n_c = self.contact_critical;
+        if n_c == 0 {
+            return Err("contact_critical is 0, but no sequence spans without rods".into());
+        }
+        if !(self.seconds.is_finite() && self.seconds >= 0.0) {
+            return Err(format!("seconds {} is not a duration", self.seconds));
+        }
+        for s in self.steps.iter().chain(&self.fixed).chain(&self.fresh) {
+            if s.runs_spanning > runs || s.spans != (s.runs_spanning > 0) {
+                return Err(format!(
+                    "the compression of {} rods has {} of {runs} runs spanning but spans = {}",
+                    s.n, s.runs_spanning, s.spans
+                ));
+            }
+        }
+        let nested_only =
+            self.rigid_critical.is_some() || !self.steps.is_empty() || self.fresh.is_some();
+        let measured: Vec<usize> = match (protocol, kind) {
+            (Protocol::Nested, _) if !self.fixed.is_empty() => {
+                return Err("a nested study's record has fixed-protocol steps".into());
+            }
+            (Protocol::Nested, Kind::Contact) if nested_only => {
+                return Err("a contact study's record has rigid results".into());
+            }
+            (Protocol::Nested, Kind::Contact) => vec![n_c],
+            (Protocol::Nested, Kind::Rigid) => {
+                let n_r = self
+                    .rigid_critical
+                    .ok_or("a rigid study's nested record has no rigid_critical")?;
+                if n_r < n_c {
+                    return Err(format!(
+                        "rigid_critical {n_r} is below contact_critical {n_c}, \
+                         but rigid spanning needs contact spanning"
+                    ));
+                }
+                let found = replay(n_c, &self.steps)?;
+                if found != n_r {
+                    return Err(format!(
+                        "rigid_critical is {n_r}, but its steps find {found}"
+                    ));
+                }
+                match self.fresh {
+                    Some(f) if f.n == n_r => {}
+                    Some(f) => {
+                        return Err(format!(
+                            "the fresh compression has {} rods, not rigid_critical {n_r}",
+                            f.n
+                        ));
+                    }
+                    None => return Err("no fresh compression at rigid_critical".into()),
+                }
+                vec![n_r]
+            }
+            (Protocol::Fixed, _) if nested_only => {
+                return Err("a fixed-protocol record has nested results".into());
+            }
+            (Protocol::Fixed, _) => {
+                let rods: Vec<usize> = self.fixed.iter().map(|s| s.n).collect();
+                match grid {
+                    Some(g) if rods != g => {
+                        return Err(format!("its steps have {rods:?} rods, the grid {g:?}"));
+                    }
+                    None if rods.windows(2).any(|w| w[0] >= w[1]) => {
+                        return Err(format!("its steps' rods {rods:?} do not increase"));
+                    }
+                    _ => {}
+                }
+                for s in &self.fixed {
+                    let wrong = match kind {
+                        Kind::Contact => s.spans != (s.n >= n_c),
+                        Kind::Rigid => s.spans && s.n < n_c,
+                    };
+                    if wrong {
+                        return Err(format!(
+                            "{} rods {} but contact_critical is {n_c}",
+                            s.n,
+                            if s.spans { "span" } else { "do not span" }
+                        ));
+                    }
+                }
+                rods
+            }
+        };
+        let at: Vec<usize> = self
+            .contacts
+            .iter()
+            .map(|c| (c.density * self.box_len.powi(3)).round() as usize)
+            .collect();
+        let exact = self.contacts.iter().zip(&measured).all(|(c, &n)| {
+            (c.density - n as f64 / self.box_len.powi(3)).abs() <= 1e-12 * c.density
+        });
+        if at.len() != measured.len() || !exact {
+            return Err(format!(
+                "contact numbers measured at {at:?} rods, not at {measured:?}"
+            ));
+        }
+        if let Some(c) = self.contacts.iter().find(|c| {
+            ![c.c0, c.c1, c.c2]
+                .iter()
+                .all(|x| x.is_finite() && *x >= 0.0)
+        }) {
+            return Err(format!(
+                "contact numbers {c:?} are not all finite and non-negative"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The rigid critical number `steps` lead to when [`Bisection`] replays
+/// them from contact critical number `n_c`, or where they leave its path.
+fn replay(n_c: usize, steps: &[Step]) -> std::result::Result<usize, String> {
+    let mut search = Bisection::new(n_c);
+    let mut steps = steps.iter().enumerate();
+    while let Some(n) = search.next() {
+        let Some((k, s)) = steps.next() else {
+            return Err(format!(
+                "the steps end where the bisection compresses {n} rods next"
+            ));
+        };
+        if s.n != n {
+            return Err(format!(
+                "step {} compresses {} rods where the bisection compresses {n}",
+                k + 1,
+                s.n
+            ));
+        }
+        search.record(n, s.spans);
+    }
+    match steps.next() {
+        Some((k, s)) => Err(format!(
+            "step {} ({} rods) comes after the bisection ended",
+            k + 1,
+            s.n
+        )),
+        None => Ok(search.hi.expect("the search ends on a spanning system")),
+    }
 }
 
 /// Compresses the first `n` rods `setup.runs` times, run `k` starting from
@@ -212,10 +365,54 @@ fn compress(
 const FIRST_GUESS: f64 = 2.0;
 const GROWTH: f64 = 1.25;
 
+/// The nested protocol's search for the rigid critical number: rigid
+/// spanning needs contact spanning, so it starts above the contact critical
+/// number `n_c`, grows its upper end from a guess until that spans, then
+/// bisects. [`nested`] runs it on compressions, and [`Record::check`]
+/// replays it on a record's steps.
+struct Bisection {
+    /// Largest number of rods known not to span.
+    lo: usize,
+    /// Smallest number known to span, once one does.
+    hi: Option<usize>,
+    /// The next guess while none spans.
+    probe: usize,
+}
+
+impl Bisection {
+    fn new(n_c: usize) -> Self {
+        Bisection {
+            lo: n_c - 1,
+            hi: None,
+            probe: (n_c as f64 * FIRST_GUESS).ceil() as usize,
+        }
+    }
+
+    /// The number of rods to compress next, or `None` once `hi` is one above `lo`.
+    fn next(&self) -> Option<usize> {
+        match self.hi {
+            None => Some(self.probe),
+            Some(hi) if hi - self.lo > 1 => Some(self.lo + (hi - self.lo) / 2),
+            Some(_) => None,
+        }
+    }
+
+    /// Takes in whether `n` rods (the last [`Bisection::next`]) span.
+    fn record(&mut self, n: usize, spans: bool) {
+        if spans {
+            self.hi = Some(n);
+        } else {
+            self.lo = n;
+            if self.hi.is_none() {
+                self.probe = (n as f64 * GROWTH).ceil() as usize;
+            }
+        }
+    }
+}
+
 /// The nested protocol on one realization: the exact contact critical
-/// number, and for the rigid kind the rigid one by bisection. Rigid spanning
-/// needs contact spanning, so the bisection starts above the contact
-/// critical number, first growing its upper end from a guess.
+/// number, and for the rigid kind the rigid one by [`Bisection`], each
+/// compression starting from the bodies of the largest non-spanning system.
 pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<()> {
     let n_c = seq.contact_critical(setup.criterion)?;
     record.contact_critical = n_c;
@@ -223,35 +420,25 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         record.contacts.push(seq.contact_point(n_c));
         return Ok(());
     }
-    let (mut lo, mut lo_bodies) = (n_c - 1, vec![Vec::new(); setup.runs]);
-    let mut probe = (n_c as f64 * FIRST_GUESS).ceil() as usize;
-    let mut hi = loop {
-        seq.reach(probe)?;
-        let (step, bodies) = compress(setup, seq, probe, Some(&lo_bodies))?;
-        record.steps.push(step);
-        if step.spans {
-            break probe;
-        }
-        (lo, lo_bodies) = (probe, bodies);
-        probe = (probe as f64 * GROWTH).ceil() as usize;
-        if probe > crate::rods::MAX_RODS {
+    let mut search = Bisection::new(n_c);
+    let mut lo_bodies = vec![Vec::new(); setup.runs];
+    while let Some(n) = search.next() {
+        if n > crate::rods::MAX_RODS {
             return Err(Error::Parameter(format!(
                 "no rigid spanning cluster below {} rods in a box of side {}",
                 crate::rods::MAX_RODS,
                 seq.system.box_len()
             )));
         }
-    };
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        let (step, bodies) = compress(setup, seq, mid, Some(&lo_bodies))?;
+        seq.reach(n)?;
+        let (step, bodies) = compress(setup, seq, n, Some(&lo_bodies))?;
         record.steps.push(step);
-        if step.spans {
-            hi = mid;
-        } else {
-            (lo, lo_bodies) = (mid, bodies);
+        if !step.spans {
+            lo_bodies = bodies;
         }
+        search.record(n, step.spans);
     }
+    let hi = search.hi.expect("the search ends on a spanning system");
     record.rigid_critical = Some(hi);
     record.fresh = Some(compress(setup, seq, hi, None)?.0);
     record.contacts.push(seq.contact_point(hi));

@@ -16,6 +16,7 @@ use std::time::Instant;
 use super::fss::Protocol;
 use super::sequence::{self, Kind, Record, Sequence, Setup};
 use crate::engine::{CompiledRule, Engine, RuleSet, run_seed};
+use crate::output;
 use crate::progress::Progress;
 use crate::rods::{RodParams, excluded_volume};
 use crate::rule_file::Rule;
@@ -113,8 +114,7 @@ impl MotifSet {
 }
 
 impl StudySpec {
-    /// Checks what a person can get wrong on the command line, including a
-    /// study too small for the scaling analysis ([`super::fss::check_design`]).
+    /// Checks what a person can get wrong on the command line.
     pub fn validate(&self) -> Result<()> {
         let bad = |m: String| Err(Error::Parameter(m));
         if self.boxes.is_empty() {
@@ -126,13 +126,14 @@ impl StudySpec {
         if sorted.len() != self.boxes.len() {
             return bad(format!("box sizes repeat: {:?}", self.boxes));
         }
+        // Each box as the first sequence fills it, so that a study too large
+        // for memory is refused before it claims a directory.
         for &l in &self.boxes {
-            RodParams::new(self.gamma, l, 1.0)?;
+            RodParams::new(self.gamma, l, self.first_rods(l).max(1) as f64 / l.powi(3))?;
         }
         if self.realizations == 0 {
             return bad("--realizations must be at least 1".into());
         }
-        super::fss::check_design(self.boxes.len(), self.realizations, self.method)?;
         if self.runs == 0 {
             return bad("--runs must be at least 1".into());
         }
@@ -140,6 +141,15 @@ impl StudySpec {
             return bad("--grid-points must be at least 2".into());
         }
         Ok(())
+    }
+
+    /// [`StudySpec::validate`], and that the scaling analysis can use the
+    /// study at all ([`super::fss::check_design`]): what a command that will
+    /// analyse a study checks before any realization runs. A study itself
+    /// (records, shards, merges) needs no more than `validate`.
+    pub fn validate_for_analysis(&self) -> Result<()> {
+        self.validate()?;
+        super::fss::check_design(self.boxes.len(), self.realizations, self.method)
     }
 
     /// Whether `other` is the same study (file names of the rules aside).
@@ -387,7 +397,12 @@ pub fn run(
         todo.iter().map(|t| weight(t.0)).sum(),
     );
     let path = dir.join(opts.shard.file_name());
-    let writer = Mutex::new(open_for_append(&path)?);
+    // A finished shard is not opened, so a read-only study can be re-analysed.
+    let writer = Mutex::new(if todo.is_empty() {
+        None
+    } else {
+        Some(open_for_append(&path)?)
+    });
     todo.par_iter()
         .map(|&(l, i)| {
             let grid_box = grid
@@ -397,6 +412,7 @@ pub fn run(
             let mut line = serde_json::to_string(&record).expect("records serialize");
             line.push('\n');
             let mut w = writer.lock().expect("no writer panicked");
+            let w = w.as_mut().expect("opened when there is work");
             w.write_all(line.as_bytes())
                 .and_then(|_| w.flush())
                 .map_err(|e| Error::io(&path, e))?;
@@ -444,7 +460,7 @@ fn claim(dir: &Path, spec: &StudySpec) -> Result<()> {
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let text = serde_json::to_string_pretty(spec).expect("specs serialize");
-            write_atomically(&path, &text)
+            output::write_atomic(&path, text)
         }
         Err(e) => Err(Error::io(&path, e)),
     }
@@ -466,25 +482,14 @@ fn difference(a: &StudySpec, b: &StudySpec) -> String {
         .join(", ")
 }
 
-fn write_atomically(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
-}
-
 fn load_or_make_grid(dir: &Path, spec: &StudySpec, setup: &Setup) -> Result<Grid> {
-    let path = dir.join("grid.json");
-    match std::fs::read_to_string(&path) {
-        Ok(text) => serde_json::from_str(&text)
-            .map_err(|e| study_error(&path, format!("unreadable grid: {e}"))),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            let grid = pilot_grid(spec, setup)?;
-            let text = serde_json::to_string_pretty(&grid).expect("grids serialize");
-            write_atomically(&path, &text)?;
-            Ok(grid)
-        }
-        Err(e) => Err(Error::io(&path, e)),
+    if let Some(grid) = read_grid(dir)? {
+        return Ok(grid);
     }
+    let grid = pilot_grid(spec, setup)?;
+    let text = serde_json::to_string_pretty(&grid).expect("grids serialize");
+    output::write_atomic(&dir.join("grid.json"), text)?;
+    Ok(grid)
 }
 
 /// Opens a record file for appending, first cutting off a last line left
@@ -510,10 +515,26 @@ fn open_for_append(path: &Path) -> Result<File> {
 type Key = (u64, u64);
 
 /// Reads every record file of `dir` (`records*.jsonl`), checking each record
-/// against the study; an unfinished last line (a kill) is ignored.
-/// Identical duplicates (shards run twice) are allowed, different ones are not.
+/// against the study and against itself ([`Record::check`]); an unfinished
+/// last line (a kill) is ignored. Identical duplicates (shards run twice)
+/// are allowed, different ones are not. Errors name the file and line.
 pub fn read_records(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, Record>> {
-    let mut records = BTreeMap::new();
+    Ok(read_sourced(dir, spec)?
+        .into_iter()
+        .map(|(k, (r, _))| (k, r))
+        .collect())
+}
+
+/// Where a record was read: its file and line (from 1).
+type Source = (PathBuf, usize);
+
+/// [`read_records`], each record with its source.
+fn read_sourced(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, (Record, Source)>> {
+    let grid = match spec.method {
+        Protocol::Fixed => read_grid(dir)?,
+        Protocol::Nested => None,
+    };
+    let mut records: BTreeMap<Key, (Record, Source)> = BTreeMap::new();
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|e| Error::io(dir, e))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -547,22 +568,59 @@ pub fn read_records(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, Record
                     r.index, r.box_len, r.seed
                 )));
             }
-            let key = (r.box_len.to_bits(), r.index);
-            match records.get(&key) {
-                Some(seen) if !same_record(seen, &r) => {
-                    return Err(at(format!(
-                        "realization {} of box {} is recorded twice with different results",
+            let grid_rods = match &grid {
+                Some(g) => Some(
+                    g.boxes
+                        .iter()
+                        .find(|b| b.box_len == r.box_len)
+                        .map(|b| &b.rods[..])
+                        .ok_or_else(|| at(format!("grid.json has no box {}", r.box_len)))?,
+                ),
+                None => None,
+            };
+            r.check(spec.kind, spec.method, spec.runs, grid_rods)
+                .map_err(|reason| {
+                    at(format!(
+                        "realization {} of box {} contradicts itself: {reason}",
                         r.index, r.box_len
+                    ))
+                })?;
+            let key = (r.box_len.to_bits(), r.index);
+            let source = (path.clone(), k + 1);
+            match records.get(&key) {
+                Some((seen, first)) if !same_record(seen, &r) => {
+                    return Err(at(format!(
+                        "realization {} of box {} differs from {}",
+                        r.index,
+                        r.box_len,
+                        describe(first)
                     )));
                 }
                 Some(_) => {}
                 None => {
-                    records.insert(key, r);
+                    records.insert(key, (r, source));
                 }
             }
         }
     }
     Ok(records)
+}
+
+/// `line N of FILE`, for messages that name two places.
+fn describe((path, line): &Source) -> String {
+    format!("line {line} of {}", path.display())
+}
+
+/// A study directory's `grid.json`, if it has one.
+fn read_grid(dir: &Path) -> Result<Option<Grid>> {
+    let path = dir.join("grid.json");
+    match std::fs::read_to_string(&path) {
+        Ok(text) => serde_json::from_str(&text)
+            .map(Some)
+            .map_err(|e| study_error(&path, format!("unreadable grid: {e}"))),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(Error::io(&path, e)),
+    }
 }
 
 /// Equal results (timing aside).
@@ -587,7 +645,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
         ));
     };
     let spec = read_spec(first)?;
-    let mut all: BTreeMap<Key, Record> = BTreeMap::new();
+    let mut all: BTreeMap<Key, (Record, Source)> = BTreeMap::new();
     for dir in dirs {
         let there = read_spec(dir)?;
         if !there.same(&spec) {
@@ -600,20 +658,23 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
                 ),
             ));
         }
-        for (key, r) in read_records(dir, &spec)? {
+        for (key, (r, source)) in read_sourced(dir, &spec)? {
             match all.get(&key) {
-                Some(seen) if !same_record(seen, &r) => {
+                Some((seen, first)) if !same_record(seen, &r) => {
                     return Err(study_error(
-                        dir,
+                        &source.0,
                         format!(
-                            "realization {} of box {} differs from another shard's",
-                            r.index, r.box_len
+                            "line {}: realization {} of box {} differs from {}",
+                            source.1,
+                            r.index,
+                            r.box_len,
+                            describe(first)
                         ),
                     ));
                 }
                 Some(_) => {}
                 None => {
-                    all.insert(key, r);
+                    all.insert(key, (r, source));
                 }
             }
         }
@@ -637,7 +698,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
             ),
         ));
     }
-    let records = in_study_order(&spec, all);
+    let records = in_study_order(&spec, all.into_iter().map(|(k, (r, _))| (k, r)).collect());
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let same_dir = dirs.iter().any(|d| same_path(d, out));
     if !same_dir {
@@ -645,7 +706,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
         // The fixed protocol's grid travels with the records.
         let grid = first.join("grid.json");
         if grid.exists() {
-            std::fs::copy(&grid, out.join("grid.json")).map_err(|e| Error::io(&grid, e))?;
+            let text = std::fs::read(&grid).map_err(|e| Error::io(&grid, e))?;
+            output::write_atomic(&out.join("grid.json"), text)?;
         }
     }
     let mut text = String::new();
@@ -653,7 +715,12 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
         text += &serde_json::to_string(r).expect("records serialize");
         text.push('\n');
     }
-    write_atomically(&out.join("records.jsonl"), &text)?;
+    // A study merged before is left as it is: re-analysing it writes nothing
+    // into its directory, which may be read-only.
+    let path = out.join("records.jsonl");
+    if std::fs::read(&path).ok().as_deref() != Some(text.as_bytes()) {
+        output::write_atomic(&path, text)?;
+    }
     Ok((spec, records))
 }
 
@@ -690,4 +757,274 @@ pub fn in_study_order(spec: &StudySpec, records: BTreeMap<Key, Record>) -> Vec<R
     };
     records.sort_by_key(|r| (pos(r.box_len), r.index));
     records
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(kind: Kind, method: Protocol) -> StudySpec {
+        StudySpec {
+            format: STUDY_FORMAT.into(),
+            kind,
+            gamma: 10.0,
+            boxes: vec![3.0, 3.5, 4.0],
+            realizations: 3,
+            rules: RuleSet::Sound,
+            motifs: MotifSet::default(),
+            runs: 2,
+            criterion: Criterion::Wrap,
+            method,
+            grid_points: 4,
+            seed: 5,
+        }
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("rgc-study-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    fn run_in(spec: &StudySpec, dir: &Path, shard: Shard) -> RunReport {
+        let opts = RunOptions {
+            out: dir.to_path_buf(),
+            shard,
+        };
+        run(spec, &[], &opts, &crate::progress::Silent).unwrap()
+    }
+
+    /// Rewrites line `k` (from 0) of a record file through `edit`.
+    fn edit_line(path: &Path, k: usize, edit: impl Fn(&mut serde_json::Value)) {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        let mut v: serde_json::Value = serde_json::from_str(&lines[k]).unwrap();
+        edit(&mut v);
+        lines[k] = v.to_string();
+        std::fs::write(path, lines.join("\n") + "\n").unwrap();
+    }
+
+    fn refusal(dir: &Path, spec: &StudySpec) -> String {
+        read_records(dir, spec).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn records_that_contradict_themselves_are_refused_with_file_and_line() {
+        let spec = spec(Kind::Rigid, Protocol::Nested);
+        let dir = scratch("contradict");
+        run_in(&spec, &dir, Shard::WHOLE);
+        let path = dir.join("records.jsonl");
+        let clean = std::fs::read_to_string(&path).unwrap();
+        let first: Record = serde_json::from_str(clean.lines().next().unwrap()).unwrap();
+        let n_r = first.rigid_critical.unwrap();
+        let line1 = format!("study {}: line 1: ", path.display());
+        for (edit, expected) in [
+            (
+                Box::new(move |v: &mut serde_json::Value| v["rigid_critical"] = (n_r + 1).into())
+                    as Box<dyn Fn(&mut serde_json::Value)>,
+                format!("rigid_critical is {}, but its steps find {n_r}", n_r + 1),
+            ),
+            (
+                Box::new(move |v: &mut serde_json::Value| v["contact_critical"] = (n_r + 1).into()),
+                format!("rigid_critical {n_r} is below contact_critical {}", n_r + 1),
+            ),
+            (
+                Box::new(|v: &mut serde_json::Value| v["steps"][0]["runs_spanning"] = 3.into()),
+                "of 2 runs spanning".into(),
+            ),
+            (
+                Box::new(|v: &mut serde_json::Value| {
+                    v["steps"].as_array_mut().unwrap().pop();
+                }),
+                "the steps end where the bisection compresses".into(),
+            ),
+            (
+                Box::new(|v: &mut serde_json::Value| v["fresh"] = serde_json::Value::Null),
+                "no fresh compression".into(),
+            ),
+            (
+                Box::new(|v: &mut serde_json::Value| v["contacts"][0]["density"] = 1.0.into()),
+                "contact numbers measured at".into(),
+            ),
+        ] {
+            edit_line(&path, 0, edit);
+            let err = refusal(&dir, &spec);
+            assert!(
+                err.starts_with(&line1)
+                    && err.contains("contradicts itself")
+                    && err.contains(&expected),
+                "{err}"
+            );
+            // Neither merge nor a resumed run accepts it.
+            assert!(merge(std::slice::from_ref(&dir), &scratch("contradict-merged")).is_err());
+            let opts = RunOptions {
+                out: dir.clone(),
+                shard: Shard::WHOLE,
+            };
+            assert!(run(&spec, &[], &opts, &crate::progress::Silent).is_err());
+            std::fs::write(&path, &clean).unwrap();
+        }
+        assert_eq!(read_records(&dir, &spec).unwrap().len(), 9);
+        let _ = std::fs::remove_dir_all(scratch("contradict-merged"));
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn fixed_records_follow_the_grid_and_contact_spanning() {
+        let spec = spec(Kind::Contact, Protocol::Fixed);
+        let dir = scratch("fixed-grid");
+        run_in(&spec, &dir, Shard::WHOLE);
+        let path = dir.join("records.jsonl");
+        let clean = std::fs::read_to_string(&path).unwrap();
+        edit_line(&path, 1, |v| {
+            let n = v["fixed"][0]["n"].as_u64().unwrap();
+            v["fixed"][0]["n"] = (n + 1).into();
+        });
+        let err = refusal(&dir, &spec);
+        assert!(
+            err.contains("line 2: ") && err.contains("the grid"),
+            "{err}"
+        );
+        std::fs::write(&path, &clean).unwrap();
+        edit_line(&path, 1, |v| {
+            let spans = v["fixed"][0]["spans"].as_bool().unwrap();
+            v["fixed"][0]["spans"] = (!spans).into();
+            v["fixed"][0]["runs_spanning"] = usize::from(!spans).into();
+        });
+        let err = refusal(&dir, &spec);
+        assert!(
+            err.contains("line 2: ") && err.contains("but contact_critical is"),
+            "{err}"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Names, lengths and modification times of a directory's files.
+    fn snapshot(dir: &Path) -> Vec<(String, u64, std::time::SystemTime)> {
+        let mut v: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                let m = e.metadata().unwrap();
+                let name = e.file_name().to_string_lossy().into_owned();
+                (name, m.len(), m.modified().unwrap())
+            })
+            .collect();
+        v.sort();
+        v
+    }
+
+    fn set_read_only(dir: &Path, read_only: bool) {
+        for path in std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .chain([dir.to_path_buf()])
+        {
+            let mut p = std::fs::metadata(&path).unwrap().permissions();
+            p.set_readonly(read_only);
+            std::fs::set_permissions(&path, p).unwrap();
+        }
+    }
+
+    /// Re-analysing a finished study writes nothing into its directory (made
+    /// read-only here, which binds unless the tests run as root).
+    #[test]
+    fn a_finished_study_is_re_analysed_without_writing_to_it() {
+        for method in [Protocol::Nested, Protocol::Fixed] {
+            // Large enough for the scaling analysis to fit.
+            let spec = StudySpec {
+                realizations: 12,
+                grid_points: 6,
+                seed: 7,
+                ..spec(Kind::Rigid, method)
+            };
+            let dir = scratch("read-only");
+            let elsewhere = scratch("read-only-report");
+            run_in(&spec, &dir, Shard::WHOLE);
+            // Merged in place once, as `rgc merge` does by default.
+            merge(std::slice::from_ref(&dir), &dir).unwrap();
+            let before = snapshot(&dir);
+            set_read_only(&dir, true);
+            let again = run_in(&spec, &dir, Shard::WHOLE);
+            assert_eq!((again.ran, again.resumed, again.complete), (0, 36, true));
+            let (_, in_place) = merge(std::slice::from_ref(&dir), &dir).unwrap();
+            let (_, records) = merge(std::slice::from_ref(&dir), &elsewhere).unwrap();
+            assert_eq!(in_place, records);
+            let report = super::super::report::write_study(&elsewhere, &spec, &records, 20);
+            set_read_only(&dir, false);
+            report.unwrap();
+            assert_eq!(snapshot(&dir), before, "{method:?}");
+            assert_eq!(read_records(&elsewhere, &spec).unwrap().len(), 36);
+            for d in [dir, elsewhere] {
+                std::fs::remove_dir_all(d).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn merge_names_both_records_that_disagree() {
+        let spec = spec(Kind::Contact, Protocol::Nested);
+        let (a, b) = (scratch("disagree-a"), scratch("disagree-b"));
+        run_in(&spec, &a, Shard { index: 0, count: 2 });
+        run_in(&spec, &b, Shard::WHOLE);
+        // Realization 2 of box 3 is the study's third, so in shard 0 of 2 (the
+        // even-numbered ones), on a line that depends on thread timing.
+        let shard = a.join("records-0-of-2.jsonl");
+        let line = |path: &Path| {
+            std::fs::read_to_string(path)
+                .unwrap()
+                .lines()
+                .position(|l| l.contains("\"box\":3.0,\"index\":2,"))
+                .unwrap()
+        };
+        let (k, j) = (line(&b.join("records.jsonl")), line(&shard));
+        edit_line(&b.join("records.jsonl"), k, |v| {
+            let n = v["contact_critical"].as_u64().unwrap() + 1;
+            v["contact_critical"] = n.into();
+            let volume = 27.0;
+            v["contacts"][0]["density"] = (n as f64 / volume).into();
+        });
+        let err = merge(&[a.clone(), b.clone()], &scratch("disagree-out"))
+            .unwrap_err()
+            .to_string();
+        let named = format!(
+            "study {}: line {}: realization 2 of box 3 differs from line {} of {}",
+            b.join("records.jsonl").display(),
+            k + 1,
+            j + 1,
+            shard.display()
+        );
+        assert_eq!(err, named);
+        // Two files of one directory are named the same way.
+        std::fs::copy(b.join("records.jsonl"), a.join("records.jsonl")).unwrap();
+        let err = refusal(&a, &spec);
+        assert!(
+            err.contains(&format!("line {} of {}", j + 1, shard.display()))
+                && err.contains(&format!("line {}: realization 2 of box 3 differs", k + 1)),
+            "{err}"
+        );
+        for d in [a, b, scratch("disagree-out")] {
+            let _ = std::fs::remove_dir_all(d);
+        }
+    }
+
+    #[test]
+    fn an_impossible_study_claims_nothing() {
+        let mut spec = spec(Kind::Rigid, Protocol::Nested);
+        spec.gamma = 23.0;
+        spec.boxes = vec![4.0, 5.0, 100.0];
+        let dir = scratch("impossible");
+        let opts = RunOptions {
+            out: dir.clone(),
+            shard: Shard::WHOLE,
+        };
+        let err = run(&spec, &[], &opts, &crate::progress::Silent)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("box of side 100 means") && err.contains("more than the 50000000"),
+            "{err}"
+        );
+        assert!(!dir.exists());
+    }
 }

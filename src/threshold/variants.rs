@@ -13,6 +13,7 @@ use super::fss::{Estimate, Protocol};
 use super::report;
 use super::study::{self, MotifSet, RunOptions, Shard, StudySpec};
 use crate::engine::{CompiledRule, RuleSet};
+use crate::output::{self, cell};
 use crate::progress::Progress;
 use crate::rule_file;
 use crate::{Error, Result};
@@ -186,7 +187,7 @@ pub fn check_variants(template: &StudySpec, variants: &[Variant]) -> Result<()> 
             realizations: v.realizations,
             ..template.clone()
         };
-        spec.validate().map_err(|e| match e {
+        spec.validate_for_analysis().map_err(|e| match e {
             Error::Parameter(m) => Error::Parameter(format!("variant {:?}: {m}", v.label)),
             e => e,
         })?;
@@ -481,82 +482,197 @@ fn paired_difference(
     })
 }
 
-/// The outcomes as a Markdown table.
-pub fn markdown(title: &str, command: &str, outcomes: &[VariantOutcome]) -> String {
-    let mut md = format!(
-        "# {title}\n\nMade by `{command}`.\n\n\
-         | variant | rules | motifs | runs | method | realizations/box | threshold | 95% interval | rel. diff. | paired diff. of critical densities (against) | nu | CPU s | single-run miss | fresh misses |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
-    );
-    let interval = |e: &Estimate| match (e.lo, e.hi) {
+/// One variant as both tables show it: every field is a column of the CSV
+/// (serde), and each column of the Markdown table ([`MARKDOWN`]) is drawn
+/// from these fields, so the two tables cannot drift apart.
+#[derive(Serialize)]
+struct Row<'a> {
+    /// Lowercase in the CSV, as the committed tables have it.
+    #[serde(serialize_with = "lowercase")]
+    label: &'a str,
+    #[serde(serialize_with = "lowercase")]
+    family: &'a str,
+    rules: RuleSet,
+    motif_rules: usize,
+    runs: usize,
+    method: Protocol,
+    realizations: u64,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    threshold: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    threshold_lo: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    threshold_hi: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    interval_width: Option<f64>,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    nu: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    nu_lo: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    nu_hi: Option<f64>,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    relative_difference: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    paired_difference: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    paired_lo: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    paired_hi: Option<f64>,
+    /// The Markdown table's only field that is no CSV column.
+    #[serde(skip)]
+    paired_with: Option<&'a str>,
+    #[serde(serialize_with = "cell::fixed::<3, _>")]
+    cpu_seconds: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    single_run_miss_rate: Option<f64>,
+    fresh_misses: usize,
+    fresh_checks: usize,
+}
+
+fn lowercase<S: serde::Serializer>(v: &&str, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(&v.to_lowercase())
+}
+
+impl<'a> Row<'a> {
+    fn of(o: &'a VariantOutcome) -> Self {
+        let paired = o.paired_difference;
+        Row {
+            label: &o.label,
+            family: &o.family,
+            rules: o.rules,
+            motif_rules: o.motif_rules,
+            runs: o.runs,
+            method: o.method,
+            realizations: o.realizations,
+            threshold: o.threshold.value,
+            threshold_lo: o.threshold.lo,
+            threshold_hi: o.threshold.hi,
+            interval_width: o.interval_width,
+            nu: o.nu.value,
+            nu_lo: o.nu.lo,
+            nu_hi: o.nu.hi,
+            relative_difference: o.relative_difference,
+            paired_difference: paired.map(|p| p.value),
+            paired_lo: paired.and_then(|p| p.lo),
+            paired_hi: paired.and_then(|p| p.hi),
+            paired_with: o.paired_with.as_deref(),
+            cpu_seconds: o.cpu_seconds,
+            single_run_miss_rate: o.single_run_miss_rate,
+            fresh_misses: o.fresh_misses,
+            fresh_checks: o.fresh_checks,
+        }
+    }
+}
+
+/// `[lo, hi]` to 3 places, or a dash.
+fn interval(lo: Option<f64>, hi: Option<f64>) -> String {
+    match (lo, hi) {
         (Some(lo), Some(hi)) => format!("[{lo:.3}, {hi:.3}]"),
         _ => "—".into(),
-    };
+    }
+}
+
+/// A Markdown column: its heading and how a [`Row`] fills its cell.
+type Column = (&'static str, fn(&Row) -> String);
+
+/// The Markdown table's columns.
+const MARKDOWN: [Column; 14] = [
+    ("variant", |r| r.label.to_string()),
+    ("rules", |r| format!("{:?}", r.rules)),
+    ("motifs", |r| r.motif_rules.to_string()),
+    ("runs", |r| r.runs.to_string()),
+    ("method", |r| format!("{:?}", r.method)),
+    ("realizations/box", |r| r.realizations.to_string()),
+    ("threshold", |r| format!("{:.3}", r.threshold)),
+    ("95% interval", |r| interval(r.threshold_lo, r.threshold_hi)),
+    ("rel. diff.", |r| {
+        format!("{:+.2}%", 100.0 * r.relative_difference)
+    }),
+    ("paired diff. of critical densities (against)", |r| {
+        r.paired_difference.map_or("—".into(), |p| {
+            format!(
+                "{p:+.3} {} (vs {})",
+                interval(r.paired_lo, r.paired_hi),
+                r.paired_with.unwrap_or("?")
+            )
+        })
+    }),
+    ("nu", |r| {
+        format!("{:.3} {}", r.nu, interval(r.nu_lo, r.nu_hi))
+    }),
+    ("CPU s", |r| format!("{:.0}", r.cpu_seconds)),
+    ("single-run miss", |r| {
+        r.single_run_miss_rate
+            .map_or("—".into(), |m| format!("{:.1}%", 100.0 * m))
+    }),
+    ("fresh misses", |r| {
+        if r.fresh_checks > 0 {
+            format!("{}/{}", r.fresh_misses, r.fresh_checks)
+        } else {
+            "—".into()
+        }
+    }),
+];
+
+/// The outcomes as a Markdown table.
+pub fn markdown(title: &str, command: &str, outcomes: &[VariantOutcome]) -> String {
+    let line = |cells: Vec<String>| format!("| {} |\n", cells.join(" | "));
+    let mut md = format!("# {title}\n\nMade by `{command}`.\n\n");
+    md += &line(MARKDOWN.iter().map(|c| c.0.to_string()).collect());
+    md += &format!("|{}\n", "---|".repeat(MARKDOWN.len()));
     for o in outcomes {
-        md += &format!(
-            "| {} | {:?} | {} | {} | {:?} | {} | {:.3} | {} | {:+.2}% | {} | {:.3} {} | {:.0} | {} | {} |\n",
-            o.label,
-            o.rules,
-            o.motif_rules,
-            o.runs,
-            o.method,
-            o.realizations,
-            o.threshold.value,
-            interval(&o.threshold),
-            100.0 * o.relative_difference,
-            o.paired_difference.as_ref().map_or("—".into(), |p| format!(
-                "{:+.3} {} (vs {})",
-                p.value,
-                interval(p),
-                o.paired_with.as_deref().unwrap_or("?")
-            )),
-            o.nu.value,
-            interval(&o.nu),
-            o.cpu_seconds,
-            o.single_run_miss_rate
-                .map_or("—".into(), |r| format!("{:.1}%", 100.0 * r)),
-            if o.fresh_checks > 0 {
-                format!("{}/{}", o.fresh_misses, o.fresh_checks)
-            } else {
-                "—".into()
-            },
-        );
+        let row = Row::of(o);
+        md += &line(MARKDOWN.iter().map(|c| (c.1)(&row)).collect());
     }
     md
 }
 
 /// The outcomes as CSV.
 pub fn csv(outcomes: &[VariantOutcome]) -> String {
-    let mut text = String::from(
-        "label,family,rules,motif_rules,runs,method,realizations,threshold,threshold_lo,threshold_hi,interval_width,nu,nu_lo,nu_hi,relative_difference,paired_difference,paired_lo,paired_hi,cpu_seconds,single_run_miss_rate,fresh_misses,fresh_checks\n",
-    );
-    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6}"));
-    for o in outcomes {
-        text += &format!(
-            "{},{},{:?},{},{},{:?},{},{:.6},{},{},{},{:.6},{},{},{:.6},{},{},{},{:.3},{},{},{}\n",
-            o.label,
-            o.family,
-            o.rules,
-            o.motif_rules,
-            o.runs,
-            o.method,
-            o.realizations,
-            o.threshold.value,
-            opt(o.threshold.lo),
-            opt(o.threshold.hi),
-            opt(o.interval_width),
-            o.nu.value,
-            opt(o.nu.lo),
-            opt(o.nu.hi),
-            o.relative_difference,
-            opt(o.paired_difference.map(|p| p.value)),
-            opt(o.paired_difference.and_then(|p| p.lo)),
-            opt(o.paired_difference.and_then(|p| p.hi)),
-            o.cpu_seconds,
-            opt(o.single_run_miss_rate),
-            o.fresh_misses,
-            o.fresh_checks
-        );
+    String::from_utf8(output::csv(outcomes.iter().map(Row::of))).expect("CSV of UTF-8 is UTF-8")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The committed comparisons, written again from their JSON, are the
+    /// committed Markdown and CSV byte for byte.
+    #[test]
+    fn committed_tables_are_written_unchanged() {
+        for name in ["compare-base-extended", "speed-accuracy"] {
+            let path = |ext: &str| {
+                Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("results/{name}.{ext}"))
+            };
+            let read = |ext: &str| std::fs::read_to_string(path(ext)).unwrap();
+            let json: serde_json::Value = serde_json::from_str(&read("json")).unwrap();
+            let outcomes: Vec<VariantOutcome> =
+                serde_json::from_value(json["variants"].clone()).unwrap();
+            let command = json["command"].as_str().unwrap();
+            let md = read("md");
+            let title = md.lines().next().unwrap().strip_prefix("# ").unwrap();
+            assert_eq!(markdown(title, command, &outcomes), md, "{name}.md");
+            assert_eq!(csv(&outcomes), read("csv"), "{name}.csv");
+        }
     }
-    text.to_lowercase()
+
+    #[test]
+    fn labels_with_commas_are_quoted() {
+        let json = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("results/compare-base-extended.json"),
+        )
+        .unwrap();
+        let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let mut outcomes: Vec<VariantOutcome> =
+            serde_json::from_value(json["variants"].clone()).unwrap();
+        outcomes[0].label = "K=1, \"base\"".into();
+        let text = csv(&outcomes);
+        let row = text.lines().nth(1).unwrap();
+        assert!(
+            row.starts_with("\"k=1, \"\"base\"\"\",rules,paper,"),
+            "{row}"
+        );
+        assert_eq!(row.matches(',').count(), 22, "{row}");
+    }
 }

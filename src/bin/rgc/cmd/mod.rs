@@ -63,7 +63,7 @@ fn run_experiment(
 ) -> Result<Vec<VariantOutcome>> {
     let template = args.study.spec();
     let design = variants::checked_design(make, &template)?;
-    template.validate()?;
+    template.validate_for_analysis()?;
     fss::check_bootstrap(args.study.bootstrap)?;
     let dir = &args.results;
     output::check_dir(dir)?;

@@ -58,7 +58,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         ..a.study.spec()
     };
     // A study the analysis could not use fails before its rules are verified or its realizations run.
-    spec.validate()?;
+    spec.validate_for_analysis()?;
     let rules = rule_file::load_rules(&a.rules.rule_files)?;
     spec.motifs = MotifSet::of(&rules, &a.rules.rule_files);
     let shard = a
