@@ -449,7 +449,7 @@ fn claim(dir: &Path, spec: &StudySpec) -> Result<()> {
                 return Err(study_error(
                     &path,
                     format!(
-                        "this directory holds another study ({}); use another --out, or the same command\n  there: {}\n  asked: {}",
+                        "this directory holds another study ({}); use another directory (threshold --out, compare and tradeoff --studies), or the same command\n  there: {}\n  asked: {}",
                         difference(&there, spec),
                         serde_json::to_string(&there).unwrap_or_default(),
                         serde_json::to_string(spec).unwrap_or_default()
