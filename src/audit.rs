@@ -3,13 +3,15 @@
 //! missed motifs the audit finds.
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::engine::{CompiledRule, Engine, RuleSet};
+use crate::engine::{CompiledRule, Compression, Engine, Motif, RuleSet};
 use crate::enumerate::{
     GraphFilter, TypedFilter, connected_small_graphs, count_connected, typed_patterns,
 };
+use crate::graph::io::to_graph6;
 use crate::output;
 use crate::pattern::Pattern;
 use crate::progress::Progress;
@@ -19,13 +21,24 @@ use crate::{Error, Result};
 
 /// Whether the engine compresses `pattern` to one node in any of `runs` orders.
 pub fn compresses(engine: &Engine, pattern: &Pattern, runs: u64) -> Result<bool> {
+    Ok(compressing_run(engine, pattern, runs)?.is_some())
+}
+
+/// The first of `runs` motif orders (seeds `0..runs`) in which the engine
+/// compresses `pattern` to one node: its seed and the compression.
+pub fn compressing_run(
+    engine: &Engine,
+    pattern: &Pattern,
+    runs: u64,
+) -> Result<Option<(u64, Compression)>> {
     let (graph, bodies, _) = pattern.to_host()?;
     for seed in 0..runs {
-        if engine.compress(&graph, &bodies, seed)?.components == 1 {
-            return Ok(true);
+        let c = engine.compress(&graph, &bodies, seed)?;
+        if c.components == 1 {
+            return Ok(Some((seed, c)));
         }
     }
-    Ok(false)
+    Ok(None)
 }
 
 /// Checks, before an audit relies on the engine, that it compresses the base
@@ -76,6 +89,45 @@ pub struct AuditOptions {
     pub runs: u64,
     /// Also audit every way a body's contacts can share its rods (mixed only).
     pub rod_sharing: bool,
+}
+
+impl AuditOptions {
+    /// The command these options stand for, as the rule files' provenance
+    /// records it: the options that change what the audit finds, with runs
+    /// and rod sharing only when they differ from the defaults.
+    pub fn command(&self) -> String {
+        let mut command = format!(
+            "rgc audit --max-rods {} --max-components {} --rules {:?}",
+            self.max_rods, self.max_components, self.rules
+        );
+        if self.runs != AuditOptions::default().runs {
+            command += &format!(" --runs {}", self.runs);
+        }
+        if self.rod_sharing {
+            command += " --rod-sharing";
+        }
+        command.to_lowercase()
+    }
+
+    /// The parameters that made one part's table (`rods` or `mixed`).
+    fn part(&self, kind: &str) -> PartParameters {
+        let mixed = kind == "mixed";
+        PartParameters {
+            max_size: if mixed {
+                self.max_components
+            } else {
+                self.max_rods
+            },
+            rules: self.rules,
+            runs: self.runs,
+            rod_sharing: mixed.then_some(self.rod_sharing),
+        }
+    }
+
+    /// The sizes one part audits (none for a part that does not run).
+    fn sizes(&self, kind: &str) -> std::ops::RangeInclusive<usize> {
+        2..=self.part(kind).max_size
+    }
 }
 
 impl Default for AuditOptions {
@@ -132,14 +184,40 @@ pub struct Audit {
     pub rod_rules: Vec<(usize, Vec<Rule>)>,
     /// Irreducible missed mixed motifs, as verified rules, by size.
     pub mixed_rules: Vec<(usize, Vec<Rule>)>,
-    /// Falsely compressed patterns (compressed, not rigid), with their verdict class.
-    pub false_rigidity: Vec<(Pattern, String)>,
+    /// Falsely compressed patterns (compressed, not rigid on every component).
+    pub false_rigidity: Vec<FalseRigidity>,
+}
+
+/// A pattern the engine compressed to one node although exact rank finds
+/// it not rigid on every realization component, and how it compressed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FalseRigidity {
+    /// `rods` or `mixed`.
+    pub kind: String,
+    /// Rods, or components.
+    pub size: usize,
+    pub pattern: Pattern,
+    /// The exact verdict's class (`component-dependent`, `flexible` ...).
+    pub class: String,
+    /// The motif order (seed) of the first run that compressed it.
+    pub run: u64,
+    /// The motifs that run applied, in order.
+    pub sequence: Vec<Motif>,
+}
+
+impl FalseRigidity {
+    /// The pattern as graph6, for a rods-only pattern.
+    pub fn graph6(&self) -> Option<String> {
+        let (graph, bodies, _) = self.pattern.to_host().ok()?;
+        bodies.is_empty().then(|| to_graph6(&graph))
+    }
 }
 
 /// The verdict and the engine's outcome for one candidate.
 struct Outcome {
     class: String,
-    compressed: bool,
+    /// The first compressing run: its seed and motif sequence.
+    compressed: Option<(u64, Vec<Motif>)>,
 }
 
 /// Checks candidates in parallel: exact verdict and whether the engine compresses each.
@@ -153,7 +231,7 @@ fn outcomes(
         .par_iter()
         .map(|p| {
             let v = check_exact(p, crate::rule_file::RULE_SEED)?;
-            let compressed = compresses(engine, p, runs)?;
+            let compressed = compressing_run(engine, p, runs)?.map(|(seed, c)| (seed, c.sequence));
             progress.advance(1);
             Ok(Outcome {
                 class: v.class,
@@ -168,7 +246,7 @@ fn tally(
     row: &mut AuditRow,
     candidates: &[Pattern],
     out: &[Outcome],
-    false_rigidity: &mut Vec<(Pattern, String)>,
+    false_rigidity: &mut Vec<FalseRigidity>,
 ) -> Vec<Pattern> {
     let mut missed = Vec::new();
     for (p, o) in candidates.iter().zip(out) {
@@ -178,15 +256,23 @@ fn tally(
             "flexible" => row.flexible += 1,
             _ => row.undecided += 1,
         }
-        if o.compressed {
-            row.compressed += 1;
-        }
-        if o.class == "rigid" && !o.compressed {
-            missed.push(p.clone());
-        }
-        if o.compressed && o.class != "rigid" {
-            row.falsely_compressed += 1;
-            false_rigidity.push((p.clone(), o.class.clone()));
+        match &o.compressed {
+            None if o.class == "rigid" => missed.push(p.clone()),
+            None => {}
+            Some((run, sequence)) => {
+                row.compressed += 1;
+                if o.class != "rigid" {
+                    row.falsely_compressed += 1;
+                    false_rigidity.push(FalseRigidity {
+                        kind: row.kind.clone(),
+                        size: row.size,
+                        pattern: p.clone(),
+                        class: o.class.clone(),
+                        run: *run,
+                        sequence: sequence.clone(),
+                    });
+                }
+            }
         }
     }
     missed
@@ -222,13 +308,7 @@ fn irreducible(
                     )
                     .to_lowercase(),
                 ),
-                command: Some(
-                    format!(
-                        "rgc audit --max-rods {} --max-components {} --rules {:?}",
-                        opts.max_rods, opts.max_components, opts.rules
-                    )
-                    .to_lowercase(),
-                ),
+                command: Some(opts.command()),
                 version: Some(env!("CARGO_PKG_VERSION").into()),
             };
             Rule::new(format!("{id}-{k}"), p.clone(), provenance)
@@ -371,6 +451,248 @@ impl AuditRow {
                 .map_or_else(|| format!("{:.3}", self.seconds), u64::to_string)
         })
     }
+}
+
+/// What made one part's table, written beside it (`audit-rods.json`) so
+/// that a later run with other parameters does not silently replace it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+struct PartParameters {
+    /// Rods (rods-only part) or components (mixed part).
+    max_size: usize,
+    rules: RuleSet,
+    runs: u64,
+    /// Mixed part only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    rod_sharing: Option<bool>,
+}
+
+impl std::fmt::Display for PartParameters {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "sizes up to {}, rules {}, {} motif orders",
+            self.max_size,
+            format!("{:?}", self.rules).to_lowercase(),
+            self.runs
+        )?;
+        match self.rod_sharing {
+            Some(true) => write!(f, ", rod sharing"),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The JSON beside a part's table, as read back: only what made it counts.
+#[derive(Deserialize)]
+struct PartRead {
+    parameters: PartParameters,
+}
+
+/// The JSON beside a part's table: what made it, and the part's falsely
+/// compressed patterns with how each compressed.
+#[derive(Serialize)]
+struct PartWritten<'a> {
+    made_by: String,
+    parameters: PartParameters,
+    falsely_compressed: Vec<FalseWritten<'a>>,
+}
+
+#[derive(Serialize)]
+struct FalseWritten<'a> {
+    size: usize,
+    /// Rods-only patterns.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    graph6: Option<String>,
+    /// Mixed patterns (graph6 cannot hold their bodies).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pattern: Option<&'a Pattern>,
+    class: &'a str,
+    run: u64,
+    sequence: &'a [Motif],
+}
+
+/// The files [`write_outputs`] wrote.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AuditFiles {
+    /// `audit-rods.csv`, `audit-mixed.csv`.
+    pub tables: Vec<PathBuf>,
+    /// Beside each table: `audit-rods.json` (what made it, its falsely
+    /// compressed patterns) and `falsely-compressed-rods.g6`.
+    pub beside: Vec<PathBuf>,
+    /// `rods-n.json`, `mixed-k.json`.
+    pub rule_files: Vec<PathBuf>,
+}
+
+const PARTS: [&str; 2] = ["rods", "mixed"];
+
+/// Checks, before an audit runs, that it would replace only files that an
+/// audit with the same parameters made: each part's table (by the JSON
+/// beside it, or, for tables older than that, by the sizes it lists) and
+/// each rule file it may write (by its provenance). An exploratory run
+/// (`--max-rods 6 --rules paper`) would otherwise cut the committed tables
+/// and rewrite the rule files `compare` reads. The CLI's `--force` skips it.
+pub fn check_outputs(opts: &AuditOptions, results: &Path, motifs: &Path) -> Result<()> {
+    let mut conflicts = Vec::new();
+    for kind in PARTS {
+        let sizes: Vec<usize> = opts.sizes(kind).collect();
+        if sizes.is_empty() {
+            continue;
+        }
+        let table = results.join(format!("audit-{kind}.csv"));
+        let beside = results.join(format!("audit-{kind}.json"));
+        match std::fs::read_to_string(&beside) {
+            Ok(text) => match serde_json::from_str::<PartRead>(&text) {
+                Ok(made) if made.parameters == opts.part(kind) => {}
+                Ok(made) => conflicts.push(format!(
+                    "{} was made with {}",
+                    table.display(),
+                    made.parameters
+                )),
+                Err(_) => conflicts.push(format!("{} is not an audit's", beside.display())),
+            },
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                if table.exists() {
+                    let there = table_sizes(&table)?;
+                    if there != sizes {
+                        conflicts.push(format!("{} holds sizes {there:?}", table.display()));
+                    }
+                }
+            }
+            Err(e) => return Err(Error::io(&beside, e)),
+        }
+        for n in sizes {
+            let path = motifs.join(format!("{kind}-{n}.json"));
+            match rule_file_commands(&path)? {
+                Some(commands) if commands.iter().all(|c| *c == opts.command()) => {}
+                Some(commands) => conflicts.push(format!(
+                    "{} was made by `{}`",
+                    path.display(),
+                    commands.join("`, `")
+                )),
+                None => {}
+            }
+        }
+    }
+    if conflicts.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Parameter(format!(
+        "`{}` would replace files made with other parameters: {}; write elsewhere with --results and --motifs, or --force to replace them",
+        opts.command(),
+        conflicts.join("; ")
+    )))
+}
+
+/// The sizes an audit table lists.
+fn table_sizes(path: &Path) -> Result<Vec<usize>> {
+    let bad = |m: String| Error::Parameter(format!("{}: {m}", path.display()));
+    let mut reader = csv::Reader::from_path(path).map_err(|e| bad(e.to_string()))?;
+    let column = reader
+        .headers()
+        .map_err(|e| bad(e.to_string()))?
+        .iter()
+        .position(|h| h == "size")
+        .ok_or_else(|| bad("no size column: not an audit table".into()))?;
+    reader
+        .records()
+        .map(|r| {
+            let r = r.map_err(|e| bad(e.to_string()))?;
+            r.get(column)
+                .and_then(|v| v.parse().ok())
+                .ok_or_else(|| bad("a size is not a number".into()))
+        })
+        .collect()
+}
+
+/// The distinct commands a rule file's provenance names (`None` when there
+/// is no such file; a file that is not a rule file names none).
+fn rule_file_commands(path: &Path) -> Result<Option<Vec<String>>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(Error::io(path, e)),
+    };
+    let Ok(file) = serde_json::from_str::<crate::rule_file::RuleFile>(&text) else {
+        return Ok(Some(vec!["(not a rule file)".into()]));
+    };
+    let mut commands: Vec<String> = file
+        .rules
+        .iter()
+        .map(|r| r.provenance.command.clone().unwrap_or_default())
+        .collect();
+    commands.sort();
+    commands.dedup();
+    Ok(Some(commands))
+}
+
+/// Writes what an audit found: per part that ran, its table, the JSON
+/// beside it and (rods only) `falsely-compressed-rods.g6`, one graph6 line
+/// per falsely compressed pattern, into `results`; the irreducible missed
+/// motifs as rule files `rods-n.json` and `mixed-k.json` into `motifs`. A
+/// part that did not run keeps its previous files.
+pub fn write_outputs(
+    audit: &Audit,
+    opts: &AuditOptions,
+    results: &Path,
+    motifs: &Path,
+) -> Result<AuditFiles> {
+    let mut files = AuditFiles::default();
+    for (kind, rows) in PARTS.into_iter().zip([&audit.rods, &audit.mixed]) {
+        if rows.is_empty() {
+            continue;
+        }
+        let table = results.join(format!("audit-{kind}.csv"));
+        write_csv(&table, rows)?;
+        files.tables.push(table);
+        let false_rigidity: Vec<&FalseRigidity> = audit
+            .false_rigidity
+            .iter()
+            .filter(|f| f.kind == kind)
+            .collect();
+        let part = PartWritten {
+            made_by: opts.command(),
+            parameters: opts.part(kind),
+            falsely_compressed: false_rigidity
+                .iter()
+                .map(|f| {
+                    let graph6 = f.graph6();
+                    FalseWritten {
+                        size: f.size,
+                        pattern: graph6.is_none().then_some(&f.pattern),
+                        graph6,
+                        class: &f.class,
+                        run: f.run,
+                        sequence: &f.sequence,
+                    }
+                })
+                .collect(),
+        };
+        let beside = results.join(format!("audit-{kind}.json"));
+        output::write_atomic(
+            &beside,
+            serde_json::to_string_pretty(&part).expect("audit parts serialize") + "\n",
+        )?;
+        files.beside.push(beside);
+        if kind == "rods" {
+            let g6: String = part
+                .falsely_compressed
+                .iter()
+                .filter_map(|f| f.graph6.as_deref())
+                .map(|g| format!("{g}\n"))
+                .collect();
+            let path = results.join("falsely-compressed-rods.g6");
+            output::write_atomic(&path, g6)?;
+            files.beside.push(path);
+        }
+    }
+    for (kind, sets) in [("rods", &audit.rod_rules), ("mixed", &audit.mixed_rules)] {
+        for (size, rules) in sets.iter().filter(|(_, r)| !r.is_empty()) {
+            let path = motifs.join(format!("{kind}-{size}.json"));
+            crate::rule_file::write_rules(&path, rules)?;
+            files.rule_files.push(path);
+        }
+    }
+    Ok(files)
 }
 
 /// Writes a table as CSV: the kind, then the columns the terminal shows.

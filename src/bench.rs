@@ -49,6 +49,22 @@ pub fn peak_rss_mib() -> f64 {
         .map_or(0.0, |kib| kib / 1024.0)
 }
 
+/// Checks that `max_rods` leaves at least one reference system to run.
+pub fn check_max_rods(max_rods: usize) -> crate::Result<()> {
+    let smallest = SYSTEMS
+        .iter()
+        .filter_map(|&(gamma, density, l)| RodParams::new(gamma, l, density).ok())
+        .map(|p| p.n_rods())
+        .min()
+        .unwrap_or(0);
+    if max_rods < smallest {
+        return Err(crate::Error::Parameter(format!(
+            "--max-rods {max_rods} leaves no reference system to run (the smallest has {smallest} rods)"
+        )));
+    }
+    Ok(())
+}
+
 /// Runs the systems up to `max_rods` rods in order of size, `repeat` times
 /// each, on one thread.
 pub fn run(repeat: usize, max_rods: usize) -> Vec<BenchRow> {

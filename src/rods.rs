@@ -17,6 +17,14 @@ use crate::{Error, Result};
 /// whole pipeline), so a typo in the density fails fast instead of swapping.
 pub const MAX_RODS: usize = 50_000_000;
 
+/// Smallest aspect ratio accepted: a rod at least as long as it is wide
+/// (`l >= 2r`). Below it the two caps have more surface than the cylinder
+/// (`4 pi r^2 > 2 pi r l` exactly when `gamma < 1`), so most contacts sit on
+/// a cap, where every contact meets the core at the same end point
+/// (`s = ±1/2`): the model of a rod as a line touched at distinct points
+/// along it (MODEL §2, §3) no longer describes the particle.
+pub const MIN_GAMMA: f64 = 1.0;
+
 /// The physical parameters of a rod system.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RodParams {
@@ -29,8 +37,9 @@ pub struct RodParams {
 }
 
 impl RodParams {
-    /// Validates the parameters: all finite and positive, and the box large
-    /// enough (`L > 2 (l + 2r)`) that two rods touch through at most one image.
+    /// Validates the parameters: all finite and positive, `gamma` at least
+    /// [`MIN_GAMMA`], the box large enough (`L > 2 (l + 2r)`) that two rods
+    /// touch through at most one image, and at least one rod.
     pub fn new(gamma: f64, box_len: f64, density: f64) -> Result<Self> {
         for (name, v) in [("gamma", gamma), ("box", box_len), ("density", density)] {
             if !v.is_finite() || v <= 0.0 {
@@ -38,6 +47,11 @@ impl RodParams {
                     "{name} must be a positive finite number, got {v}"
                 )));
             }
+        }
+        if gamma < MIN_GAMMA {
+            return Err(Error::Parameter(format!(
+                "gamma must be at least {MIN_GAMMA} (a rod at least as long as it is wide), got {gamma}"
+            )));
         }
         let p = RodParams {
             gamma,
@@ -55,6 +69,11 @@ impl RodParams {
         if n >= MAX_RODS as f64 {
             return Err(Error::Parameter(format!(
                 "density {density} in a box of side {box_len} means {n:.3e} rods, more than the {MAX_RODS} that fit in memory"
+            )));
+        }
+        if p.n_rods() == 0 {
+            return Err(Error::Parameter(format!(
+                "density {density} in a box of side {box_len} gives no rods (N = round(rho L^3) = 0)"
             )));
         }
         Ok(p)

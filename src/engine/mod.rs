@@ -43,24 +43,33 @@ pub enum RuleSet {
     Paper,
 }
 
-/// The base motifs, by the paper's names.
+/// The base motifs, by the paper's names (serialized as [`MotifCounts`]
+/// names them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Motif {
     /// 3D3C grown to a 3-clique community of rods (3D3C with 3D2B).
+    #[serde(rename = "community")]
     Community,
     /// A rod touching a body at two or more contacts.
+    #[serde(rename = "3D2B")]
     D2B,
     /// Two bodies with three or more contacts, not all on one rod.
+    #[serde(rename = "3D2A")]
     D2A,
     /// Three bodies pairwise in contact (1, 2, 2 contacts).
+    #[serde(rename = "3D3A")]
     D3A,
     /// Two bodies with two contacts and a rod touching both.
+    #[serde(rename = "3D3B")]
     D3B,
     /// A body touching a path of three rods.
+    #[serde(rename = "3D4")]
     D4,
     /// Two rods touching the same four rods (K_{2,4}).
+    #[serde(rename = "3D6")]
     D6,
     /// A rule loaded from a file.
+    #[serde(rename = "rule")]
     Rule,
 }
 
@@ -109,6 +118,9 @@ pub struct Compression {
     pub components: usize,
     /// Motif instances compressed, by motif.
     pub motifs: MotifCounts,
+    /// The motifs in the order they were applied: how this run compressed
+    /// what it did (the audit writes it beside each false compression).
+    pub sequence: Vec<Motif>,
 }
 
 impl Compression {
@@ -210,6 +222,7 @@ fn compress_engine(
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut state = State::new(graph);
     let mut counts = MotifCounts::default();
+    let mut sequence = Vec::new();
     let mut tasks: Vec<Task> = Vec::new();
     let declared: Vec<u32> = bodies
         .iter()
@@ -287,6 +300,7 @@ fn compress_engine(
         }) = found
         {
             counts.add(motif);
+            sequence.push(motif);
             let (node, changed) = state.merge(&parts, class);
             tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
         }
@@ -313,6 +327,7 @@ fn compress_engine(
         bodies,
         components: state.n_nodes(),
         motifs: counts,
+        sequence,
     })
 }
 

@@ -203,6 +203,39 @@ pub struct Fss {
     pub warnings: Vec<String>,
 }
 
+/// Fewest box sizes the analysis takes: `nu` is the slope of `ln Delta rho`
+/// against `ln L`, and a line through two points fits them with no check.
+pub const MIN_BOXES: usize = 3;
+/// Fewest bootstrap resamples a study asks for: one gives an interval of
+/// zero width, none gives no interval at all.
+pub const MIN_BOOTSTRAP: usize = 2;
+
+/// Checks, before any realization runs, that `boxes` box sizes with
+/// `realizations` each can be analysed at all, so a study too small for the
+/// fit fails at once rather than after its work.
+pub fn check_design(boxes: usize, realizations: u64, protocol: Protocol) -> Result<()> {
+    if boxes < MIN_BOXES {
+        return Err(Error::Parameter(format!(
+            "nu needs at least {MIN_BOXES} box sizes, got {boxes} (--boxes)"
+        )));
+    }
+    if protocol == Protocol::Nested && realizations < MIN_NESTED as u64 {
+        return Err(Error::Parameter(format!(
+            "the logistic fit of a box needs at least {MIN_NESTED} realizations, got {realizations} (--realizations)"
+        )));
+    }
+    Ok(())
+}
+
+/// Checks a requested number of bootstrap resamples (see [`MIN_BOOTSTRAP`]).
+pub fn check_bootstrap(resamples: usize) -> Result<()> {
+    if resamples < MIN_BOOTSTRAP {
+        return Err(Error::Parameter(format!(
+            "--bootstrap must be at least {MIN_BOOTSTRAP} (resamples for the intervals), got {resamples}"
+        )));
+    }
+    Ok(())
+}
 /// Above this fraction of failed resamples the intervals get a warning.
 const MAX_FAILED: f64 = 0.1;
 
@@ -226,9 +259,9 @@ pub fn analyse(data: &[BoxData], opts: &FssOptions) -> Result<Fss> {
     check_options(opts)?;
     let data = sorted_boxes(data)?;
     let lens: Vec<f64> = data.iter().map(|b| b.box_len).collect();
-    if data.len() < 3 {
+    if data.len() < MIN_BOXES {
         return Err(analysis(format!(
-            "nu needs at least 3 box sizes, got {}",
+            "nu needs at least {MIN_BOXES} box sizes, got {}",
             data.len()
         )));
     }
@@ -422,6 +455,57 @@ fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
             })
         }
     }
+}
+
+/// One box size fitted on its own, or why its fit failed: what a study
+/// still reports when the analysis across box sizes fails.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoxAlone {
+    pub box_len: f64,
+    /// Realizations of the box, including any the fit leaves out.
+    pub observations: usize,
+    /// Realizations that entered the fit (0 when it failed).
+    pub realizations: usize,
+    pub fit: Option<Logistic>,
+    pub delta_rho: Option<f64>,
+    /// `rho_x(L)` for each `x` asked for (empty when the fit failed).
+    pub rho_x: Vec<f64>,
+    pub error: Option<String>,
+}
+
+/// Each box size's logistic fit on its own, in the order given: no `nu`,
+/// no extrapolation and no bootstrap, so it needs none of their conditions.
+pub fn fit_each_box(data: &[BoxData], protocol: Protocol, xs: &[f64]) -> Vec<BoxAlone> {
+    data.iter()
+        .map(|b| {
+            let obs: Vec<&Observation> = b.observations.iter().collect();
+            let alone = BoxAlone {
+                box_len: b.box_len,
+                observations: obs.len(),
+                realizations: 0,
+                fit: None,
+                delta_rho: None,
+                rho_x: Vec::new(),
+                error: None,
+            };
+            match fit_box(&obs, protocol) {
+                Ok(r) => BoxAlone {
+                    realizations: r.realizations,
+                    fit: Some(r.logistic),
+                    delta_rho: Some(r.logistic.delta_rho()),
+                    rho_x: xs.iter().map(|&x| r.logistic.quantile(x)).collect(),
+                    ..alone
+                },
+                Err(e) => BoxAlone {
+                    error: Some(match e {
+                        Error::Analysis(m) => m,
+                        e => e.to_string(),
+                    }),
+                    ..alone
+                },
+            }
+        })
+        .collect()
 }
 
 /// The fixed-protocol indicators pooled per density: `(density, spanning, trials)`.

@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use super::fss::{self, BoxData, Fss, FssOptions, Observation, Protocol};
+use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol};
 use super::sequence::{Kind, Record};
 use super::study::StudySpec;
 use crate::Result;
@@ -275,6 +275,86 @@ pub fn write_study(
     Ok(StudyReport {
         summary,
         data,
+        files,
+    })
+}
+
+/// What [`write_per_box`] wrote: a study whose scaling analysis failed,
+/// reported box by box.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PerBoxReport {
+    /// Why the analysis across box sizes failed.
+    pub error: String,
+    pub boxes: Vec<BoxAlone>,
+    pub files: Vec<PathBuf>,
+}
+
+/// A row of the per-box `boxes.csv`: the columns of the full table that a
+/// box's own fit gives, empty where that fit failed.
+#[derive(Default, Serialize)]
+struct PerBoxRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    realizations: usize,
+    #[serde(serialize_with = "cell::display_opt")]
+    mu: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    s: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    delta_rho: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    log_likelihood: Option<f64>,
+}
+
+/// Writes what a study's records give without the analysis across box
+/// sizes, which failed with `error`: `records.csv`, `timing.json` and
+/// `boxes.csv` with each box's own logistic fit where it converges (and
+/// why not where it does not), so that a failed fit never hides the
+/// realizations' work.
+pub fn write_per_box(
+    dir: &Path,
+    spec: &StudySpec,
+    records: &[Record],
+    error: &str,
+) -> Result<PerBoxReport> {
+    let xs = FssOptions::default().xs;
+    let boxes = fss::fit_each_box(&observations(spec, records), spec.method, &xs);
+    let mut more: Vec<String> = xs.iter().map(|x| format!("rho_x_{x}")).collect();
+    more.push("error".into());
+    let rows = boxes.iter().map(|b| {
+        let row = PerBoxRow {
+            box_len: b.box_len,
+            realizations: b.realizations,
+            mu: b.fit.map(|f| f.mu),
+            s: b.fit.map(|f| f.s),
+            delta_rho: b.delta_rho,
+            log_likelihood: b.fit.map(|f| f.log_likelihood),
+        };
+        let mut cells: Vec<String> = (0..xs.len())
+            .map(|k| b.rho_x.get(k).map_or(String::new(), f64::to_string))
+            .collect();
+        cells.push(b.error.clone().unwrap_or_default());
+        (row, cells)
+    });
+    let table = output::csv_with_more(&more, rows);
+    let mut files = Vec::new();
+    for (name, bytes) in [
+        ("records.csv", records_csv(records)),
+        (
+            "timing.json",
+            (serde_json::to_string_pretty(&timing(spec, records)).expect("timings serialize")
+                + "\n")
+                .into_bytes(),
+        ),
+        ("boxes.csv", table),
+    ] {
+        let path = dir.join(name);
+        output::write_atomic(&path, bytes)?;
+        files.push(path);
+    }
+    Ok(PerBoxReport {
+        error: error.to_string(),
+        boxes,
         files,
     })
 }

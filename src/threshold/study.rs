@@ -143,8 +143,17 @@ impl StudySpec {
         Ok(())
     }
 
+    /// [`StudySpec::validate`], and that the scaling analysis can use the
+    /// study at all ([`super::fss::check_design`]): what a command that will
+    /// analyse a study checks before any realization runs. A study itself
+    /// (records, shards, merges) needs no more than `validate`.
+    pub fn validate_for_analysis(&self) -> Result<()> {
+        self.validate()?;
+        super::fss::check_design(self.boxes.len(), self.realizations, self.method)
+    }
+
     /// Whether `other` is the same study (file names of the rules aside).
-    fn same(&self, other: &StudySpec) -> bool {
+    pub fn same(&self, other: &StudySpec) -> bool {
         let strip = |s: &StudySpec| StudySpec {
             motifs: MotifSet::default(),
             ..s.clone()
@@ -440,7 +449,7 @@ fn claim(dir: &Path, spec: &StudySpec) -> Result<()> {
                 return Err(study_error(
                     &path,
                     format!(
-                        "this directory holds another study ({}); use another --out, or the same command\n  there: {}\n  asked: {}",
+                        "this directory holds another study ({}); use another directory (threshold --out, compare and tradeoff --studies), or the same command\n  there: {}\n  asked: {}",
                         difference(&there, spec),
                         serde_json::to_string(&there).unwrap_or_default(),
                         serde_json::to_string(spec).unwrap_or_default()

@@ -175,20 +175,102 @@ pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) 
     }
 }
 
-/// A study directory name from what determines its records.
-fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
+/// Checks, before any realization runs, every variant's study as it will
+/// be analysed (its own realizations, runs and protocol on `template`), so
+/// a variant too small for the scaling fit fails at once.
+pub fn check_variants(template: &StudySpec, variants: &[Variant]) -> Result<()> {
+    for v in variants {
+        let spec = StudySpec {
+            rules: v.rules,
+            runs: v.runs,
+            method: v.method,
+            realizations: v.realizations,
+            ..template.clone()
+        };
+        spec.validate_for_analysis().map_err(|e| match e {
+            Error::Parameter(m) => Error::Parameter(format!("variant {:?}: {m}", v.label)),
+            e => e,
+        })?;
+    }
+    Ok(())
+}
+
+/// The design `make` gives for `template`'s realizations, checked with
+/// [`check_variants`]. When it fails and more realizations would do, the
+/// message names the fewest (`tradeoff` analyses a quarter of them in one
+/// variant, so it needs four times what a single study does).
+pub fn checked_design(make: impl Fn(u64) -> Design, template: &StudySpec) -> Result<Design> {
+    let design = make(template.realizations);
+    let Err(e) = check_variants(template, &design.variants) else {
+        return Ok(design);
+    };
+    let works = |r: u64| {
+        let spec = StudySpec {
+            realizations: r,
+            ..template.clone()
+        };
+        check_variants(&spec, &make(r).variants).is_ok()
+    };
+    let fewest =
+        (template.realizations + 1..=template.realizations.max(1) * 1000).find(|&r| works(r));
+    Err(match (e, fewest) {
+        (Error::Parameter(m), Some(r)) => {
+            Error::Parameter(format!("{m}; this design needs --realizations {r} or more"))
+        }
+        (e, _) => e,
+    })
+}
+
+/// A study directory name from everything that determines its records, so
+/// studies that differ in any parameter never meet in one directory:
+/// `rigid-sound-base-k1-nested-r100-g23-L4_5_6-wrap-s1` (kind, rules,
+/// motifs, runs, protocol, realizations, gamma, boxes, criterion, seed, and
+/// the grid points of the fixed protocol).
+pub fn study_name(spec: &StudySpec) -> String {
+    let boxes: Vec<String> = spec.boxes.iter().map(f64::to_string).collect();
+    let mut name = format!(
+        "{}-g{}-L{}-{}-s{}",
+        legacy_name(spec),
+        spec.gamma,
+        boxes.join("_"),
+        format!("{:?}", spec.criterion).to_lowercase(),
+        spec.seed
+    );
+    if spec.method == Protocol::Fixed {
+        name += &format!("-grid{}", spec.grid_points);
+    }
+    name
+}
+
+/// The shorter name studies had before gamma, boxes, criterion and seed
+/// joined it (the committed `results/studies/` use it).
+fn legacy_name(spec: &StudySpec) -> String {
     let motifs = if spec.motifs.rules == 0 {
         "base".to_string()
     } else {
         format!("m{}-{}", spec.motifs.rules, &spec.motifs.digest[..8])
     };
-    root.join(
-        format!(
-            "{:?}-{:?}-{}-k{}-{:?}-r{}",
-            spec.kind, spec.rules, motifs, spec.runs, spec.method, spec.realizations
-        )
-        .to_lowercase(),
+    format!(
+        "{:?}-{:?}-{}-k{}-{:?}-r{}",
+        spec.kind, spec.rules, motifs, spec.runs, spec.method, spec.realizations
     )
+    .to_lowercase()
+}
+
+/// Where `spec`'s study lives under `root`: the directory [`study_name`]
+/// names, unless it does not exist and one under the shorter name of
+/// earlier versions holds this very study, which then resumes there (so the
+/// committed studies need not move).
+pub fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
+    let dir = root.join(study_name(spec));
+    if dir.exists() {
+        return dir;
+    }
+    let legacy = root.join(legacy_name(spec));
+    match study::read_spec(&legacy) {
+        Ok(there) if there.same(spec) => legacy,
+        _ => dir,
+    }
 }
 
 /// Runs (or resumes) every variant's study on the realizations of
@@ -207,13 +289,8 @@ pub fn run_variants(
     // realizations as its most demanding variant analyses.
     let mut specs: Vec<(StudySpec, Vec<CompiledRule>)> = Vec::new();
     let mut of_variant = Vec::new();
+    check_variants(template, variants)?;
     for v in variants {
-        if v.realizations == 0 {
-            return Err(Error::Parameter(format!(
-                "variant {:?} analyses no realizations",
-                v.label
-            )));
-        }
         let rules = rule_file::load_rules(&v.motifs)?;
         let spec = StudySpec {
             rules: v.rules,
@@ -242,9 +319,10 @@ pub fn run_variants(
         };
         of_variant.push(k);
     }
-    for (spec, rules) in &specs {
+    let dirs: Vec<PathBuf> = specs.iter().map(|(s, _)| study_dir(root, s)).collect();
+    for ((spec, rules), dir) in specs.iter().zip(&dirs) {
         let opts = RunOptions {
-            out: study_dir(root, spec),
+            out: dir.clone(),
             shard: Shard::WHOLE,
         };
         progress.note(&format!("study {}", opts.out.display()));
@@ -254,8 +332,8 @@ pub fn run_variants(
     let mut analysed: Vec<Vec<super::sequence::Record>> = Vec::new();
     for (v, &k) in variants.iter().zip(&of_variant) {
         let spec = &specs[k].0;
-        let dir = study_dir(root, spec);
-        let records: Vec<_> = study::in_study_order(spec, study::read_records(&dir, spec)?)
+        let dir = &dirs[k];
+        let records: Vec<_> = study::in_study_order(spec, study::read_records(dir, spec)?)
             .into_iter()
             .filter(|r| r.index < v.realizations)
             .collect();
@@ -263,8 +341,15 @@ pub fn run_variants(
             realizations: v.realizations,
             ..spec.clone()
         };
-        let summary = report::summarize(&subset, &records, bootstrap)
-            .map_err(|e| Error::Analysis(format!("variant {:?}: {e}", v.label)))?;
+        // The records stay in the study directory for a later analysis.
+        let summary = report::summarize(&subset, &records, bootstrap).map_err(|e| match e {
+            Error::Analysis(m) => Error::Analysis(format!(
+                "variant {:?}: {m} (its realizations are kept in {})",
+                v.label,
+                dir.display()
+            )),
+            e => e,
+        })?;
         let t = summary.fss.threshold;
         let partner = match pairing {
             Pairing::First => (!analysed.is_empty()).then_some(0),
@@ -300,6 +385,72 @@ pub fn run_variants(
         });
     }
     Ok(outcomes)
+}
+
+/// Checks that the experiment file at `path` (`results/NAME.json` of an
+/// earlier `compare` or `tradeoff`), if there is one, was made by the same
+/// experiment: the same template and the same variants. An exploratory run
+/// (another gamma, fewer realizations) then never silently replaces the
+/// committed results; the CLI's `--force` skips this check.
+pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Result<()> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::io(path, e)),
+    };
+    let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+    let asked = serde_json::to_value(template).expect("specs serialize");
+    let mut differences: Vec<String> = match (there.get("template"), asked.as_object()) {
+        (Some(serde_json::Value::Object(t)), Some(a)) => a
+            .iter()
+            .filter(|(k, v)| t.get(*k) != Some(*v))
+            .map(|(k, v)| format!("{k} {} vs {v}", t.get(k).cloned().unwrap_or_default()))
+            .collect(),
+        _ => vec!["no template".into()],
+    };
+    let key = |label: &serde_json::Value, rules, runs, method, realizations| {
+        serde_json::json!([label, rules, runs, method, realizations])
+    };
+    let made: Vec<serde_json::Value> = there
+        .get("variants")
+        .and_then(|v| v.as_array())
+        .map_or_else(Vec::new, |vs| {
+            vs.iter()
+                .map(|v| {
+                    key(
+                        &v["label"],
+                        v["rules"].clone(),
+                        v["runs"].clone(),
+                        v["method"].clone(),
+                        v["realizations"].clone(),
+                    )
+                })
+                .collect()
+        });
+    let wanted: Vec<serde_json::Value> = design
+        .variants
+        .iter()
+        .map(|v| {
+            key(
+                &serde_json::Value::from(v.label.clone()),
+                serde_json::to_value(v.rules).expect("rule sets serialize"),
+                v.runs.into(),
+                serde_json::to_value(v.method).expect("protocols serialize"),
+                v.realizations.into(),
+            )
+        })
+        .collect();
+    if made != wanted {
+        differences.push("other variants".into());
+    }
+    if differences.is_empty() {
+        return Ok(());
+    }
+    Err(Error::Parameter(format!(
+        "{} holds the results of another experiment ({}); choose another --results, or --force to replace them",
+        path.display(),
+        differences.join(", ")
+    )))
 }
 
 /// Mean difference of critical densities on the sequences both sets of

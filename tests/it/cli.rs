@@ -347,8 +347,13 @@ fn audit_writes_its_tables_and_rule_files() {
         !dir.join("rods-7.json").exists(),
         "nothing irreducible at seven rods"
     );
-    // A rods-only rerun rewrites the rods table and keeps the mixed one.
-    audit_into(&dir, &["--max-rods", "4", "--max-components", "0"], None);
+    // A rods-only rerun rewrites the rods table (when forced: it was made
+    // with other parameters) and keeps the mixed one.
+    audit_into(
+        &dir,
+        &["--max-rods", "4", "--max-components", "0", "--force"],
+        None,
+    );
     let rods = std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap();
     assert_eq!(rods.lines().count(), 4, "header and sizes 2..=4: {rods}");
     assert_eq!(
@@ -523,8 +528,8 @@ fn threshold_rejects_bad_parameters() {
         &threshold_args(d, &[("--boxes", "3,4"), ("--realizations", "8")]),
         "nu needs at least 3 box sizes, got 2",
     );
-    // The analysis failed, but the realizations are kept for a rerun.
-    assert!(dir.join("records.jsonl").exists());
+    // Refused before any realization runs: nothing was written.
+    assert!(!dir.join("records.jsonl").exists());
     let missing = dir.join("no-such-study");
     fails(&["merge", missing.to_str().unwrap()], "study.json");
     let _ = std::fs::remove_dir_all(&dir);

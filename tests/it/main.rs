@@ -3,6 +3,7 @@
 mod charts;
 mod cli;
 mod contacts;
+mod defects;
 mod engine;
 mod enumerate;
 mod float;

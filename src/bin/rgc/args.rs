@@ -84,7 +84,7 @@ impl StudyArgs {
 pub struct VariantArgs {
     #[command(flatten)]
     pub study: StudyArgs,
-    /// Where the studies go (one directory each; rerun to resume).
+    /// Where the studies go: one directory each, named by every parameter of its study; rerun to resume.
     #[arg(long, default_value = "results/studies")]
     pub studies: PathBuf,
     /// Where the comparison's JSON, Markdown, CSV and charts go.
@@ -93,4 +93,10 @@ pub struct VariantArgs {
     /// No progress bars.
     #[arg(long)]
     pub quiet: bool,
+    /// Print the experiment as one JSON object (as written to `--results`) and nothing else.
+    #[arg(long)]
+    pub json: bool,
+    /// Replace the experiment's files in `--results` even when another experiment (other gamma, boxes, realizations, variants ...) made them.
+    #[arg(long)]
+    pub force: bool,
 }

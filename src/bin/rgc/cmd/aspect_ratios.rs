@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::threshold::aspect;
 use rgc::threshold::sequence::Kind;
-use rgc::{Result, plot};
+use rgc::{Result, output, plot};
 
 #[derive(Args)]
 pub struct AspectArgs {
@@ -19,6 +19,7 @@ pub struct AspectArgs {
 }
 
 pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
+    output::check_file(&a.out)?;
     let r = aspect::read(&a.studies)?;
     for row in &r.rows {
         say!(
@@ -39,7 +40,6 @@ pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
         ))
     );
     let with = |ext: &str| a.out.with_extension(ext);
-    super::create_parent(&a.out)?;
     aspect::write_csv(&with("csv"), &r.rows)?;
     let title = format!(
         "{} threshold against the inverse excluded volume 1/V_ex",

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::audit::{self, AuditOptions};
 use rgc::engine::RuleSet;
-use rgc::{Error, Result, rule_file};
+use rgc::{Result, output};
 
 use crate::progress::Reporter;
 
@@ -35,10 +35,12 @@ pub struct AuditArgs {
     /// Print the tables as JSON.
     #[arg(long)]
     json: bool,
+    /// Replace tables and rule files that an audit with other parameters wrote.
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
-    let examples = audit::self_check()?;
     let opts = AuditOptions {
         max_rods: a.max_rods as usize,
         max_components: a.max_components as usize,
@@ -46,31 +48,29 @@ pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
         runs: a.runs,
         rod_sharing: a.rod_sharing,
     };
+    // Refused before the work: outputs that cannot be written, or that
+    // another audit made (the committed tables and rules `compare` reads).
+    output::check_dir(&a.results)?;
+    output::check_dir(&a.motifs)?;
+    if !a.force {
+        audit::check_outputs(&opts, &a.results, &a.motifs)?;
+    }
+    let examples = audit::self_check()?;
     let started = std::time::Instant::now();
     let result = audit::run(&opts, &Reporter::new(a.json))?;
-    for dir in [&a.results, &a.motifs] {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    }
-    // A part that did not run (size 0) keeps its previous table.
-    let mut tables = Vec::new();
-    for (name, rows) in [
-        ("audit-rods.csv", &result.rods),
-        ("audit-mixed.csv", &result.mixed),
-    ] {
-        if !rows.is_empty() {
-            let path = a.results.join(name);
-            audit::write_csv(&path, rows)?;
-            tables.push(path.display().to_string());
-        }
-    }
-    let mut written = Vec::new();
-    for (kind, sets) in [("rods", &result.rod_rules), ("mixed", &result.mixed_rules)] {
-        for (size, rules) in sets.iter().filter(|(_, r)| !r.is_empty()) {
-            let path = a.motifs.join(format!("{kind}-{size}.json"));
-            rule_file::write_rules(&path, rules)?;
-            written.push(path.display().to_string());
-        }
-    }
+    let files = audit::write_outputs(&result, &opts, &a.results, &a.motifs)?;
+    let shown = |paths: &[std::path::PathBuf]| {
+        paths
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let written: Vec<String> = files
+        .rule_files
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
     if a.json {
         return super::print_json(
             &serde_json::json!({ "rods": result.rods, "mixed": result.mixed, "rule_files": written }),
@@ -99,13 +99,18 @@ pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
     say!(
         out,
         "Tables: {}. Rule files: {}. {:.1} s.",
-        tables.join(", "),
+        shown(&files.tables),
         if written.is_empty() {
             "none (nothing missed)".to_string()
         } else {
             written.join(", ")
         },
         started.elapsed().as_secs_f64()
+    );
+    say!(
+        out,
+        "Falsely compressed patterns, with the motifs that compressed each: {}.",
+        shown(&files.beside)
     );
     Ok(())
 }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::{Error, Result, bench};
+use rgc::{Error, Result, bench, output};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -22,6 +22,9 @@ pub struct BenchArgs {
 }
 
 pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
+    if let Some(path) = &a.out {
+        output::check_file(path)?;
+    }
     if let Some(n) = a.rank {
         let t = rgc::stability::throughput(n, 200, 0.2)?;
         say!(
@@ -37,6 +40,7 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         );
         return Ok(());
     }
+    bench::check_max_rods(a.max_rods)?;
     let rows = bench::run(a.repeat as usize, a.max_rods);
     say!(
         out,

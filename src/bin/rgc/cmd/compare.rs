@@ -27,13 +27,13 @@ pub struct CompareArgs {
 
 pub fn run(a: CompareArgs, out: &mut String) -> Result<()> {
     let c = &a.common;
-    let design = variants::compare_design(a.runs, c.study.realizations, &a.extended);
     let title = format!(
         "Rigidity threshold, gamma {}: paper base against sound base against sound + extended motifs",
         c.study.gamma
     );
     let name = "compare-base-extended";
-    let outcomes = super::run_experiment(c, name, &title, &design, out)?;
+    let make = |r| variants::compare_design(a.runs, r, &a.extended);
+    let outcomes = super::run_experiment(c, name, &title, make, out)?;
     rgc::plot::compare_chart(
         &outcomes,
         &title,

@@ -5,11 +5,11 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use rgc::Result;
-use rgc::body::Body;
+use rgc::body::{Body, BodyClass};
 use rgc::engine::{self, Compression, Engine, RuleSet};
 use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
+use rgc::{Result, output};
 
 use crate::args::EngineArgs;
 
@@ -30,9 +30,12 @@ pub struct CompressArgs {
     input: GraphInput,
     #[command(flatten)]
     engine: EngineArgs,
-    /// Print one JSON object instead of a summary.
+    /// Print one JSON object (the summary and every body's rods) instead of a summary.
     #[arg(long)]
     json: bool,
+    /// Write the bodies of the reported run (rods, class) as JSON to this file.
+    #[arg(long)]
+    save_bodies: Option<PathBuf>,
 }
 
 /// The JSON printed by `rgc compress`.
@@ -47,13 +50,26 @@ struct CompressReport<'a> {
     components: usize,
     /// Index of the reported run.
     reported_run: usize,
+    /// Bodies in the reported run, and rods in its largest.
+    n_bodies: usize,
+    largest_body_rods: usize,
     bodies: &'a [Body],
     /// Nodes left in each run.
     components_per_run: Vec<usize>,
     motifs: engine::MotifCounts,
 }
 
+/// The file `--save-bodies` writes.
+#[derive(Serialize)]
+struct SavedBodies<'a> {
+    run: usize,
+    bodies: &'a [Body],
+}
+
 pub fn run(a: CompressArgs, out: &mut String) -> Result<()> {
+    if let Some(path) = &a.save_bodies {
+        output::check_file(path)?;
+    }
     let graph: ContactGraph = match (&a.input.graph6, &a.input.edges) {
         (Some(s), _) => graphio::parse_graph6(s)?,
         (None, Some(path)) => graphio::read_edge_list(path)?,
@@ -74,23 +90,44 @@ pub fn run(a: CompressArgs, out: &mut String) -> Result<()> {
         runs: e.runs,
         components: c.components,
         reported_run: best,
+        n_bodies: c.bodies.len(),
+        largest_body_rods: c.largest_rods(),
         bodies: &c.bodies,
         components_per_run: runs.iter().map(|r| r.components).collect(),
         motifs: c.motifs,
     };
+    if let Some(path) = &a.save_bodies {
+        let saved = SavedBodies {
+            run: best,
+            bodies: &c.bodies,
+        };
+        let text = serde_json::to_string_pretty(&saved).expect("bodies serialize");
+        output::write_atomic(path, text + "\n")?;
+    }
     if a.json {
         return super::print_json(&report, out);
     }
+    // A summary only: the bodies of a large graph run to megabytes.
+    let planar = c
+        .bodies
+        .iter()
+        .filter(|b| b.class == BodyClass::Planar)
+        .count();
     say!(
         out,
-        "{} rods, {} contacts -> {} nodes (run {best} of {})",
+        "{} rods, {} contacts -> {} nodes (run {best} of {}, rules {:?})",
         report.nodes,
         report.contacts,
         report.components,
-        report.runs
+        report.runs,
+        report.rules
     );
-    for b in report.bodies {
-        say!(out, "  {:?} body: {:?}", b.class, b.rods);
-    }
+    say!(
+        out,
+        "{} bodies ({planar} planar, {} spatial); largest body {} rods",
+        report.n_bodies,
+        report.n_bodies - planar,
+        report.largest_body_rods
+    );
     Ok(())
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use rgc::Result;
-use rgc::threshold::study;
+use rgc::threshold::{fss, study};
 
 #[derive(Args)]
 pub struct MergeArgs {
@@ -17,17 +17,23 @@ pub struct MergeArgs {
     /// Bootstrap resamples for the intervals.
     #[arg(long, default_value_t = 200)]
     bootstrap: usize,
+    /// Print the outcome as one JSON object (the summary, the files written) and nothing else.
+    #[arg(long)]
+    json: bool,
 }
 
 pub fn run(a: MergeArgs, out: &mut String) -> Result<()> {
+    fss::check_bootstrap(a.bootstrap)?;
     let dest = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
     let (spec, records) = study::merge(&a.dirs, &dest)?;
-    say!(
-        out,
-        "Merged {} realizations from {} director{}.",
-        records.len(),
-        a.dirs.len(),
-        if a.dirs.len() == 1 { "y" } else { "ies" }
-    );
-    super::threshold::analyse(&dest, &spec, &records, a.bootstrap, out)
+    if !a.json {
+        say!(
+            out,
+            "Merged {} realizations from {} director{}.",
+            records.len(),
+            a.dirs.len(),
+            if a.dirs.len() == 1 { "y" } else { "ies" }
+        );
+    }
+    super::threshold::analyse(&dest, &spec, &records, a.bootstrap, None, a.json, out)
 }

@@ -1,13 +1,14 @@
 //! One file per subcommand, each with its arguments and a `run` that calls
 //! the library and prints; here, what several of them share.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde::Serialize;
 
 use rgc::engine::CompiledRule;
+use rgc::threshold::fss;
 use rgc::threshold::variants::{self, Design, VariantOutcome};
-use rgc::{Error, Result, rule_file};
+use rgc::{Result, output, rule_file};
 
 use crate::args::VariantArgs;
 use crate::progress::Reporter;
@@ -40,14 +41,6 @@ fn load(paths: &[PathBuf]) -> Result<Vec<CompiledRule>> {
         .collect())
 }
 
-/// Creates the directory a file goes into, if it names one.
-fn create_parent(path: &Path) -> Result<()> {
-    match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e)),
-        None => Ok(()),
-    }
-}
-
 /// The command line that made a result, for the files that record it.
 fn command_line() -> String {
     std::env::args()
@@ -57,45 +50,53 @@ fn command_line() -> String {
         .join(" ")
 }
 
-/// Runs the variants of `design` (`compare`, `tradeoff`), writes
-/// `results/NAME.{json,md,csv}` and prints the Markdown table.
+/// Runs the variants of the design `make` gives for `--realizations`
+/// (`compare`, `tradeoff`), writes `results/NAME.{json,md,csv}` and prints
+/// the Markdown table (or the JSON). Everything that can be refused is
+/// refused before the first realization runs.
 fn run_experiment(
     args: &VariantArgs,
     name: &str,
     title: &str,
-    design: &Design,
+    make: impl Fn(u64) -> Design,
     out: &mut String,
 ) -> Result<Vec<VariantOutcome>> {
     let template = args.study.spec();
-    template.validate()?;
+    let design = variants::checked_design(make, &template)?;
+    template.validate_for_analysis()?;
+    fss::check_bootstrap(args.study.bootstrap)?;
+    let dir = &args.results;
+    output::check_dir(dir)?;
+    output::check_dir(&args.studies)?;
+    let path = |ext: &str| dir.join(format!("{name}.{ext}"));
+    if !args.force {
+        variants::check_replace(&path("json"), &template, &design)?;
+    }
     let outcomes = variants::run_variants(
         &template,
         &design.variants,
         &args.studies,
         args.study.bootstrap,
         design.pairing,
-        &Reporter::new(args.quiet),
+        &Reporter::new(args.quiet || args.json),
     )?;
-    let dir = &args.results;
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let write = |ext: &str, text: String| -> Result<()> {
-        let path = dir.join(format!("{name}.{ext}"));
-        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))
-    };
     let command = command_line();
-    write(
-        "json",
-        serde_json::to_string_pretty(&serde_json::json!({
-            "command": command,
-            "template": template,
-            "variants": outcomes,
-        }))
-        .expect("outcomes serialize")
-            + "\n",
+    let report = serde_json::json!({
+        "command": command,
+        "template": template,
+        "variants": outcomes,
+    });
+    output::write_atomic(
+        &path("json"),
+        serde_json::to_string_pretty(&report).expect("outcomes serialize") + "\n",
     )?;
     let md = variants::markdown(title, &command, &outcomes);
-    write("md", md.clone())?;
-    write("csv", variants::csv(&outcomes))?;
-    say!(out, "{md}");
+    output::write_atomic(&path("md"), &md)?;
+    output::write_atomic(&path("csv"), variants::csv(&outcomes))?;
+    if args.json {
+        print_json(&report, out)?;
+    } else {
+        say!(out, "{md}");
+    }
     Ok(outcomes)
 }

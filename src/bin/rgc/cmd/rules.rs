@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::{Result, engine, rule_file};
+use rgc::{Result, engine, output, rule_file};
 
 #[derive(Args)]
 pub struct RulesArgs {
@@ -13,8 +13,8 @@ pub struct RulesArgs {
 }
 
 pub fn run(a: RulesArgs, out: &mut String) -> Result<()> {
+    output::check_file(&a.out)?;
     let (rules, refuted) = engine::shapes::base_rules()?;
-    super::create_parent(&a.out)?;
     rule_file::write_rules(&a.out, &rules)?;
     say!(
         out,

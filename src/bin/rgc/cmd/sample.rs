@@ -8,7 +8,7 @@ use rgc::graph::io as graphio;
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, sample_with};
 use rgc::spanning::Criterion;
-use rgc::{Error, Result};
+use rgc::{Error, Result, output};
 
 use crate::args::EngineArgs;
 
@@ -40,8 +40,13 @@ pub struct SampleArgs {
 }
 
 pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
+    let params = RodParams::new(a.gamma, a.box_len, a.density)?;
+    // An output that cannot be written fails before the sample is drawn.
+    for path in a.save_contacts.iter().chain(&a.save_bodies) {
+        output::check_file(path)?;
+    }
     let opts = SampleOptions {
-        params: RodParams::new(a.gamma, a.box_len, a.density)?,
+        params,
         seed: a.engine.seed,
         runs: a.engine.runs as usize,
         rules: a.engine.rules.rules,

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::{Error, Result};
+use rgc::{Error, Result, output};
 
 #[derive(Args)]
 pub struct StabilityArgs {
@@ -13,6 +13,7 @@ pub struct StabilityArgs {
 }
 
 pub fn run(a: StabilityArgs, out: &mut String) -> Result<()> {
+    output::check_dir(&a.out)?;
     let rows = rgc::stability::run(&rgc::stability::StudyConfig::full())?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
     rgc::stability::write_csv(&rows, &a.out.join("rank-stability.csv"))?;

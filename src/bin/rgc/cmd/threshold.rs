@@ -4,11 +4,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use rgc::threshold::fss::{Estimate, Protocol};
-use rgc::threshold::report::{self, Summary};
+use serde::Serialize;
+
+use rgc::threshold::fss::{self, Estimate, Protocol};
+use rgc::threshold::report::{self, PerBoxReport, Summary};
 use rgc::threshold::sequence::{Kind, Record};
 use rgc::threshold::study::{self, MotifSet, RunOptions, Shard, StudySpec};
-use rgc::{Result, plot, rule_file};
+use rgc::{Error, Result, plot, rule_file};
 
 use crate::args::{RuleArgs, StudyArgs};
 use crate::progress::Reporter;
@@ -40,19 +42,25 @@ pub struct ThresholdArgs {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Print the outcome as one JSON object (the summary, the files written) and nothing else.
+    #[arg(long)]
+    json: bool,
 }
 
 pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
-    let rules = rule_file::load_rules(&a.rules.rule_files)?;
-    let spec = StudySpec {
+    fss::check_bootstrap(a.study.bootstrap)?;
+    let mut spec = StudySpec {
         kind: a.kind,
         rules: a.rules.rules,
-        motifs: MotifSet::of(&rules, &a.rules.rule_files),
         runs: a.runs as usize,
         method: a.protocol,
         grid_points: a.grid_points,
         ..a.study.spec()
     };
+    // A study the analysis could not use fails before its rules are verified or its realizations run.
+    spec.validate_for_analysis()?;
+    let rules = rule_file::load_rules(&a.rules.rule_files)?;
+    spec.motifs = MotifSet::of(&rules, &a.rules.rule_files);
     let shard = a
         .shard
         .as_deref()
@@ -64,15 +72,23 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         shard,
     };
     let compiled: Vec<_> = rules.iter().map(rgc::engine::CompiledRule::new).collect();
-    let done = study::run(&spec, &compiled, &opts, &Reporter::new(a.quiet))?;
-    say!(
-        out,
-        "{} realizations run in {:.1} s ({} found done).",
-        done.ran,
-        done.seconds,
-        done.resumed
-    );
+    let done = study::run(&spec, &compiled, &opts, &Reporter::new(a.quiet || a.json))?;
+    let ran = Ran {
+        ran: done.ran,
+        resumed: done.resumed,
+        seconds: done.seconds,
+    };
     if !done.complete {
+        if a.json {
+            return super::print_json(&serde_json::json!({ "run": ran, "complete": false }), out);
+        }
+        say!(
+            out,
+            "{} realizations run in {:.1} s ({} found done).",
+            done.ran,
+            done.seconds,
+            done.resumed
+        );
         say!(
             out,
             "Shard {}/{} is done; when every shard is, run `rgc merge {}`.",
@@ -82,33 +98,122 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         );
         return Ok(());
     }
+    if !a.json {
+        say!(
+            out,
+            "{} realizations run in {:.1} s ({} found done).",
+            done.ran,
+            done.seconds,
+            done.resumed
+        );
+    }
     let records = study::in_study_order(&spec, study::read_records(&a.out, &spec)?);
-    analyse(&a.out, &spec, &records, a.study.bootstrap, out)
+    analyse(
+        &a.out,
+        &spec,
+        &records,
+        a.study.bootstrap,
+        Some(ran).filter(|_| a.json),
+        a.json,
+        out,
+    )
 }
 
-/// Writes a finished study's tables and charts into `dir` and prints its summary.
+/// What `rgc threshold --json` says of the realizations it ran.
+#[derive(Clone, Copy, Serialize)]
+pub struct Ran {
+    pub ran: usize,
+    pub resumed: usize,
+    pub seconds: f64,
+}
+
+/// Writes a finished study's tables and charts into `dir` and prints its
+/// summary (as JSON with `json`, with `ran` when a run came first). When the
+/// scaling analysis fails, the per-box results are written and printed
+/// instead and the command still fails (exit status 2): the realizations'
+/// work is kept, but no threshold came of it.
 pub fn analyse(
     dir: &Path,
     spec: &StudySpec,
     records: &[Record],
     bootstrap: usize,
+    ran: Option<Ran>,
+    json: bool,
     out: &mut String,
 ) -> Result<()> {
-    let mut written = report::write_study(dir, spec, records, bootstrap)?;
+    let mut written = match report::write_study(dir, spec, records, bootstrap) {
+        Ok(w) => w,
+        Err(Error::Analysis(why)) => {
+            let per_box = report::write_per_box(dir, spec, records, &why)?;
+            let files = shown(&per_box.files);
+            if json {
+                super::print_json(
+                    &serde_json::json!({ "run": ran, "complete": true, "summary": null, "per_box": per_box }),
+                    out,
+                )?;
+            } else {
+                print_per_box(&per_box, out);
+                say!(out, "warning: the scaling analysis failed: {why}");
+                say!(out, "Files: {files}");
+            }
+            return Err(Error::Analysis(format!(
+                "{why} (the per-box results are in {files})"
+            )));
+        }
+        Err(e) => return Err(e),
+    };
     let charts = plot::study_charts(spec, &written, dir)?;
     written.files.extend(charts);
     let (s, files) = (written.summary, written.files);
+    if json {
+        return super::print_json(
+            &serde_json::json!({ "run": ran, "complete": true, "summary": s, "files": files }),
+            out,
+        );
+    }
     print_summary(&s, out);
+    say!(out, "Files: {}", shown(&files));
+    Ok(())
+}
+
+fn shown(files: &[PathBuf]) -> String {
+    files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn print_per_box(r: &PerBoxReport, out: &mut String) {
     say!(
         out,
-        "Files: {}",
-        files
-            .iter()
-            .map(|f| f.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
+        "{:>6} {:>6} {:>10} {:>10} {:>10}",
+        "box",
+        "n",
+        "mu",
+        "s",
+        "delta_rho"
     );
-    Ok(())
+    for b in &r.boxes {
+        match (&b.fit, &b.error) {
+            (Some(f), _) => say!(
+                out,
+                "{:>6} {:>6} {:>10.4} {:>10.4} {:>10.4}",
+                b.box_len,
+                b.realizations,
+                f.mu,
+                f.s,
+                f.delta_rho()
+            ),
+            (None, e) => say!(
+                out,
+                "{:>6} {:>6} no fit: {}",
+                b.box_len,
+                b.observations,
+                e.as_deref().unwrap_or("")
+            ),
+        }
+    }
 }
 
 fn print_summary(s: &Summary, out: &mut String) {

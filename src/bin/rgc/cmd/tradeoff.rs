@@ -22,13 +22,13 @@ pub struct TradeoffArgs {
 
 pub fn run(a: TradeoffArgs, out: &mut String) -> Result<()> {
     let c = &a.common;
-    let design = variants::tradeoff_design(&a.runs_list, c.study.realizations, &a.motifs_dir);
     let title = format!(
         "Speed against accuracy, rigidity threshold, gamma {}",
         c.study.gamma
     );
     let name = "speed-accuracy";
-    let outcomes = super::run_experiment(c, name, &title, &design, out)?;
+    let make = |r| variants::tradeoff_design(&a.runs_list, r, &a.motifs_dir);
+    let outcomes = super::run_experiment(c, name, &title, make, out)?;
     rgc::plot::speed_accuracy_chart(
         &outcomes,
         &title,
