@@ -23,6 +23,23 @@ impl Example {
     pub fn graph(&self) -> ContactGraph {
         ContactGraph::new(self.n, self.edges.clone()).expect("examples are simple graphs")
     }
+
+    /// The example's bodies re-classed by `mask` (bit `i` set: body `i`
+    /// planar), to check a motif under every planar/spatial assignment.
+    pub fn bodies_classed(&self, mask: u32) -> Vec<Body> {
+        self.bodies
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let class = if mask >> i & 1 == 1 {
+                    BodyClass::Planar
+                } else {
+                    BodyClass::Spatial
+                };
+                Body::new(b.rods.clone(), class)
+            })
+            .collect()
+    }
 }
 
 fn spatial(rods: &[u32]) -> Body {

@@ -401,19 +401,7 @@ fn excluded_variants_are_flexible_by_exact_rank() {
             "{name} is an excluded variant"
         );
         for mask in 0..1u32 << e.bodies.len() {
-            let bodies: Vec<Body> = e
-                .bodies
-                .iter()
-                .enumerate()
-                .map(|(i, b)| {
-                    let class = if mask >> i & 1 == 1 {
-                        BodyClass::Planar
-                    } else {
-                        BodyClass::Spatial
-                    };
-                    Body::new(b.rods.clone(), class)
-                })
-                .collect();
+            let bodies = e.bodies_classed(mask);
             let v = verdict_of(&e.graph(), &bodies);
             assert_eq!(v.class, "flexible", "{name}, planar mask {mask:b}: {v:?}");
             assert!(

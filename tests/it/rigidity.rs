@@ -5,7 +5,7 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use rgc::body::{Body, BodyClass};
+use rgc::body::BodyClass;
 use rgc::engine::examples::{self, Example};
 use rgc::graph::ContactGraph;
 use rgc::math::{Fp, Scalar};
@@ -29,20 +29,7 @@ fn example(name: &str) -> Example {
 
 /// The pattern of an example with its bodies re-classed by `mask` (bit i: body i planar).
 fn pattern(e: &Example, mask: u32) -> Pattern {
-    let bodies: Vec<Body> = e
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(i, b)| {
-            let class = if mask >> i & 1 == 1 {
-                BodyClass::Planar
-            } else {
-                BodyClass::Spatial
-            };
-            Body::new(b.rods.clone(), class)
-        })
-        .collect();
-    Pattern::from_host(&e.graph(), &bodies).unwrap()
+    Pattern::from_host(&e.graph(), &e.bodies_classed(mask)).unwrap()
 }
 
 fn verdict(p: &Pattern) -> Verdict {
