@@ -6,7 +6,7 @@
 //! terminal crate.
 
 /// Receives the progress of a computation made of stages (an audit size, a
-/// study's realizations), each counted in units of the caller's choosing.
+/// study's sequences), each counted in units of the caller's choosing.
 ///
 /// `Sync` because the units are counted from rayon's threads.
 pub trait Progress: Sync {

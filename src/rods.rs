@@ -3,7 +3,7 @@
 //! Lengths are in units of the core length `l = 1`. Rods are generated one
 //! after another from a single seeded stream with a fixed number of draws per
 //! rod, so the first `n` rods of a system are exactly the `n`-rod system of the
-//! same seed and box: one realization is a nested sequence of systems.
+//! same seed and box: one Monte Carlo sequence is a nested series of systems.
 
 use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};

@@ -553,7 +553,7 @@ where
 {
     let plain = |v: &f64| tick(*v);
     let mut mesh = chart.configure_mesh();
-    mesh.x_desc("CPU seconds of the analysed realizations, log scale")
+    mesh.x_desc("CPU seconds of the analysed sequences, log scale")
         .y_desc(y_desc)
         .x_label_formatter(&plain)
         .label_style(("sans-serif", 16))

@@ -114,7 +114,7 @@ impl Chart for Pi<'_> {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
         root.fill(&WHITE)?;
         let fss = self.fss;
-        // The fits set the range: nested curves have a point per realization
+        // The fits set the range: nested curves have a point per sequence
         // and collapsed grids reach far out, both would squeeze the transition.
         let grid = fss.protocol == Protocol::Fixed && !self.collapse;
         let xs = fss.boxes.iter().zip(self.curves).flat_map(|(b, c)| {
@@ -179,8 +179,8 @@ impl Chart for Pi<'_> {
                         .map(|p| Circle::new(p, size, c.filled())),
                 )?
                 .label(format!(
-                    "L = {l} ({} realizations): μ = {:.3}, Δρ = {:.3}",
-                    b.realizations, b.mu, b.delta_rho
+                    "L = {l} ({} sequences): μ = {:.3}, Δρ = {:.3}",
+                    b.sequences, b.mu, b.delta_rho
                 ))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
             let fit = b.logistic();

@@ -5,7 +5,7 @@
 //! maximum likelihood, `Delta rho = s pi / sqrt(3)` gives `nu` through
 //! `Delta rho ~ L^(-1/nu)`, and the inverse predictions `rho_x(L)` are
 //! extrapolated against `L^(-1/nu)` with one intercept shared by every `x`:
-//! the threshold. Intervals come from a case bootstrap over realizations.
+//! the threshold. Intervals come from a case bootstrap over sequences.
 
 use std::path::Path;
 
@@ -23,7 +23,7 @@ mod logistic;
 
 pub use logistic::{Logistic, MIN_NESTED, fit_logistic_binomial, fit_logistic_sample};
 
-/// Contact numbers measured on one system of a realization.
+/// Contact numbers measured on one system of a sequence.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactPoint {
     pub density: f64,
@@ -32,7 +32,7 @@ pub struct ContactPoint {
     pub c2: f64,
 }
 
-/// What one realization (one random rod sequence in one box) contributes;
+/// What one sequence (the seeded random rods of one box) contributes;
 /// the unit of the bootstrap's case resampling.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Observation {
@@ -51,12 +51,12 @@ pub struct BoxData {
     pub observations: Vec<Observation>,
 }
 
-/// Which observations of a realization the logistic fit uses.
+/// Which observations of a sequence the logistic fit uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Protocol {
-    /// Each realization's exact critical density: a sample of the
+    /// Each sequence's exact critical density: a sample of the
     /// distribution whose CDF is `pi(rho, L)`, fitted as a logistic distribution.
     Nested,
     /// Spanning or not at a grid of densities (the paper's protocol),
@@ -113,8 +113,10 @@ impl Estimate {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoxFit {
     pub box_len: f64,
-    /// Realizations that entered the fit.
-    pub realizations: usize,
+    /// Sequences that entered the fit.
+    // Keeps its stored key, so existing summaries (`summary.json`) read back.
+    #[serde(rename = "realizations")]
+    pub sequences: usize,
     pub mu: f64,
     pub s: f64,
     pub delta_rho: f64,
@@ -210,18 +212,18 @@ pub const MIN_BOXES: usize = 3;
 /// zero width, none gives no interval at all.
 pub const MIN_BOOTSTRAP: usize = 2;
 
-/// Checks, before any realization runs, that `boxes` box sizes with
-/// `realizations` each can be analysed at all, so a study too small for the
+/// Checks, before any sequence runs, that `boxes` box sizes with
+/// `sequences` each can be analysed at all, so a study too small for the
 /// fit fails at once rather than after its work.
-pub fn check_design(boxes: usize, realizations: u64, protocol: Protocol) -> Result<()> {
+pub fn check_design(boxes: usize, sequences: u64, protocol: Protocol) -> Result<()> {
     if boxes < MIN_BOXES {
         return Err(Error::Parameter(format!(
             "nu needs at least {MIN_BOXES} box sizes, got {boxes} (--boxes)"
         )));
     }
-    if protocol == Protocol::Nested && realizations < MIN_NESTED as u64 {
+    if protocol == Protocol::Nested && sequences < MIN_NESTED as u64 {
         return Err(Error::Parameter(format!(
-            "the logistic fit of a box needs at least {MIN_NESTED} realizations, got {realizations} (--realizations)"
+            "the logistic fit of a box needs at least {MIN_NESTED} sequences, got {sequences} (--sequences)"
         )));
     }
     Ok(())
@@ -313,7 +315,7 @@ pub fn analyse(data: &[BoxData], opts: &FssOptions) -> Result<Fss> {
             };
             BoxFit {
                 box_len: lens[i],
-                realizations: fit.realizations,
+                sequences: fit.sequences,
                 mu: fit.logistic.mu,
                 s: fit.logistic.s,
                 delta_rho: fit.logistic.delta_rho(),
@@ -392,7 +394,7 @@ fn sorted_boxes(data: &[BoxData]) -> Result<Vec<&BoxData>> {
 
 struct BoxResult {
     logistic: Logistic,
-    realizations: usize,
+    sequences: usize,
 }
 
 /// One pass of the analysis on one set of observations (the data or a resample).
@@ -435,7 +437,7 @@ fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
             }
             Ok(BoxResult {
                 logistic: fit_logistic_sample(&sample)?,
-                realizations: sample.len(),
+                sequences: sample.len(),
             })
         }
         Protocol::Fixed => {
@@ -451,7 +453,7 @@ fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
             let grid = pooled_grid(obs.iter().copied());
             Ok(BoxResult {
                 logistic: fit_logistic_binomial(&grid)?,
-                realizations: used,
+                sequences: used,
             })
         }
     }
@@ -462,10 +464,12 @@ fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoxAlone {
     pub box_len: f64,
-    /// Realizations of the box, including any the fit leaves out.
+    /// Sequences of the box, including any the fit leaves out.
     pub observations: usize,
-    /// Realizations that entered the fit (0 when it failed).
-    pub realizations: usize,
+    /// Sequences that entered the fit (0 when it failed).
+    // Keeps its stored key, so `--json` output reads as before.
+    #[serde(rename = "realizations")]
+    pub sequences: usize,
     pub fit: Option<Logistic>,
     pub delta_rho: Option<f64>,
     /// `rho_x(L)` for each `x` asked for (empty when the fit failed).
@@ -482,7 +486,7 @@ pub fn fit_each_box(data: &[BoxData], protocol: Protocol, xs: &[f64]) -> Vec<Box
             let alone = BoxAlone {
                 box_len: b.box_len,
                 observations: obs.len(),
-                realizations: 0,
+                sequences: 0,
                 fit: None,
                 delta_rho: None,
                 rho_x: Vec::new(),
@@ -490,7 +494,7 @@ pub fn fit_each_box(data: &[BoxData], protocol: Protocol, xs: &[f64]) -> Vec<Box
             };
             match fit_box(&obs, protocol) {
                 Ok(r) => BoxAlone {
-                    realizations: r.realizations,
+                    sequences: r.sequences,
                     fit: Some(r.logistic),
                     delta_rho: Some(r.logistic.delta_rho()),
                     rho_x: xs.iter().map(|&x| r.logistic.quantile(x)).collect(),
@@ -531,10 +535,10 @@ fn box_warnings(b: &BoxData, fit: &BoxResult, opts: &FssOptions) -> Vec<String> 
     let mut out = Vec::new();
     match opts.protocol {
         Protocol::Nested => {
-            let censored = b.observations.len() - fit.realizations;
+            let censored = b.observations.len() - fit.sequences;
             if censored > 0 {
                 out.push(format!(
-                    "box L={l}: {censored} of {} realizations never spanned and are left out of the fit (biases the threshold low)",
+                    "box L={l}: {censored} of {} sequences never spanned and are left out of the fit (biases the threshold low)",
                     b.observations.len()
                 ));
             }
@@ -560,7 +564,7 @@ fn box_warnings(b: &BoxData, fit: &BoxResult, opts: &FssOptions) -> Vec<String> 
             let sparse = grid.iter().filter(|g| g.2 < 10).count();
             if sparse > 0 {
                 out.push(format!(
-                    "box L={l}: {sparse} grid densities have fewer than 10 realizations"
+                    "box L={l}: {sparse} grid densities have fewer than 10 sequences"
                 ));
             }
         }
@@ -758,8 +762,8 @@ fn contact_numbers(
 }
 
 /// The empirical spanning probability of one box size as `(density,
-/// fraction spanning, realizations)`: the empirical CDF at each distinct
-/// critical density (nested; realizations that never span count as not
+/// fraction spanning, sequences)`: the empirical CDF at each distinct
+/// critical density (nested; sequences that never span count as not
 /// spanning) or the fraction at each grid density (fixed).
 pub fn pi_curve(data: &BoxData, protocol: Protocol) -> Vec<(f64, f64, usize)> {
     match protocol {
@@ -793,7 +797,9 @@ pub fn pi_curve(data: &BoxData, protocol: Protocol) -> Vec<(f64, f64, usize)> {
 struct BoxRow {
     #[serde(serialize_with = "cell::display")]
     box_len: f64,
-    realizations: usize,
+    // Keeps its stored column name, so `boxes.csv` reads as before.
+    #[serde(rename = "realizations")]
+    sequences: usize,
     #[serde(serialize_with = "cell::display")]
     mu: f64,
     #[serde(serialize_with = "cell::display_opt")]
@@ -853,7 +859,7 @@ pub fn write_csv(fss: &Fss, data: &[BoxData], dir: &Path) -> Result<()> {
     let boxes = fss.boxes.iter().map(|b| {
         let row = BoxRow {
             box_len: b.box_len,
-            realizations: b.realizations,
+            sequences: b.sequences,
             mu: b.mu,
             mu_lo: b.mu_interval.map(|i| i.0),
             mu_hi: b.mu_interval.map(|i| i.1),

@@ -23,25 +23,29 @@ pub struct OrderEffects {
     /// Fraction of single runs of those that found none: how often one run
     /// misses what `runs` runs find (0 with one run).
     pub single_run_miss_rate: Option<f64>,
-    /// Nested: realizations checked by a fresh compression (no carried
+    /// Nested: sequences checked by a fresh compression (no carried
     /// bodies) at their rigid critical number, and how many of those fresh
     /// compressions did not span although the bisection's did: the
     /// spanning body was found only thanks to bodies carried from a smaller
     /// system, a non-monotone step of a memoryless engine.
     pub fresh_checks: usize,
     pub fresh_misses: usize,
-    /// Fixed: realizations whose spanning goes from yes back to no as the
+    /// Fixed: sequences whose spanning goes from yes back to no as the
     /// density grows, and the number of such steps.
-    pub nonmonotone_realizations: usize,
+    // Keeps its stored key, so existing summaries (`summary.json`) read back.
+    #[serde(rename = "nonmonotone_realizations")]
+    pub nonmonotone_sequences: usize,
     pub nonmonotone_steps: usize,
 }
 
-/// The contact critical density of a box: its mean and spread over realizations.
+/// The contact critical density of a box: its mean and spread over sequences.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoxSummary {
     #[serde(rename = "box")]
     pub box_len: f64,
-    pub realizations: usize,
+    // Keeps its stored key, so existing summaries (`summary.json`) read back.
+    #[serde(rename = "realizations")]
+    pub sequences: usize,
     /// Mean and standard deviation of the density at which each sequence
     /// first spans by contacts (exact, every protocol).
     pub contact_critical_mean: f64,
@@ -116,7 +120,7 @@ pub fn order_effects(spec: &StudySpec, records: &[Record]) -> OrderEffects {
             .filter(|w| w[0].spans && !w[1].spans)
             .count();
         o.nonmonotone_steps += drops;
-        o.nonmonotone_realizations += usize::from(drops > 0);
+        o.nonmonotone_sequences += usize::from(drops > 0);
     }
     o.single_run_miss_rate =
         (runs_total > 0 && spec.runs > 1).then(|| 1.0 - runs_spanning as f64 / runs_total as f64);
@@ -151,7 +155,7 @@ pub fn summarize(spec: &StudySpec, records: &[Record], bootstrap: usize) -> Resu
             let rigid_stats = (!rigid.is_empty()).then(|| mean_sd(&rigid));
             BoxSummary {
                 box_len: l,
-                realizations: of_box.len(),
+                sequences: of_box.len(),
                 contact_critical_mean: cm,
                 contact_critical_sd: cs,
                 rigid_critical_mean: rigid_stats.map(|s| s.0),
@@ -170,7 +174,7 @@ pub fn summarize(spec: &StudySpec, records: &[Record], bootstrap: usize) -> Resu
     })
 }
 
-/// A row of `records.csv`: one realization, densities to 6 places.
+/// A row of `records.csv`: one sequence, densities to 6 places.
 #[derive(Serialize)]
 struct RecordRow {
     #[serde(rename = "box", serialize_with = "cell::display")]
@@ -189,7 +193,7 @@ struct RecordRow {
     seconds: f64,
 }
 
-/// Per-realization table: one row per record.
+/// Per-sequence table: one row per record.
 fn records_csv(records: &[Record]) -> Vec<u8> {
     output::csv(records.iter().map(|r| {
         let v = r.box_len.powi(3);
@@ -212,7 +216,7 @@ fn records_csv(records: &[Record]) -> Vec<u8> {
 /// depend on the machine).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Timing {
-    /// Summed time of the realizations on their threads (CPU seconds).
+    /// Summed time of the sequences on their threads (CPU seconds).
     pub cpu_seconds: f64,
     pub per_box: Vec<(f64, f64)>,
 }
@@ -295,7 +299,9 @@ pub struct PerBoxReport {
 struct PerBoxRow {
     #[serde(serialize_with = "cell::display")]
     box_len: f64,
-    realizations: usize,
+    // Keeps its stored column name, so `boxes.csv` reads as before.
+    #[serde(rename = "realizations")]
+    sequences: usize,
     #[serde(serialize_with = "cell::display_opt")]
     mu: Option<f64>,
     #[serde(serialize_with = "cell::display_opt")]
@@ -310,7 +316,7 @@ struct PerBoxRow {
 /// sizes, which failed with `error`: `records.csv`, `timing.json` and
 /// `boxes.csv` with each box's own logistic fit where it converges (and
 /// why not where it does not), so that a failed fit never hides the
-/// realizations' work.
+/// sequences' work.
 pub fn write_per_box(
     dir: &Path,
     spec: &StudySpec,
@@ -324,7 +330,7 @@ pub fn write_per_box(
     let rows = boxes.iter().map(|b| {
         let row = PerBoxRow {
             box_len: b.box_len,
-            realizations: b.realizations,
+            sequences: b.sequences,
             mu: b.fit.map(|f| f.mu),
             s: b.fit.map(|f| f.s),
             delta_rho: b.delta_rho,

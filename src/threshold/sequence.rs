@@ -1,6 +1,7 @@
-//! One Monte Carlo realization (MODEL §8): a random rod sequence in a box,
-//! the number of rods at which it first spans by contacts (one union-find
-//! sweep) and rigidly (bisection over the number of rods), and the paper's
+//! One Monte Carlo sequence (MODEL §8): the seeded random rods of a box in
+//! their order, whose first `n` rods are the `n`-rod system; the number of
+//! rods at which it first spans by contacts (one union-find sweep) and
+//! rigidly (bisection over the number of rods), and the paper's
 //! fixed-density protocol on the same sequence.
 
 use serde::{Deserialize, Serialize};
@@ -26,7 +27,7 @@ pub enum Kind {
     Rigid,
 }
 
-/// What every realization of a study shares.
+/// What every sequence of a study shares.
 #[derive(Clone, Copy, Debug)]
 pub struct Setup<'r> {
     pub kind: Kind,
@@ -37,7 +38,7 @@ pub struct Setup<'r> {
     pub runs: usize,
 }
 
-/// A realization's rods and contacts, grown on demand: the first `n` rods of
+/// A sequence's rods and contacts, grown on demand: the first `n` rods of
 /// the sequence are the `n`-rod system of its seed, and their contacts are a
 /// prefix of `contacts` (sorted by the later rod).
 pub struct Sequence {
@@ -134,7 +135,7 @@ pub struct Step {
     pub runs_spanning: usize,
 }
 
-/// What one realization produced: one line of a study's record file.
+/// What one sequence produced: one line of a study's record file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     #[serde(rename = "box")]
@@ -156,7 +157,7 @@ pub struct Record {
     /// Contact numbers at the critical number (nested) or at each grid density (fixed).
     pub contacts: Vec<ContactPoint>,
     /// Time it took on its thread, in seconds (its CPU time: the runs of a
-    /// realization are sequential, realizations run in parallel). Not part
+    /// sequence run one after another, sequences in parallel). Not part
     /// of the results: records are compared without it.
     #[serde(default)]
     pub seconds: f64,
@@ -410,7 +411,7 @@ impl Bisection {
     }
 }
 
-/// The nested protocol on one realization: the exact contact critical
+/// The nested protocol on one sequence: the exact contact critical
 /// number, and for the rigid kind the rigid one by [`Bisection`], each
 /// compression starting from the bodies of the largest non-spanning system.
 pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<()> {
@@ -445,7 +446,7 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
     Ok(())
 }
 
-/// The fixed protocol on one realization: whether each prefix of `grid` rods
+/// The fixed protocol on one sequence: whether each prefix of `grid` rods
 /// spans, each compressed from nothing (the paper's protocol).
 pub fn fixed(setup: &Setup, seq: &mut Sequence, grid: &[usize], record: &mut Record) -> Result<()> {
     let n_c = seq.contact_critical(setup.criterion)?;

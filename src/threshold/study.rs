@@ -1,6 +1,6 @@
 //! A threshold study on disk (MODEL §9): what was asked (`study.json`), the
 //! fixed protocol's density grid (`grid.json`), and one JSON line per
-//! finished realization (`records*.jsonl`). A study killed at any moment
+//! finished sequence (`records*.jsonl`). A study killed at any moment
 //! resumes from its records; shards (`--shard i/n`) write their own record
 //! files, in one directory or several, and [`merge`] combines them exactly.
 
@@ -34,7 +34,9 @@ pub struct StudySpec {
     pub kind: Kind,
     pub gamma: f64,
     pub boxes: Vec<f64>,
-    pub realizations: u64,
+    // Keeps its stored key, so existing studies (`study.json`) read back.
+    #[serde(rename = "realizations")]
+    pub sequences: u64,
     pub rules: RuleSet,
     /// Loaded rule set: how many rules and a digest of their canonical forms.
     pub motifs: MotifSet,
@@ -55,7 +57,7 @@ impl StudySpec {
     pub fn new(
         gamma: f64,
         boxes: Vec<f64>,
-        realizations: u64,
+        sequences: u64,
         criterion: Criterion,
         seed: u64,
     ) -> StudySpec {
@@ -64,7 +66,7 @@ impl StudySpec {
             kind: Kind::Rigid,
             gamma,
             boxes,
-            realizations,
+            sequences,
             rules: RuleSet::Sound,
             motifs: MotifSet::default(),
             runs: 1,
@@ -131,8 +133,8 @@ impl StudySpec {
         for &l in &self.boxes {
             RodParams::new(self.gamma, l, self.first_rods(l).max(1) as f64 / l.powi(3))?;
         }
-        if self.realizations == 0 {
-            return bad("--realizations must be at least 1".into());
+        if self.sequences == 0 {
+            return bad("--sequences must be at least 1".into());
         }
         if self.runs == 0 {
             return bad("--runs must be at least 1".into());
@@ -145,11 +147,11 @@ impl StudySpec {
 
     /// [`StudySpec::validate`], and that the scaling analysis can use the
     /// study at all ([`super::fss::check_design`]): what a command that will
-    /// analyse a study checks before any realization runs. A study itself
+    /// analyse a study checks before any sequence runs. A study itself
     /// (records, shards, merges) needs no more than `validate`.
     pub fn validate_for_analysis(&self) -> Result<()> {
         self.validate()?;
-        super::fss::check_design(self.boxes.len(), self.realizations, self.method)
+        super::fss::check_design(self.boxes.len(), self.sequences, self.method)
     }
 
     /// Whether `other` is the same study (file names of the rules aside).
@@ -161,9 +163,9 @@ impl StudySpec {
         strip(self) == strip(other) && self.motifs.same(&other.motifs)
     }
 
-    /// The seed of realization `index` in box `box_len`: the same for every
+    /// The seed of sequence `index` in box `box_len`: the same for every
     /// kind, rule set and method, so they are compared on the same rods.
-    pub fn realization_seed(&self, box_len: f64, index: u64) -> u64 {
+    pub fn sequence_seed(&self, box_len: f64, index: u64) -> u64 {
         run_seed(run_seed(self.seed, box_len.to_bits()), index)
     }
 
@@ -179,7 +181,7 @@ impl StudySpec {
     }
 }
 
-/// One slice `i/n` of a study's realizations (`--shard`), counted from 0.
+/// One slice `i/n` of a study's sequences (`--shard`), counted from 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
     pub index: usize,
@@ -207,7 +209,7 @@ impl Shard {
         Ok(Shard { index, count })
     }
 
-    /// Whether the `k`-th realization of the study (boxes in order, then
+    /// Whether the `k`-th sequence of the study (boxes in order, then
     /// index) belongs to this shard: round robin, so shards get equal work.
     fn owns(&self, k: usize) -> bool {
         k % self.count == self.index
@@ -237,11 +239,11 @@ pub struct GridBox {
     pub rods: Vec<usize>,
 }
 
-/// Pilot realizations per box for the fixed grid.
+/// Pilot sequences per box for the fixed grid.
 pub const PILOT: u64 = 16;
 
 /// Builds the fixed protocol's grid: the nested protocol on [`PILOT`]
-/// realizations of their own seeds, then `grid_points` numbers of rods
+/// sequences of their own seeds, then `grid_points` numbers of rods
 /// evenly over the pilot's mean plus or minus 2.5 standard deviations
 /// (where a logistic spanning curve runs from 1% to 99%), widened to the
 /// pilot's extremes.
@@ -258,7 +260,7 @@ fn pilot_grid(spec: &StudySpec, setup: &Setup) -> Result<Grid> {
             let pilot: Vec<f64> = (0..PILOT)
                 .into_par_iter()
                 .map(|i| {
-                    let r = realize(&pilot_spec, setup, l, i, Protocol::Nested, None)?;
+                    let r = run_sequence(&pilot_spec, setup, l, i, Protocol::Nested, None)?;
                     let n = r
                         .critical(spec.kind)
                         .expect("nested records a critical number");
@@ -288,8 +290,8 @@ fn pilot_grid(spec: &StudySpec, setup: &Setup) -> Result<Grid> {
     Ok(Grid { boxes })
 }
 
-/// Runs one realization.
-fn realize(
+/// Runs one sequence.
+fn run_sequence(
     spec: &StudySpec,
     setup: &Setup,
     box_len: f64,
@@ -297,7 +299,7 @@ fn realize(
     method: Protocol,
     grid: Option<&GridBox>,
 ) -> Result<Record> {
-    let seed = spec.realization_seed(box_len, index);
+    let seed = spec.sequence_seed(box_len, index);
     // The clock includes generating the rods and detecting their contacts.
     let t = Instant::now();
     let mut seq = Sequence::new(spec.gamma, box_len, spec.first_rods(box_len), seed)?;
@@ -334,18 +336,18 @@ pub struct RunOptions {
 /// What [`run`] did.
 #[derive(Clone, Debug)]
 pub struct RunReport {
-    /// Realizations of this shard found done on disk before starting.
+    /// Sequences of this shard found done on disk before starting.
     pub resumed: usize,
-    /// Realizations run now.
+    /// Sequences run now.
     pub ran: usize,
-    /// Whether every realization of the study (all shards) is on disk in `out`.
+    /// Whether every sequence of the study (all shards) is on disk in `out`.
     pub complete: bool,
     pub seconds: f64,
 }
 
-/// Runs the realizations of `shard` not yet recorded in `opts.out`, appending
-/// each record as it finishes (rayon over realizations, largest boxes first).
-/// Progress is one stage counted in box volume (L³ per realization), which
+/// Runs the sequences of `shard` not yet recorded in `opts.out`, appending
+/// each record as it finishes (rayon over sequences, largest boxes first).
+/// Progress is one stage counted in box volume (L³ per sequence), which
 /// the work follows, so it runs evenly although the largest boxes come first.
 pub fn run(
     spec: &StudySpec,
@@ -374,7 +376,7 @@ pub fn run(
     let mut resumed = 0;
     let mut k = 0;
     for &l in &spec.boxes {
-        for i in 0..spec.realizations {
+        for i in 0..spec.sequences {
             if opts.shard.owns(k) {
                 if done.contains_key(&(l.to_bits(), i)) {
                     resumed += 1;
@@ -385,12 +387,12 @@ pub fn run(
             k += 1;
         }
     }
-    // Largest boxes first, so the last realizations to finish are short.
+    // Largest boxes first, so the last sequences to finish are short.
     todo.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let weight = |l: f64| (l.powi(3)).ceil() as u64;
     progress.start(
         &format!(
-            "{} realizations, {} done before (counted by box volume)",
+            "{} sequences, {} done before (counted by box volume)",
             todo.len(),
             resumed
         ),
@@ -408,7 +410,7 @@ pub fn run(
             let grid_box = grid
                 .as_ref()
                 .and_then(|g| g.boxes.iter().find(|b| b.box_len == l));
-            let record = realize(spec, &setup, l, i, spec.method, grid_box)?;
+            let record = run_sequence(spec, &setup, l, i, spec.method, grid_box)?;
             let mut line = serde_json::to_string(&record).expect("records serialize");
             line.push('\n');
             let mut w = writer.lock().expect("no writer panicked");
@@ -421,7 +423,7 @@ pub fn run(
         })
         .collect::<Result<()>>()?;
     progress.finish();
-    let total = spec.boxes.len() * spec.realizations as usize;
+    let total = spec.boxes.len() * spec.sequences as usize;
     let complete = read_records(dir, spec)?.len() == total;
     Ok(RunReport {
         resumed,
@@ -556,15 +558,15 @@ fn read_sourced(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, (Record, S
             let at = |reason: String| study_error(&path, format!("line {}: {reason}", k + 1));
             let r: Record =
                 serde_json::from_str(&line).map_err(|e| at(format!("not a record: {e}")))?;
-            if !spec.boxes.contains(&r.box_len) || r.index >= spec.realizations {
+            if !spec.boxes.contains(&r.box_len) || r.index >= spec.sequences {
                 return Err(at(format!(
-                    "realization {} of box {} is not part of this study",
+                    "sequence {} of box {} is not part of this study",
                     r.index, r.box_len
                 )));
             }
-            if r.seed != spec.realization_seed(r.box_len, r.index) {
+            if r.seed != spec.sequence_seed(r.box_len, r.index) {
                 return Err(at(format!(
-                    "realization {} of box {} has seed {}, not this study's",
+                    "sequence {} of box {} has seed {}, not this study's",
                     r.index, r.box_len, r.seed
                 )));
             }
@@ -581,7 +583,7 @@ fn read_sourced(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, (Record, S
             r.check(spec.kind, spec.method, spec.runs, grid_rods)
                 .map_err(|reason| {
                     at(format!(
-                        "realization {} of box {} contradicts itself: {reason}",
+                        "sequence {} of box {} contradicts itself: {reason}",
                         r.index, r.box_len
                     ))
                 })?;
@@ -590,7 +592,7 @@ fn read_sourced(dir: &Path, spec: &StudySpec) -> Result<BTreeMap<Key, (Record, S
             match records.get(&key) {
                 Some((seen, first)) if !same_record(seen, &r) => {
                     return Err(at(format!(
-                        "realization {} of box {} differs from {}",
+                        "sequence {} of box {} differs from {}",
                         r.index,
                         r.box_len,
                         describe(first)
@@ -635,7 +637,7 @@ fn same_record(a: &Record, b: &Record) -> bool {
 }
 
 /// Combines the records of `dirs` (shards of one study) into `out`: the
-/// studies must be the same, every realization present, duplicates equal.
+/// studies must be the same, every sequence present, duplicates equal.
 /// Writes `out/study.json` and `out/records.jsonl` in study order, and
 /// returns the spec and the records.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
@@ -664,7 +666,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
                     return Err(study_error(
                         &source.0,
                         format!(
-                            "line {}: realization {} of box {} differs from {}",
+                            "line {}: sequence {} of box {} differs from {}",
                             source.1,
                             r.index,
                             r.box_len,
@@ -682,7 +684,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
     let missing: Vec<String> = spec
         .boxes
         .iter()
-        .flat_map(|&l| (0..spec.realizations).map(move |i| (l, i)))
+        .flat_map(|&l| (0..spec.sequences).map(move |i| (l, i)))
         .filter(|&(l, i)| !all.contains_key(&(l.to_bits(), i)))
         .map(|(l, i)| format!("box {l} #{i}"))
         .collect();
@@ -691,7 +693,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
         return Err(study_error(
             out,
             format!(
-                "{} realization(s) missing from the shards ({}{}); run the missing shards first",
+                "{} sequence(s) missing from the shards ({}{}); run the missing shards first",
                 missing.len(),
                 shown.join(", "),
                 if missing.len() > 5 { ", ..." } else { "" }
@@ -769,7 +771,7 @@ mod tests {
             kind,
             gamma: 10.0,
             boxes: vec![3.0, 3.5, 4.0],
-            realizations: 3,
+            sequences: 3,
             rules: RuleSet::Sound,
             motifs: MotifSet::default(),
             runs: 2,
@@ -933,7 +935,7 @@ mod tests {
         for method in [Protocol::Nested, Protocol::Fixed] {
             // Large enough for the scaling analysis to fit.
             let spec = StudySpec {
-                realizations: 12,
+                sequences: 12,
                 grid_points: 6,
                 seed: 7,
                 ..spec(Kind::Rigid, method)
@@ -967,7 +969,7 @@ mod tests {
         let (a, b) = (scratch("disagree-a"), scratch("disagree-b"));
         run_in(&spec, &a, Shard { index: 0, count: 2 });
         run_in(&spec, &b, Shard::WHOLE);
-        // Realization 2 of box 3 is the study's third, so in shard 0 of 2 (the
+        // Sequence 2 of box 3 is the study's third, so in shard 0 of 2 (the
         // even-numbered ones), on a line that depends on thread timing.
         let shard = a.join("records-0-of-2.jsonl");
         let line = |path: &Path| {
@@ -988,7 +990,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         let named = format!(
-            "study {}: line {}: realization 2 of box 3 differs from line {} of {}",
+            "study {}: line {}: sequence 2 of box 3 differs from line {} of {}",
             b.join("records.jsonl").display(),
             k + 1,
             j + 1,
@@ -1000,7 +1002,7 @@ mod tests {
         let err = refusal(&a, &spec);
         assert!(
             err.contains(&format!("line {} of {}", j + 1, shard.display()))
-                && err.contains(&format!("line {}: realization 2 of box 3 differs", k + 1)),
+                && err.contains(&format!("line {}: sequence 2 of box 3 differs", k + 1)),
             "{err}"
         );
         for d in [a, b, scratch("disagree-out")] {

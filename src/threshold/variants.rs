@@ -1,10 +1,10 @@
 //! Rule sets, run counts and protocols against each other on the same
-//! realizations: `rgc compare` (paper base, sound base, sound + extended
+//! sequences: `rgc compare` (paper base, sound base, sound + extended
 //! motifs) and `rgc tradeoff` (threshold and interval width against CPU time).
 //!
 //! Each variant is an ordinary study in a directory named after what
 //! determines its records, so variants that differ only in how many
-//! realizations they analyse share one study, and every study resumes.
+//! sequences they analyse share one study, and every study resumes.
 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -28,8 +28,8 @@ pub struct Variant {
     pub motifs: Vec<PathBuf>,
     pub runs: usize,
     pub method: Protocol,
-    /// Realizations per box analysed: the first ones of the study.
-    pub realizations: u64,
+    /// Sequences per box analysed: the first ones of the study.
+    pub sequences: u64,
 }
 
 /// What a variant measured.
@@ -42,21 +42,23 @@ pub struct VariantOutcome {
     pub motif_rules: usize,
     pub runs: usize,
     pub method: Protocol,
-    pub realizations: u64,
+    // Keeps its stored key, so existing experiments (`results/NAME.json`) read back.
+    #[serde(rename = "realizations")]
+    pub sequences: u64,
     pub threshold: Estimate,
     /// Width of the threshold's interval.
     pub interval_width: Option<f64>,
     pub nu: Estimate,
     /// Relative difference of the threshold to the first variant's.
     pub relative_difference: f64,
-    /// Nested protocol: the mean over realizations (all boxes) of the
+    /// Nested protocol: the mean over sequences (all boxes) of the
     /// difference of each sequence's critical density to the reference
     /// variant's on the same sequence, with a 95% normal interval. Paired,
     /// so far tighter than the difference of two thresholds.
     pub paired_difference: Option<Estimate>,
     /// The variant the paired difference is taken against.
     pub paired_with: Option<String>,
-    /// CPU seconds of the analysed realizations.
+    /// CPU seconds of the analysed sequences.
     pub cpu_seconds: f64,
     /// How often one run misses a spanning body that all runs find together.
     pub single_run_miss_rate: Option<f64>,
@@ -84,9 +86,9 @@ pub struct Design {
 
 /// `rgc compare`: the paper's base motifs, the sound base motifs, and the
 /// sound ones with the `extended` rule files, each with `runs` runs per
-/// system on `realizations` per box; each is paired with the one before, so
+/// system on `sequences` per box; each is paired with the one before, so
 /// the chain shows what each step changes.
-pub fn compare_design(runs: usize, realizations: u64, extended: &[PathBuf]) -> Design {
+pub fn compare_design(runs: usize, sequences: u64, extended: &[PathBuf]) -> Design {
     let variant = |label: &str, rules: RuleSet, motifs: &[PathBuf]| Variant {
         label: label.into(),
         family: "rules".into(),
@@ -94,7 +96,7 @@ pub fn compare_design(runs: usize, realizations: u64, extended: &[PathBuf]) -> D
         motifs: motifs.to_vec(),
         runs,
         method: Protocol::Nested,
-        realizations,
+        sequences,
     };
     Design {
         variants: vec![
@@ -108,15 +110,16 @@ pub fn compare_design(runs: usize, realizations: u64, extended: &[PathBuf]) -> D
 
 /// `rgc tradeoff`: threshold and interval width against CPU time, each
 /// variant changing one thing of the sound base motifs, one run, nested,
-/// `realizations` per box, and paired with that first variant:
+/// `sequences` per box, and paired with that first variant:
 /// * `runs`: each count of `runs_list`; more than 10 runs analyse half the
-///   realizations, which is where their cost puts them;
+///   sequences, which is where their cost puts them;
 /// * `motifs`: the audit's rule files in `rule_dir`, added size by size
 ///   (`rods-6.json`, then `rods-8.json`, then `mixed-4.json`);
-/// * `realizations`: a quarter and a half of them;
+/// * `realizations` (the family's stored name): a quarter and a half of the
+///   sequences;
 /// * `method`: the fixed protocol with 1 and 10 runs.
-pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) -> Design {
-    let r = realizations;
+pub fn tradeoff_design(runs_list: &[usize], sequences: u64, rule_dir: &Path) -> Design {
+    let r = sequences;
     let base = Variant {
         label: String::new(),
         family: String::new(),
@@ -124,7 +127,7 @@ pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) 
         motifs: Vec::new(),
         runs: 1,
         method: Protocol::Nested,
-        realizations: r,
+        sequences: r,
     };
     let mut variants = Vec::new();
     for &k in runs_list {
@@ -132,7 +135,7 @@ pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) 
             label: format!("K={k}"),
             family: "runs".into(),
             runs: k,
-            realizations: if k > 10 { r / 2 } else { r },
+            sequences: if k > 10 { r / 2 } else { r },
             ..base.clone()
         });
     }
@@ -155,8 +158,9 @@ pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) 
     for n in [r / 4, r / 2] {
         variants.push(Variant {
             label: format!("R={n}"),
+            // Keeps its stored name, so the committed tables stay as they are.
             family: "realizations".into(),
-            realizations: n,
+            sequences: n,
             ..base.clone()
         });
     }
@@ -175,8 +179,8 @@ pub fn tradeoff_design(runs_list: &[usize], realizations: u64, rule_dir: &Path) 
     }
 }
 
-/// Checks, before any realization runs, every variant's study as it will
-/// be analysed (its own realizations, runs and protocol on `template`), so
+/// Checks, before any sequence runs, every variant's study as it will
+/// be analysed (its own sequences, runs and protocol on `template`), so
 /// a variant too small for the scaling fit fails at once.
 pub fn check_variants(template: &StudySpec, variants: &[Variant]) -> Result<()> {
     for v in variants {
@@ -184,7 +188,7 @@ pub fn check_variants(template: &StudySpec, variants: &[Variant]) -> Result<()> 
             rules: v.rules,
             runs: v.runs,
             method: v.method,
-            realizations: v.realizations,
+            sequences: v.sequences,
             ..template.clone()
         };
         spec.validate_for_analysis().map_err(|e| match e {
@@ -195,27 +199,26 @@ pub fn check_variants(template: &StudySpec, variants: &[Variant]) -> Result<()> 
     Ok(())
 }
 
-/// The design `make` gives for `template`'s realizations, checked with
-/// [`check_variants`]. When it fails and more realizations would do, the
+/// The design `make` gives for `template`'s sequences, checked with
+/// [`check_variants`]. When it fails and more sequences would do, the
 /// message names the fewest (`tradeoff` analyses a quarter of them in one
 /// variant, so it needs four times what a single study does).
 pub fn checked_design(make: impl Fn(u64) -> Design, template: &StudySpec) -> Result<Design> {
-    let design = make(template.realizations);
+    let design = make(template.sequences);
     let Err(e) = check_variants(template, &design.variants) else {
         return Ok(design);
     };
     let works = |r: u64| {
         let spec = StudySpec {
-            realizations: r,
+            sequences: r,
             ..template.clone()
         };
         check_variants(&spec, &make(r).variants).is_ok()
     };
-    let fewest =
-        (template.realizations + 1..=template.realizations.max(1) * 1000).find(|&r| works(r));
+    let fewest = (template.sequences + 1..=template.sequences.max(1) * 1000).find(|&r| works(r));
     Err(match (e, fewest) {
         (Error::Parameter(m), Some(r)) => {
-            Error::Parameter(format!("{m}; this design needs --realizations {r} or more"))
+            Error::Parameter(format!("{m}; this design needs --sequences {r} or more"))
         }
         (e, _) => e,
     })
@@ -224,7 +227,7 @@ pub fn checked_design(make: impl Fn(u64) -> Design, template: &StudySpec) -> Res
 /// A study directory name from everything that determines its records, so
 /// studies that differ in any parameter never meet in one directory:
 /// `rigid-sound-base-k1-nested-r100-g23-L4_5_6-wrap-s1` (kind, rules,
-/// motifs, runs, protocol, realizations, gamma, boxes, criterion, seed, and
+/// motifs, runs, protocol, sequences, gamma, boxes, criterion, seed, and
 /// the grid points of the fixed protocol).
 pub fn study_name(spec: &StudySpec) -> String {
     let boxes: Vec<String> = spec.boxes.iter().map(f64::to_string).collect();
@@ -252,7 +255,7 @@ fn legacy_name(spec: &StudySpec) -> String {
     };
     format!(
         "{:?}-{:?}-{}-k{}-{:?}-r{}",
-        spec.kind, spec.rules, motifs, spec.runs, spec.method, spec.realizations
+        spec.kind, spec.rules, motifs, spec.runs, spec.method, spec.sequences
     )
     .to_lowercase()
 }
@@ -273,9 +276,9 @@ pub fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
     }
 }
 
-/// Runs (or resumes) every variant's study on the realizations of
-/// `template` (its `realizations` is ignored: each variant says how many it
-/// analyses) and analyses each. A variant analysing fewer realizations than
+/// Runs (or resumes) every variant's study on the sequences of
+/// `template` (its `sequences` is ignored: each variant says how many it
+/// analyses) and analyses each. A variant analysing fewer sequences than
 /// another of the same study shares its records.
 pub fn run_variants(
     template: &StudySpec,
@@ -286,7 +289,7 @@ pub fn run_variants(
     progress: &dyn Progress,
 ) -> Result<Vec<VariantOutcome>> {
     // One study per distinct record-determining spec, with as many
-    // realizations as its most demanding variant analyses.
+    // sequences as its most demanding variant analyses.
     let mut specs: Vec<(StudySpec, Vec<CompiledRule>)> = Vec::new();
     let mut of_variant = Vec::new();
     check_variants(template, variants)?;
@@ -297,19 +300,19 @@ pub fn run_variants(
             motifs: MotifSet::of(&rules, &v.motifs),
             runs: v.runs,
             method: v.method,
-            realizations: v.realizations,
+            sequences: v.sequences,
             ..template.clone()
         };
         let same = |s: &StudySpec| {
             StudySpec {
-                realizations: spec.realizations,
+                sequences: spec.sequences,
                 ..s.clone()
             } == spec
         };
         let k = match specs.iter().position(|(s, _)| same(s)) {
             Some(k) => {
-                let r = &mut specs[k].0.realizations;
-                *r = (*r).max(v.realizations);
+                let r = &mut specs[k].0.sequences;
+                *r = (*r).max(v.sequences);
                 k
             }
             None => {
@@ -335,16 +338,16 @@ pub fn run_variants(
         let dir = &dirs[k];
         let records: Vec<_> = study::in_study_order(spec, study::read_records(dir, spec)?)
             .into_iter()
-            .filter(|r| r.index < v.realizations)
+            .filter(|r| r.index < v.sequences)
             .collect();
         let subset = StudySpec {
-            realizations: v.realizations,
+            sequences: v.sequences,
             ..spec.clone()
         };
         // The records stay in the study directory for a later analysis.
         let summary = report::summarize(&subset, &records, bootstrap).map_err(|e| match e {
             Error::Analysis(m) => Error::Analysis(format!(
-                "variant {:?}: {m} (its realizations are kept in {})",
+                "variant {:?}: {m} (its sequences are kept in {})",
                 v.label,
                 dir.display()
             )),
@@ -355,7 +358,7 @@ pub fn run_variants(
             Pairing::First => (!analysed.is_empty()).then_some(0),
             Pairing::Previous => analysed.len().checked_sub(1),
         };
-        // Variants reading one study (realization subsets) have nothing to pair.
+        // Variants reading one study (sequence subsets) have nothing to pair.
         let partner = partner.filter(|&p| of_variant[p] != k);
         let paired = partner.and_then(|p| paired_difference(spec, &analysed[p], &records));
         let paired_with = partner
@@ -370,7 +373,7 @@ pub fn run_variants(
             motif_rules: spec.motifs.rules,
             runs: v.runs,
             method: v.method,
-            realizations: v.realizations,
+            sequences: v.sequences,
             threshold: t,
             interval_width: t.lo.zip(t.hi).map(|(lo, hi)| hi - lo),
             nu: summary.fss.nu,
@@ -390,7 +393,7 @@ pub fn run_variants(
 /// Checks that the experiment file at `path` (`results/NAME.json` of an
 /// earlier `compare` or `tradeoff`), if there is one, was made by the same
 /// experiment: the same template and the same variants. An exploratory run
-/// (another gamma, fewer realizations) then never silently replaces the
+/// (another gamma, fewer sequences) then never silently replaces the
 /// committed results; the CLI's `--force` skips this check.
 pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Result<()> {
     let text = match std::fs::read_to_string(path) {
@@ -408,8 +411,8 @@ pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Resu
             .collect(),
         _ => vec!["no template".into()],
     };
-    let key = |label: &serde_json::Value, rules, runs, method, realizations| {
-        serde_json::json!([label, rules, runs, method, realizations])
+    let key = |label: &serde_json::Value, rules, runs, method, sequences| {
+        serde_json::json!([label, rules, runs, method, sequences])
     };
     let made: Vec<serde_json::Value> = there
         .get("variants")
@@ -422,6 +425,7 @@ pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Resu
                         v["rules"].clone(),
                         v["runs"].clone(),
                         v["method"].clone(),
+                        // The stored key of `VariantOutcome::sequences`.
                         v["realizations"].clone(),
                     )
                 })
@@ -436,7 +440,7 @@ pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Resu
                 serde_json::to_value(v.rules).expect("rule sets serialize"),
                 v.runs.into(),
                 serde_json::to_value(v.method).expect("protocols serialize"),
-                v.realizations.into(),
+                v.sequences.into(),
             )
         })
         .collect();
@@ -496,7 +500,9 @@ struct Row<'a> {
     motif_rules: usize,
     runs: usize,
     method: Protocol,
-    realizations: u64,
+    // Keeps its stored column name, so the committed CSV tables stay as they are.
+    #[serde(rename = "realizations")]
+    sequences: u64,
     #[serde(serialize_with = "cell::fixed::<6, _>")]
     threshold: f64,
     #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
@@ -544,7 +550,7 @@ impl<'a> Row<'a> {
             motif_rules: o.motif_rules,
             runs: o.runs,
             method: o.method,
-            realizations: o.realizations,
+            sequences: o.sequences,
             threshold: o.threshold.value,
             threshold_lo: o.threshold.lo,
             threshold_hi: o.threshold.hi,
@@ -583,7 +589,7 @@ const MARKDOWN: [Column; 14] = [
     ("motifs", |r| r.motif_rules.to_string()),
     ("runs", |r| r.runs.to_string()),
     ("method", |r| format!("{:?}", r.method)),
-    ("realizations/box", |r| r.realizations.to_string()),
+    ("sequences/box", |r| r.sequences.to_string()),
     ("threshold", |r| format!("{:.3}", r.threshold)),
     ("95% interval", |r| interval(r.threshold_lo, r.threshold_hi)),
     ("rel. diff.", |r| {

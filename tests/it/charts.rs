@@ -35,6 +35,7 @@ fn outcomes() -> Vec<VariantOutcome> {
         ("runs", "8 runs", 0.802, 0.017, 1.69, 290.0),
         ("motifs", "base", 0.815, 0.019, 1.74, 35.0),
         ("motifs", "+ motifs", 0.797, 0.018, 1.66, 60.0),
+        // `realizations`: the stored family name of the sequence-count variants.
         ("realizations", "100/box", 0.808, 0.040, 1.80, 20.0),
         ("realizations", "400/box", 0.804, 0.009, 1.71, 160.0),
         ("method", "fixed", 0.810, 0.060, 1.62, 500.0),
@@ -49,7 +50,7 @@ fn outcomes() -> Vec<VariantOutcome> {
             motif_rules: 0,
             runs: 1,
             method: Protocol::Nested,
-            realizations: 100,
+            sequences: 100,
             threshold: estimate(t, half),
             interval_width: Some(2.0 * half),
             nu: estimate(nu, 0.1),

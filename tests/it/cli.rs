@@ -406,7 +406,7 @@ fn threshold_args<'a>(out: &'a str, changes: &[(&'a str, &'a str)]) -> Vec<&'a s
     let mut options = vec![
         ("--gamma", "10"),
         ("--boxes", "3,3.5,4"),
-        ("--realizations", "40"),
+        ("--sequences", "40"),
         ("--runs", "2"),
         ("--bootstrap", "40"),
         ("--out", out),
@@ -435,7 +435,7 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("120 realizations run in") && text.contains("(0 found done)"),
+        text.contains("120 sequences run in") && text.contains("(0 found done)"),
         "{text}"
     );
     assert!(
@@ -443,7 +443,7 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
         "{text}"
     );
 
-    // Killed as soon as its first record is on disk, with 119 realizations to go.
+    // Killed as soon as its first record is on disk, with 119 sequences to go.
     let mut child = Command::new(env!("CARGO_BIN_EXE_rgc"))
         .args(threshold_args(k, &[]))
         .stdout(std::process::Stdio::null())
@@ -486,7 +486,7 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains(&format!("{} realizations run in", 120 - before))
+        text.contains(&format!("{} sequences run in", 120 - before))
             && text.contains(&format!("({before} found done)")),
         "{before} records before the kill: {text}"
     );
@@ -512,8 +512,13 @@ fn threshold_rejects_bad_parameters() {
         "box 1 is too small",
     );
     fails(
-        &threshold_args(d, &[("--realizations", "0")]),
-        "--realizations must be at least 1",
+        &threshold_args(d, &[("--sequences", "0")]),
+        "--sequences must be at least 1",
+    );
+    // The old spelling of `--sequences` still works, for existing scripts.
+    fails(
+        &["threshold", "--quiet", "--realizations", "0", "--out", d],
+        "--sequences must be at least 1",
     );
     fails(
         &threshold_args(d, &[("--gamma", "-4")]),
@@ -525,10 +530,10 @@ fn threshold_rejects_bad_parameters() {
     );
     // Two box sizes cannot give nu: a clear message, not NaN.
     fails(
-        &threshold_args(d, &[("--boxes", "3,4"), ("--realizations", "8")]),
+        &threshold_args(d, &[("--boxes", "3,4"), ("--sequences", "8")]),
         "nu needs at least 3 box sizes, got 2",
     );
-    // Refused before any realization runs: nothing was written.
+    // Refused before any sequence runs: nothing was written.
     assert!(!dir.join("records.jsonl").exists());
     let missing = dir.join("no-such-study");
     fails(&["merge", missing.to_str().unwrap()], "study.json");
@@ -789,7 +794,7 @@ fn compare_runs_the_three_rule_sets_on_the_same_rods() {
         "5",
         "--boxes",
         "2.5,3,3.5",
-        "--realizations",
+        "--sequences",
         "12",
         "--bootstrap",
         "20",
@@ -819,8 +824,9 @@ fn compare_runs_the_three_rule_sets_on_the_same_rods() {
     );
     assert_eq!(field("rules"), ["paper", "sound", "sound"].map(Value::from));
     assert_eq!(field("motif_rules"), [0, 0, 1].map(Value::from));
+    // `realizations`: the stored key of the sequences each variant analyses.
     assert_eq!(field("realizations"), [12, 12, 12].map(Value::from));
-    // Three studies of 36 realizations each, on the same rod sequences.
+    // Three studies of 36 sequences each, on the same rod sequences.
     assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 3);
     let runs: Vec<_> = v
         .iter()
@@ -890,7 +896,7 @@ fn tradeoff_measures_every_family_of_variants() {
         "5",
         "--boxes",
         "2.5,3,3.5",
-        "--realizations",
+        "--sequences",
         "20",
         "--bootstrap",
         "20",
@@ -934,6 +940,7 @@ fn tradeoff_measures_every_family_of_variants() {
         field("motif_rules"),
         [0, 0, 1, 3, 5, 0, 0, 0, 0].map(Value::from)
     );
+    // `realizations`: the stored key of the sequences each variant analyses.
     assert_eq!(
         field("realizations"),
         [20, 20, 20, 20, 20, 5, 10, 20, 20].map(Value::from)
@@ -945,7 +952,7 @@ fn tradeoff_measures_every_family_of_variants() {
         ]
         .map(Value::from)
     );
-    // The realization subsets read the K=1 study: seven studies for nine variants.
+    // The sequence subsets read the K=1 study: seven studies for nine variants.
     assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 7);
     assert_eq!(v[5]["study"], v[0]["study"]);
     assert_eq!(v[6]["study"], v[0]["study"]);
@@ -959,7 +966,7 @@ fn tradeoff_measures_every_family_of_variants() {
             "{}",
             x["label"]
         );
-        // The nested protocol checks a fresh compression per realization.
+        // The nested protocol checks a fresh compression per sequence.
         let checks = if x["method"] == "nested" {
             3 * x["realizations"].as_u64().unwrap()
         } else {
@@ -977,7 +984,7 @@ fn tradeoff_measures_every_family_of_variants() {
             assert_eq!(x["paired_with"], "K=1");
         }
     }
-    // The studies hold the realizations each variant analyses, K = 2 with two
+    // The studies hold the sequences each variant analyses, K = 2 with two
     // runs recorded per compression.
     for x in v {
         let records = std::fs::read_to_string(

@@ -82,7 +82,7 @@ fn contact_study<'a>(out: &'a str, more: &[&'a str]) -> Vec<&'a str> {
 fn small_compare<'a>(studies: &'a str, results: &'a str, changes: &[&'a str]) -> Vec<&'a str> {
     let mut options = vec![
         ("--boxes", "3,3.5,4"),
-        ("--realizations", "6"),
+        ("--sequences", "6"),
         ("--bootstrap", "20"),
         ("--extended", "motifs/rods-6.json"),
         ("--studies", studies),
@@ -115,7 +115,7 @@ fn small_compare<'a>(studies: &'a str, results: &'a str, changes: &[&'a str]) ->
 // Defect 1: small runs failed after all the work.
 
 #[test]
-fn studies_too_small_for_the_fit_are_refused_before_any_realization() {
+fn studies_too_small_for_the_fit_are_refused_before_any_sequence() {
     let dir = scratch("too-small");
     let out = dir.join("study");
     let o = s(&out);
@@ -124,7 +124,7 @@ fn studies_too_small_for_the_fit_are_refused_before_any_realization() {
             "threshold",
             "--boxes",
             "4,5",
-            "--realizations",
+            "--sequences",
             "20",
             "--out",
             o,
@@ -136,31 +136,31 @@ fn studies_too_small_for_the_fit_are_refused_before_any_realization() {
             "threshold",
             "--boxes",
             "4,5,6",
-            "--realizations",
+            "--sequences",
             "3",
             "--out",
             o,
         ],
-        "needs at least 5 realizations, got 3",
+        "needs at least 5 sequences, got 3",
     );
     assert!(!out.exists(), "nothing was written");
-    // tradeoff analyses a quarter of the realizations in one variant.
+    // tradeoff analyses a quarter of the sequences in one variant.
     let (studies, results) = (dir.join("studies"), dir.join("results"));
     refused(
         &[
             "tradeoff",
-            "--realizations",
+            "--sequences",
             "8",
             "--studies",
             s(&studies),
             "--results",
             s(&results),
         ],
-        "this design needs --realizations 20 or more",
+        "this design needs --sequences 20 or more",
     );
     refused(
-        &small_compare(s(&studies), s(&results), &["--realizations", "4"]),
-        "needs at least 5 realizations, got 4",
+        &small_compare(s(&studies), s(&results), &["--sequences", "4"]),
+        "needs at least 5 sequences, got 4",
     );
     assert!(!studies.exists() && !results.exists());
     std::fs::remove_dir_all(dir).unwrap();
@@ -171,7 +171,7 @@ fn a_failed_scaling_fit_keeps_and_prints_the_per_box_results() {
     let dir = scratch("failed-fit");
     let study = dir.join("study");
     // Seed 4 gives a Delta rho that grows from L = 3 to L = 4: no nu.
-    let args = contact_study(s(&study), &["--realizations", "5", "--seed", "4"]);
+    let args = contact_study(s(&study), &["--sequences", "5", "--seed", "4"]);
     let out = rgc(&args);
     assert_eq!(out.status.code(), Some(2), "the analysis still failed");
     let err = text(&out.stderr);
@@ -591,10 +591,7 @@ fn compress_prints_a_summary_and_the_bodies_only_on_request() {
 fn threshold_merge_and_compare_print_json_and_nothing_else() {
     let dir = scratch("json");
     let study = dir.join("study");
-    let out = succeeds(&contact_study(
-        s(&study),
-        &["--realizations", "20", "--json"],
-    ));
+    let out = succeeds(&contact_study(s(&study), &["--sequences", "20", "--json"]));
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
     let v: Value = serde_json::from_slice(&out.stdout).expect("stdout is one JSON object");
     let threshold = v["summary"]["fss"]["threshold"]["value"].as_f64().unwrap();

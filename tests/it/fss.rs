@@ -248,7 +248,7 @@ fn degenerate_data_is_refused_by_name() {
     all[1] = fixed_box(6.0, &[(50.0, &[true; 8]), (51.0, &[true; 8])]);
     let msg = analysis_error(&all, Protocol::Fixed);
     assert!(
-        msg.contains("L=6") && msg.contains("every realization spans"),
+        msg.contains("L=6") && msg.contains("every sequence spans"),
         "{msg}"
     );
 
@@ -256,7 +256,7 @@ fn degenerate_data_is_refused_by_name() {
     none[2] = fixed_box(7.0, &[(30.0, &[false; 8]), (31.0, &[false; 8])]);
     let msg = analysis_error(&none, Protocol::Fixed);
     assert!(
-        msg.contains("L=7") && msg.contains("no realization spans"),
+        msg.contains("L=7") && msg.contains("no sequence spans"),
         "{msg}"
     );
 
@@ -288,7 +288,7 @@ fn degenerate_data_is_refused_by_name() {
     few[4].observations.truncate(4);
     let msg = analysis_error(&few, Protocol::Nested);
     assert!(
-        msg.contains("L=10") && msg.contains("fewer than 5 realizations"),
+        msg.contains("L=10") && msg.contains("fewer than 5 sequences"),
         "{msg}"
     );
 
@@ -328,7 +328,7 @@ fn degenerate_data_is_refused_by_name() {
 }
 
 #[test]
-fn realizations_that_never_span_are_a_warning() {
+fn sequences_that_never_span_are_a_warning() {
     let mut data = nested(100, 9);
     data[0].observations[0].critical = None;
     let opts = FssOptions {
@@ -336,11 +336,11 @@ fn realizations_that_never_span_are_a_warning() {
         ..Default::default()
     };
     let r = analyse(&data, &opts).unwrap();
-    assert_eq!(r.boxes[0].realizations, 99);
+    assert_eq!(r.boxes[0].sequences, 99);
     assert!(
         r.warnings
             .iter()
-            .any(|w| w.contains("L=5: 1 of 100 realizations never spanned"))
+            .any(|w| w.contains("L=5: 1 of 100 sequences never spanned"))
     );
     assert!(r.nu.lo.is_none() && r.boxes[0].mu_interval.is_none());
     let curve = fss::pi_curve(&data[0], Protocol::Nested);
@@ -455,7 +455,7 @@ fn csv_and_charts_are_written() {
 
 #[test]
 fn failed_resamples_are_counted_and_warned() {
-    // At L=6 one realization spans early and one never does: every resample
+    // At L=6 one sequence spans early and one never does: every resample
     // that misses either is perfectly separated.
     let mut data = fixed(60, 13);
     let mut early = [false; 10];

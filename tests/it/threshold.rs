@@ -17,7 +17,7 @@ fn spec(kind: Kind, method: Protocol) -> StudySpec {
         kind,
         gamma: 10.0,
         boxes: vec![3.0, 3.5, 4.0],
-        realizations: 12,
+        sequences: 12,
         rules: RuleSet::Sound,
         motifs: MotifSet::default(),
         runs: 2,
@@ -308,17 +308,14 @@ fn shards_merge_to_the_whole_study() {
             let r = run_in(&spec, d, Shard { index: i, count: 3 }, 1);
             assert_eq!(r.ran, 12);
             assert!(!r.complete);
-            // Round robin: shard i holds every third realization.
+            // Round robin: shard i holds every third sequence.
             let lines = std::fs::read_to_string(d.join(format!("records-{i}-of-3.jsonl"))).unwrap();
             assert_eq!(lines.lines().count(), 12);
         }
         // Two shards are not the study.
         let partial = at("merged-partial");
         let err = study::merge(&dirs[..2], &partial).unwrap_err();
-        assert!(
-            err.to_string().contains("12 realization(s) missing"),
-            "{err}"
-        );
+        assert!(err.to_string().contains("12 sequence(s) missing"), "{err}");
         let merged = at("merged");
         let (_, records) = study::merge(&dirs, &merged).unwrap();
         assert_eq!(records.len(), 36);
@@ -361,7 +358,7 @@ fn another_study_in_the_same_directory_is_refused() {
         err.contains("another study") && err.contains("runs 2 vs 3"),
         "{err}"
     );
-    // A record of a realization this study does not have is named.
+    // A record of a sequence this study does not have is named.
     std::fs::write(
         dir.join("records-9-of-10.jsonl"),
         serde_json::to_string(&Record {
@@ -401,7 +398,7 @@ fn order_effects_count_fresh_misses_and_non_monotone_steps() {
         ..empty_record()
     };
     let o = report::order_effects(&spec, &[r]);
-    assert_eq!((o.nonmonotone_realizations, o.nonmonotone_steps), (1, 1));
+    assert_eq!((o.nonmonotone_sequences, o.nonmonotone_steps), (1, 1));
     assert_eq!((o.fresh_checks, o.fresh_misses), (1, 1));
     assert_eq!(o.spanning_compressions, 2);
     // 5 of 8 runs found the spanning body.
@@ -409,18 +406,18 @@ fn order_effects_count_fresh_misses_and_non_monotone_steps() {
 }
 
 #[test]
-fn variants_share_studies_and_analyse_the_first_realizations() {
+fn variants_share_studies_and_analyse_the_first_sequences() {
     use rgc::threshold::variants::{Pairing, Variant, run_variants};
     let root = scratch("variants");
     let template = spec(Kind::Rigid, Protocol::Nested);
-    let v = |label: &str, rules: RuleSet, runs: usize, realizations: u64| Variant {
+    let v = |label: &str, rules: RuleSet, runs: usize, sequences: u64| Variant {
         label: label.into(),
         family: "test".into(),
         rules,
         motifs: vec![],
         runs,
         method: Protocol::Nested,
-        realizations,
+        sequences,
     };
     let variants = [
         v("sound", RuleSet::Sound, 1, 12),
@@ -445,10 +442,10 @@ fn variants_share_studies_and_analyse_the_first_realizations() {
         "paper and sound differ on these rods"
     );
     assert_eq!(
-        out.iter().map(|o| o.realizations).collect::<Vec<_>>(),
+        out.iter().map(|o| o.sequences).collect::<Vec<_>>(),
         [12, 8, 12, 12]
     );
-    // The subset reads the first 8 realizations of the 12-realization study:
+    // The subset reads the first 8 sequences of the 12-sequence study:
     // three studies, not four.
     assert_eq!(out[1].study, out[0].study);
     assert_ne!(out[2].study, out[0].study);
@@ -474,7 +471,7 @@ fn paired_differences_compare_the_same_sequences() {
         motifs: vec![],
         runs: 1,
         method: Protocol::Nested,
-        realizations: 12,
+        sequences: 12,
     };
     let out = run_variants(
         &template,

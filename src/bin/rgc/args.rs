@@ -47,13 +47,14 @@ pub struct StudyArgs {
         default_value = "5,6,7,8,10"
     )]
     pub boxes: Vec<f64>,
-    /// Realizations (random rod sequences) per box.
-    #[arg(long, default_value_t = 200)]
-    pub realizations: u64,
+    /// Monte Carlo sequences (seeded random orders of rods) per box.
+    // `--realizations` is the old spelling, kept as a hidden alias for existing scripts.
+    #[arg(long, alias = "realizations", default_value_t = 200)]
+    pub sequences: u64,
     /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     pub criterion: Criterion,
-    /// Seed of the rods (realization seeds derive from it, the box and the index).
+    /// Seed of the rods (sequence seeds derive from it, the box and the index).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Bootstrap resamples for the intervals.
@@ -67,7 +68,7 @@ impl StudyArgs {
         StudySpec::new(
             self.gamma,
             self.boxes.clone(),
-            self.realizations,
+            self.sequences,
             self.criterion,
             self.seed,
         )
@@ -79,7 +80,7 @@ impl StudyArgs {
 #[derive(Args)]
 #[command(
     mut_arg("boxes", |a| a.default_value("4,5,6")),
-    mut_arg("realizations", |a| a.default_value("100")),
+    mut_arg("sequences", |a| a.default_value("100")),
 )]
 pub struct VariantArgs {
     #[command(flatten)]
@@ -96,7 +97,7 @@ pub struct VariantArgs {
     /// Print the experiment as one JSON object (as written to `--results`) and nothing else.
     #[arg(long)]
     pub json: bool,
-    /// Replace the experiment's files in `--results` even when another experiment (other gamma, boxes, realizations, variants ...) made them.
+    /// Replace the experiment's files in `--results` even when another experiment (other gamma, boxes, sequences, variants ...) made them.
     #[arg(long)]
     pub force: bool,
 }

@@ -52,9 +52,9 @@ enum Command {
     Threshold(cmd::threshold::ThresholdArgs),
     /// Combine the shards of a threshold study and analyse it.
     Merge(cmd::merge::MergeArgs),
-    /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same realizations.
+    /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same sequences.
     Compare(cmd::compare::CompareArgs),
-    /// Threshold and interval width against CPU time: runs per system, motif sets, realizations, nested against fixed.
+    /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
     Tradeoff(cmd::tradeoff::TradeoffArgs),
     /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
     AspectRatios(cmd::aspect_ratios::AspectArgs),

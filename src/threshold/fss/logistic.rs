@@ -49,7 +49,7 @@ pub fn fit_logistic_sample(sample: &[f64]) -> Result<Logistic> {
     }
     if sample.len() < MIN_NESTED {
         return Err(analysis(format!(
-            "fewer than {MIN_NESTED} realizations with a critical density (got {})",
+            "fewer than {MIN_NESTED} sequences with a critical density (got {})",
             sample.len()
         )));
     }
@@ -115,12 +115,12 @@ pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
     };
     if span == trials {
         return Err(analysis(format!(
-            "every realization spans at every grid density ({lo} to {hi}); add lower densities"
+            "every sequence spans at every grid density ({lo} to {hi}); add lower densities"
         )));
     }
     if span == 0 {
         return Err(analysis(format!(
-            "no realization spans at any grid density ({lo} to {hi}); add higher densities"
+            "no sequence spans at any grid density ({lo} to {hi}); add higher densities"
         )));
     }
     // Without a spanning system below a non-spanning one the likelihood
@@ -138,7 +138,7 @@ pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
     if first_span >= last_miss {
         return Err(analysis(format!(
             "spanning jumps from none to all at density {first_span}..{last_miss} (perfect separation): \
-             the logistic width is unresolved; add grid densities around it or more realizations"
+             the logistic width is unresolved; add grid densities around it or more sequences"
         )));
     }
     let n: f64 = trials as f64;

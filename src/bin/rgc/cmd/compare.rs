@@ -1,5 +1,5 @@
 //! `rgc compare`: paper base, sound base and sound + extended motifs on the
-//! same realizations.
+//! same sequences.
 
 use std::path::PathBuf;
 

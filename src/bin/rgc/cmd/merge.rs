@@ -29,7 +29,7 @@ pub fn run(a: MergeArgs, out: &mut String) -> Result<()> {
     if !a.json {
         say!(
             out,
-            "Merged {} realizations from {} director{}.",
+            "Merged {} sequences from {} director{}.",
             records.len(),
             a.dirs.len(),
             if a.dirs.len() == 1 { "y" } else { "ies" }

@@ -50,10 +50,10 @@ fn command_line() -> String {
         .join(" ")
 }
 
-/// Runs the variants of the design `make` gives for `--realizations`
+/// Runs the variants of the design `make` gives for `--sequences`
 /// (`compare`, `tradeoff`), writes `results/NAME.{json,md,csv}` and prints
 /// the Markdown table (or the JSON). Everything that can be refused is
-/// refused before the first realization runs.
+/// refused before the first sequence runs.
 fn run_experiment(
     args: &VariantArgs,
     name: &str,

@@ -57,7 +57,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         grid_points: a.grid_points,
         ..a.study.spec()
     };
-    // A study the analysis could not use fails before its rules are verified or its realizations run.
+    // A study the analysis could not use fails before its rules are verified or its sequences run.
     spec.validate_for_analysis()?;
     let rules = rule_file::load_rules(&a.rules.rule_files)?;
     spec.motifs = MotifSet::of(&rules, &a.rules.rule_files);
@@ -84,7 +84,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         }
         say!(
             out,
-            "{} realizations run in {:.1} s ({} found done).",
+            "{} sequences run in {:.1} s ({} found done).",
             done.ran,
             done.seconds,
             done.resumed
@@ -101,7 +101,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
     if !a.json {
         say!(
             out,
-            "{} realizations run in {:.1} s ({} found done).",
+            "{} sequences run in {:.1} s ({} found done).",
             done.ran,
             done.seconds,
             done.resumed
@@ -119,7 +119,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
     )
 }
 
-/// What `rgc threshold --json` says of the realizations it ran.
+/// What `rgc threshold --json` says of the sequences it ran.
 #[derive(Clone, Copy, Serialize)]
 pub struct Ran {
     pub ran: usize,
@@ -130,7 +130,7 @@ pub struct Ran {
 /// Writes a finished study's tables and charts into `dir` and prints its
 /// summary (as JSON with `json`, with `ran` when a run came first). When the
 /// scaling analysis fails, the per-box results are written and printed
-/// instead and the command still fails (exit status 2): the realizations'
+/// instead and the command still fails (exit status 2): the sequences'
 /// work is kept, but no threshold came of it.
 pub fn analyse(
     dir: &Path,
@@ -200,7 +200,7 @@ fn print_per_box(r: &PerBoxReport, out: &mut String) {
                 out,
                 "{:>6} {:>6} {:>10.4} {:>10.4} {:>10.4}",
                 b.box_len,
-                b.realizations,
+                b.sequences,
                 f.mu,
                 f.s,
                 f.delta_rho()
@@ -236,7 +236,7 @@ fn print_summary(s: &Summary, out: &mut String) {
             out,
             "{:>6} {:>6} {:>10.4} {:>10.4} {:>10.4}",
             b.box_len,
-            b.realizations,
+            b.sequences,
             b.mu,
             b.s,
             b.delta_rho
@@ -278,7 +278,7 @@ fn print_summary(s: &Summary, out: &mut String) {
     if o.fresh_checks > 0 {
         say!(
             out,
-            "fresh compression at the critical number misses the spanning body in {} of {} realizations (found only with carried bodies)",
+            "fresh compression at the critical number misses the spanning body in {} of {} sequences (found only with carried bodies)",
             o.fresh_misses,
             o.fresh_checks
         );
@@ -286,9 +286,9 @@ fn print_summary(s: &Summary, out: &mut String) {
     if o.nonmonotone_steps > 0 {
         say!(
             out,
-            "non-monotone spanning: {} steps in {} realizations",
+            "non-monotone spanning: {} steps in {} sequences",
             o.nonmonotone_steps,
-            o.nonmonotone_realizations
+            o.nonmonotone_sequences
         );
     }
     for w in &f.warnings {

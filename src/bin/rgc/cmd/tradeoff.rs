@@ -12,7 +12,7 @@ use crate::args::VariantArgs;
 pub struct TradeoffArgs {
     #[command(flatten)]
     common: VariantArgs,
-    /// Runs per system to compare (more than 10 analyse half the realizations).
+    /// Runs per system to compare (more than 10 analyse half the sequences).
     #[arg(long, value_delimiter = ',', default_value = "1,10,40")]
     runs_list: Vec<usize>,
     /// Directory of the audit's rule files (`rods-6.json`, `rods-8.json`, `mixed-4.json`).
