@@ -577,7 +577,7 @@ pub fn check_outputs(opts: &AuditOptions, results: &Path, motifs: &Path) -> Resu
         return Ok(());
     }
     Err(Error::Parameter(format!(
-        "`{}` would replace files made with other parameters: {}; write elsewhere with --results and --motifs, or --force to replace them",
+        "`{}` would replace files made with other parameters: {}; write elsewhere with --results and --rules-dir, or --force to replace them",
         opts.command(),
         conflicts.join("; ")
     )))

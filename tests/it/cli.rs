@@ -286,7 +286,7 @@ fn committed(name: &str) -> Vec<String> {
 fn audit_into(dir: &std::path::Path, extra: &[&str], threads: Option<&str>) -> String {
     let d = dir.to_str().unwrap();
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_rgc"));
-    cmd.args(["audit", "--results", d, "--motifs", d])
+    cmd.args(["audit", "--results", d, "--rules-dir", d])
         .args(extra);
     if let Some(t) = threads {
         cmd.env("RAYON_NUM_THREADS", t);

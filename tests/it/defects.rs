@@ -217,7 +217,7 @@ fn unwritable_outputs_are_refused_before_the_work() {
     let bad = file.join("out");
     let b = s(&bad);
     let ok = dir.join("ok");
-    for (flag, other) in [("--results", "--motifs"), ("--motifs", "--results")] {
+    for (flag, other) in [("--results", "--rules-dir"), ("--rules-dir", "--results")] {
         refused(
             &[
                 "audit",
@@ -288,7 +288,7 @@ fn an_audit_never_replaces_files_made_with_other_parameters_unless_forced() {
             "0",
             "--results",
             d,
-            "--motifs",
+            "--rules-dir",
             d,
         ];
         args.extend(more);
@@ -632,7 +632,7 @@ fn the_audit_writes_its_false_compressions_with_the_motifs_that_made_them() {
         "0",
         "--results",
         d,
-        "--motifs",
+        "--rules-dir",
         d,
     ]);
     // Two seven-rod patterns are falsely compressed (results/audit-rods.csv).

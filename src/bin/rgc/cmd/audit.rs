@@ -30,8 +30,8 @@ pub struct AuditArgs {
     #[arg(long, default_value = "results")]
     results: PathBuf,
     /// Where the rule files of the missed motifs go.
-    #[arg(long, default_value = "motifs")]
-    motifs: PathBuf,
+    #[arg(long, alias = "motifs", default_value = "motifs")]
+    rules_dir: PathBuf,
     /// Print the tables as JSON.
     #[arg(long)]
     json: bool,
@@ -51,14 +51,14 @@ pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
     // Refused before the work: outputs that cannot be written, or that
     // another audit made (the committed tables and rules `compare` reads).
     output::check_dir(&a.results)?;
-    output::check_dir(&a.motifs)?;
+    output::check_dir(&a.rules_dir)?;
     if !a.force {
-        audit::check_outputs(&opts, &a.results, &a.motifs)?;
+        audit::check_outputs(&opts, &a.results, &a.rules_dir)?;
     }
     let examples = audit::self_check()?;
     let started = std::time::Instant::now();
     let result = audit::run(&opts, &Reporter::new(a.json))?;
-    let files = audit::write_outputs(&result, &opts, &a.results, &a.motifs)?;
+    let files = audit::write_outputs(&result, &opts, &a.results, &a.rules_dir)?;
     let shown = |paths: &[std::path::PathBuf]| {
         paths
             .iter()

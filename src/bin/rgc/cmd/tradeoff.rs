@@ -16,8 +16,8 @@ pub struct TradeoffArgs {
     #[arg(long, value_delimiter = ',', default_value = "1,10,40")]
     runs_list: Vec<usize>,
     /// Directory of the audit's rule files (`rods-6.json`, `rods-8.json`, `mixed-4.json`).
-    #[arg(long, default_value = "motifs")]
-    motifs_dir: PathBuf,
+    #[arg(long, alias = "motifs-dir", default_value = "motifs")]
+    rules_dir: PathBuf,
 }
 
 pub fn run(a: TradeoffArgs, out: &mut String) -> Result<()> {
@@ -27,7 +27,7 @@ pub fn run(a: TradeoffArgs, out: &mut String) -> Result<()> {
         c.study.gamma
     );
     let name = "speed-accuracy";
-    let make = |r| variants::tradeoff_design(&a.runs_list, r, &a.motifs_dir);
+    let make = |r| variants::tradeoff_design(&a.runs_list, r, &a.rules_dir);
     let outcomes = super::run_experiment(c, name, &title, make, out)?;
     rgc::plot::speed_accuracy_chart(
         &outcomes,
