@@ -1,6 +1,8 @@
-//! Which rigid motifs the engine misses (MODEL §7), and the rule files that
-//! carry motifs to the engine: the base motifs written as rules, and the
-//! missed motifs the audit finds.
+//! Which rigid motifs the engine misses (MODEL §7): the funnel from all
+//! connected patterns of a size to the irreducible missed ones, which it
+//! writes as rule files for the engine, and the patterns the engine
+//! compresses although exact rank says they are not rigid. (The base motifs
+//! as rules are `engine::shapes`.)
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
