@@ -184,7 +184,8 @@ fn shown(files: &[PathBuf]) -> String {
         .join(", ")
 }
 
-fn print_per_box(r: &PerBoxReport, out: &mut String) {
+/// The header of the per-box table both summaries print.
+fn box_header(out: &mut String) {
     say!(
         out,
         "{:>6} {:>6} {:>10} {:>10} {:>10}",
@@ -194,6 +195,10 @@ fn print_per_box(r: &PerBoxReport, out: &mut String) {
         "s",
         "delta_rho"
     );
+}
+
+fn print_per_box(r: &PerBoxReport, out: &mut String) {
+    box_header(out);
     for b in &r.boxes {
         match (&b.fit, &b.error) {
             (Some(f), _) => say!(
@@ -222,15 +227,7 @@ fn print_summary(s: &Summary, out: &mut String) {
         (Some(lo), Some(hi)) => format!("[{lo:.4}, {hi:.4}]"),
         _ => "(no interval)".into(),
     };
-    say!(
-        out,
-        "{:>6} {:>6} {:>10} {:>10} {:>10}",
-        "box",
-        "n",
-        "mu",
-        "s",
-        "delta_rho"
-    );
+    box_header(out);
     for b in &f.boxes {
         say!(
             out,
