@@ -78,25 +78,8 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         resumed: done.resumed,
         seconds: done.seconds,
     };
-    if !done.complete {
-        if a.json {
-            return super::print_json(&serde_json::json!({ "run": ran, "complete": false }), out);
-        }
-        say!(
-            out,
-            "{} sequences run in {:.1} s ({} found done).",
-            done.ran,
-            done.seconds,
-            done.resumed
-        );
-        say!(
-            out,
-            "Shard {}/{} is done; when every shard is, run `rgc merge {}`.",
-            shard.index,
-            shard.count,
-            a.out.display()
-        );
-        return Ok(());
+    if !done.complete && a.json {
+        return super::print_json(&serde_json::json!({ "run": ran, "complete": false }), out);
     }
     if !a.json {
         say!(
@@ -106,6 +89,16 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
             done.seconds,
             done.resumed
         );
+    }
+    if !done.complete {
+        say!(
+            out,
+            "Shard {}/{} is done; when every shard is, run `rgc merge {}`.",
+            shard.index,
+            shard.count,
+            a.out.display()
+        );
+        return Ok(());
     }
     let records = study::in_study_order(&spec, study::read_records(&a.out, &spec)?);
     analyse(
