@@ -16,6 +16,8 @@
 //! * [`pattern`] — typed contact patterns: rods, planar and spatial bodies;
 //! * [`rigidity`] — incidences, realizations and their components, the
 //!   rigidity matrix and the exact verdict;
+//! * [`truth`] — the exact rigidity of a whole system: forced planes, an
+//!   exact realization, sparse exact rank and rigid clusters;
 //! * [`enumerate`] — non-isomorphic graphs and typed patterns, canonical forms;
 //! * [`rule_file`] — motif rule files, verified by exact rank on load;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC);
@@ -41,6 +43,7 @@ pub mod spanning;
 
 pub mod pattern;
 pub mod rigidity;
+pub mod truth;
 
 pub mod enumerate;
 pub mod rule_file;

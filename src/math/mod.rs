@@ -1,10 +1,12 @@
 //! The arithmetic under everything else: the prime field F_p and the
 //! [`Scalar`] trait, dense matrices and their exact rank, float rank by SVD
-//! or QR, three-vectors, and statistics.
+//! or QR, sparse exact elimination for whole systems, three-vectors, and
+//! statistics.
 
 pub mod field;
 pub mod float;
 pub mod matrix;
+pub mod sparse;
 pub mod stats;
 pub mod vec3;
 

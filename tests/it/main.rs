@@ -19,6 +19,7 @@ mod sample;
 mod spanning;
 mod stability;
 mod threshold;
+mod truth;
 
 use std::path::PathBuf;
 

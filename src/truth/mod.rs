@@ -1,0 +1,263 @@
+//! Truth: the exact rigidity of a whole contact graph (MODEL §10).
+//!
+//! 3D-RGC compresses local motifs, which is fast but neither sound on whole
+//! graphs (a motif can be forced into a flexible special position by rods
+//! outside it) nor complete. Truth decides the rigidity of the whole system
+//! on one stated realization family: planes only where the contacts force
+//! them, distinct contact points, everything else in general position. The
+//! steps, each in its module:
+//!
+//! * [`prune`] — the 2-core: a rod held by one contact turns about it, so
+//!   it neither is rigid with anything nor holds anything;
+//! * [`planes`] — the forced plane classes, each also a rigid body;
+//! * [`order`] — an order in which every line can be placed rationally;
+//! * [`realize`] — an exact realization over F_p in that order;
+//! * [`matrix`] — the rigidity matrix in body frames, six columns per part;
+//! * [`crate::math::sparse`] — its exact rank and random kernel vectors;
+//! * [`clusters`] — the rigid clusters those vectors imply.
+//!
+//! Two independent realizations (twins) are ranked; the generic rank is the
+//! larger (Schwartz–Zippel), and they agree except with probability about
+//! `1/p`. Where no rational construction order exists, truth answers
+//! "undecided" and says why: never a guess.
+
+pub mod clusters;
+pub mod matrix;
+pub mod order;
+pub mod planes;
+pub mod prune;
+pub mod realize;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+use crate::graph::ContactGraph;
+use crate::math::sparse;
+use crate::{Error, Result};
+use planes::Offset;
+
+/// The contacts of a system, and for a periodic box the image of each.
+#[derive(Clone, Copy, Debug)]
+pub struct Topology<'a> {
+    pub graph: &'a ContactGraph,
+    /// Per edge `[a, b]`: `a` touches the image of `b` shifted by this many
+    /// box sides. `None`: a finite framework (a graph read from a file).
+    pub shifts: Option<&'a [Offset]>,
+}
+
+impl<'a> Topology<'a> {
+    /// A finite framework.
+    pub fn finite(graph: &'a ContactGraph) -> Self {
+        Topology {
+            graph,
+            shifts: None,
+        }
+    }
+
+    /// A periodic system with a fixed box.
+    pub fn periodic(graph: &'a ContactGraph, shifts: &'a [Offset]) -> Result<Self> {
+        if shifts.len() != graph.n_edges() {
+            return Err(Error::Parameter(format!(
+                "{} image shifts for {} contacts",
+                shifts.len(),
+                graph.n_edges()
+            )));
+        }
+        Ok(Topology {
+            graph,
+            shifts: Some(shifts),
+        })
+    }
+
+    /// The image offset at which rod `r` sees the other rod of edge `e`.
+    pub fn seen(&self, e: u32, r: u32) -> Offset {
+        let Some(shifts) = self.shifts else {
+            return [0; 3];
+        };
+        let s = shifts[e as usize];
+        if self.graph.edges()[e as usize][0] == r {
+            s
+        } else {
+            s.map(|k| -k)
+        }
+    }
+
+    /// Rigid motions of the whole system that are no deformation: 6 for a
+    /// finite framework (5 for a lone rod, which has no spin), 3
+    /// translations in a fixed periodic box.
+    pub fn trivial_motions(&self) -> usize {
+        match (self.shifts, self.graph.n_nodes()) {
+            (_, 0) => 0,
+            (Some(_), _) => 3,
+            (None, 1) => 5,
+            (None, _) => 6,
+        }
+    }
+}
+
+/// How truth was decided.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Exact F_p rank at exact twin realizations.
+    Exact,
+    /// No realization could be built; nothing is claimed.
+    Undecided,
+}
+
+/// Options of a truth evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TruthOptions {
+    pub seed: u64,
+    /// Redraws of a realization that lands on a degenerate position.
+    pub attempts: usize,
+}
+
+impl Default for TruthOptions {
+    fn default() -> Self {
+        TruthOptions {
+            seed: 1,
+            attempts: 8,
+        }
+    }
+}
+
+/// The rigidity of a whole system.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Truth {
+    pub method: Method,
+    /// Why the answer is undecided, if it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    pub n_rods: usize,
+    pub n_contacts: usize,
+    /// Rods and contacts of the 2-core, the part that can be rigid.
+    pub core_rods: usize,
+    pub core_contacts: usize,
+    /// Forced plane classes, and the rods in the largest (MODEL §10: where
+    /// it percolates, the line model forces the system flat).
+    pub plane_classes: usize,
+    pub largest_plane_class: usize,
+    /// Rigid parts of the matrix (classes and the other core rods), its
+    /// columns, rows and rank.
+    pub parts: usize,
+    pub columns: usize,
+    pub rows: usize,
+    pub rank: Option<usize>,
+    /// Rigid motions not counted as deformations.
+    pub trivial_motions: usize,
+    /// Internal degrees of freedom of the whole system.
+    pub dof: Option<usize>,
+    /// Whether the twin realizations gave the same rank.
+    pub twins_agree: Option<bool>,
+    /// Rigid clusters of two or more rods, each sorted, largest first.
+    pub clusters: Vec<Vec<u32>>,
+    pub seconds: f64,
+}
+
+impl Truth {
+    /// Rods in the largest rigid cluster (0 when there is none).
+    pub fn largest_cluster(&self) -> usize {
+        self.clusters.first().map_or(0, Vec::len)
+    }
+
+    pub fn decided(&self) -> bool {
+        self.method != Method::Undecided
+    }
+}
+
+/// The exact rigidity of the system `topo`.
+pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
+    let start = Instant::now();
+    let graph = topo.graph;
+    let core = prune::two_core(graph);
+    let mut out = Truth {
+        method: Method::Undecided,
+        reason: None,
+        n_rods: graph.n_nodes(),
+        n_contacts: graph.n_edges(),
+        core_rods: core.rods(),
+        core_contacts: core.contacts(graph),
+        plane_classes: 0,
+        largest_plane_class: 0,
+        parts: 0,
+        columns: 0,
+        rows: 0,
+        rank: None,
+        trivial_motions: topo.trivial_motions(),
+        dof: None,
+        twins_agree: None,
+        clusters: Vec::new(),
+        seconds: 0.0,
+    };
+    let finish = |mut out: Truth| {
+        out.seconds = start.elapsed().as_secs_f64();
+        out
+    };
+    let planes = match planes::forced(topo, &core.active) {
+        Ok(p) => p,
+        Err(u) => {
+            out.reason = Some(format!(
+                "a forced plane class of {} rods would contain three independent box directions: \
+                 the line model has no realization in this box",
+                u.rods
+            ));
+            return finish(out);
+        }
+    };
+    out.plane_classes = planes.classes.len();
+    out.largest_plane_class = planes.largest();
+    let order = match order::order(topo, &planes, &core.active) {
+        Ok(o) => o,
+        Err(s) => {
+            out.reason = Some(format!(
+                "no rational construction order: {} rods are each held by more placed lines than a rational step can meet",
+                s.rods.len()
+            ));
+            return finish(out);
+        }
+    };
+    let parts = matrix::parts(&planes, &core.active);
+    out.parts = parts.count;
+    out.columns = parts.count * matrix::WIDTH;
+    let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+    let mut best: Option<(sparse::Elimination, realize::Realization)> = None;
+    let mut ranks = Vec::with_capacity(2);
+    for _twin in 0..2 {
+        let mut real = None;
+        for _ in 0..opts.attempts.max(1) {
+            match realize::build(topo, &planes, &core.active, &order, &mut rng) {
+                Ok(r) => {
+                    real = Some(r);
+                    break;
+                }
+                Err(realize::Failure::Degenerate) => continue,
+                Err(realize::Failure::Broken(why)) => panic!("truth construction: {why}"),
+            }
+        }
+        let Some(real) = real else {
+            out.reason = Some(format!(
+                "every one of {} realizations landed on a degenerate position",
+                opts.attempts
+            ));
+            return finish(out);
+        };
+        let rows = matrix::rows(topo, &planes, &parts, &real);
+        out.rows = rows.len();
+        let elim = sparse::eliminate(&rows, parts.count, matrix::WIDTH, 2, &mut rng);
+        ranks.push(elim.rank);
+        if best.as_ref().is_none_or(|(b, _)| elim.rank > b.rank) {
+            best = Some((elim, real));
+        }
+    }
+    let (elim, real) = best.expect("two twins ranked");
+    out.method = Method::Exact;
+    out.rank = Some(elim.rank);
+    out.twins_agree = Some(ranks.iter().all(|&r| r == elim.rank));
+    let motions = out.columns - elim.rank + core.pruned_motions();
+    out.dof = Some(motions.saturating_sub(out.trivial_motions));
+    out.clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
+    finish(out)
+}

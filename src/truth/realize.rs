@@ -1,0 +1,250 @@
+//! An exact realization of a whole system over F_p (MODEL §10): one line
+//! per rod and one point per contact, placed in a construction order
+//! ([`super::order`]) with every free choice random, so that it is a
+//! generic member of the family where planes are only the forced ones.
+//!
+//! Each incidence is checked exactly once the lines are placed, and every
+//! rod's contacts must be distinct points; a draw that lands on a
+//! degenerate position (probability about `1/p` per step) is redrawn.
+
+use rand::Rng;
+
+use super::Topology;
+use super::order::preplaced;
+use super::planes::{Offset, Planes};
+use crate::math::Fp;
+use crate::math::vec3::{V3, add, cross, dot, is_null, scale, sub};
+
+/// A line `p + s d`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Line {
+    pub p: V3<Fp>,
+    pub d: V3<Fp>,
+}
+
+/// A plane through `q` with normal `n`.
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    q: V3<Fp>,
+    n: V3<Fp>,
+}
+
+/// One exact realization of the active rods.
+#[derive(Clone, Debug)]
+pub struct Realization {
+    /// The box side over F_p: the image at offset `o` is shifted by `side * o`.
+    pub side: Fp,
+    /// Per rod, its line (active rods only).
+    pub lines: Vec<Option<Line>>,
+    /// Per edge, the contact point in the frame of the edge's first rod
+    /// (edges between active rods only).
+    pub points: Vec<Option<V3<Fp>>>,
+}
+
+impl Realization {
+    /// The lattice translation of an image offset.
+    pub fn lattice(&self, o: Offset) -> V3<Fp> {
+        lattice(self.side, o)
+    }
+}
+
+fn lattice(side: Fp, o: Offset) -> V3<Fp> {
+    o.map(|k| side * Fp::new(k as i64))
+}
+
+fn random_v3(rng: &mut impl Rng) -> V3<Fp> {
+    [Fp::random(rng), Fp::random(rng), Fp::random(rng)]
+}
+
+/// Why a draw failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// A random choice hit a special position: draw again.
+    Degenerate,
+    /// A constructed incidence does not hold: a bug, never a special draw.
+    Broken(String),
+}
+
+fn point_on(l: &Line, rng: &mut impl Rng) -> V3<Fp> {
+    add(l.p, scale(l.d, Fp::random(rng)))
+}
+
+/// Where line `l` crosses plane `pl`.
+fn crossing(l: &Line, pl: &Plane) -> Result<V3<Fp>, Failure> {
+    let den = dot(pl.n, l.d);
+    let inv = den.inv().ok_or(Failure::Degenerate)?;
+    Ok(add(l.p, scale(l.d, dot(pl.n, sub(pl.q, l.p)) * inv)))
+}
+
+fn through(a: V3<Fp>, b: V3<Fp>) -> Line {
+    Line { p: a, d: sub(b, a) }
+}
+
+/// Builds one realization of the rods of `order` (a construction order of
+/// the active rods).
+pub fn build(
+    topo: &Topology,
+    planes: &Planes,
+    active: &[bool],
+    order: &[u32],
+    rng: &mut impl Rng,
+) -> Result<Realization, Failure> {
+    let graph = topo.graph;
+    let side = Fp::random_nonzero(rng);
+    let mut lines: Vec<Option<Line>> = vec![None; graph.n_nodes()];
+    let mut plane: Vec<Option<Plane>> = vec![None; planes.classes.len()];
+    for (c, class) in planes.classes.iter().enumerate() {
+        if preplaced(planes, c as u32) {
+            let [w1, w2] = [class.wraps[0], class.wraps[1]].map(|w| lattice(Fp::ONE, w));
+            plane[c] = Some(Plane {
+                q: random_v3(rng),
+                n: cross(w1, w2),
+            });
+        }
+    }
+    for &x in order {
+        let xi = x as usize;
+        let held: Vec<Plane> = planes.of_rod[xi]
+            .iter()
+            .filter_map(|&(c, o)| {
+                plane[c as usize].map(|pl| Plane {
+                    q: sub(pl.q, lattice(side, o)),
+                    n: pl.n,
+                })
+            })
+            .collect();
+        let targets: Vec<Line> = graph
+            .neighbors(x)
+            .iter()
+            .filter(|&&(m, e)| active[m as usize] && planes.inside[e as usize].is_none())
+            .filter_map(|&(m, e)| {
+                lines[m as usize].map(|l| Line {
+                    p: add(l.p, lattice(side, topo.seen(e, x))),
+                    d: l.d,
+                })
+            })
+            .collect();
+        let line = match (held.as_slice(), targets.as_slice()) {
+            ([], []) => Line {
+                p: random_v3(rng),
+                d: random_v3(rng),
+            },
+            ([], [t]) => Line {
+                p: point_on(t, rng),
+                d: random_v3(rng),
+            },
+            ([], [t1, t2]) => through(point_on(t1, rng), point_on(t2, rng)),
+            ([], [t1, t2, t3]) => {
+                // Through a point of the first, in the planes it spans with the others.
+                let x1 = point_on(t1, rng);
+                let n2 = cross(sub(x1, t2.p), t2.d);
+                let n3 = cross(sub(x1, t3.p), t3.d);
+                Line {
+                    p: x1,
+                    d: cross(n2, n3),
+                }
+            }
+            ([pl], ts) if ts.len() <= 2 => {
+                let mut pts = Vec::with_capacity(2);
+                for t in ts {
+                    pts.push(crossing(t, pl)?);
+                }
+                let in_plane = |rng: &mut _| cross(random_v3(rng), pl.n);
+                match pts.as_slice() {
+                    [] => Line {
+                        p: add(pl.q, in_plane(rng)),
+                        d: in_plane(rng),
+                    },
+                    [a] => Line {
+                        p: *a,
+                        d: in_plane(rng),
+                    },
+                    [a, b] => through(*a, *b),
+                    _ => unreachable!("at most two crossings"),
+                }
+            }
+            ([p1, p2], []) => {
+                let d = cross(p1.n, p2.n);
+                let inv = dot(d, d).inv().ok_or(Failure::Degenerate)?;
+                let (h1, h2) = (dot(p1.n, p1.q), dot(p2.n, p2.q));
+                let p = add(scale(cross(p2.n, d), h1), scale(cross(d, p1.n), h2));
+                Line {
+                    p: scale(p, inv),
+                    d,
+                }
+            }
+            _ => {
+                return Err(Failure::Broken(format!(
+                    "rod {x} is held by {} placed planes and {} placed lines: not a construction order",
+                    held.len(),
+                    targets.len()
+                )));
+            }
+        };
+        if is_null(line.d) {
+            return Err(Failure::Degenerate);
+        }
+        lines[xi] = Some(line);
+        for &(c, o) in &planes.of_rod[xi] {
+            let c = c as usize;
+            if plane[c].is_some() {
+                continue;
+            }
+            let other = match planes.classes[c].wraps.as_slice() {
+                [] => random_v3(rng),
+                [w] => lattice(Fp::ONE, *w),
+                _ => unreachable!("a class wrapping twice is placed first"),
+            };
+            let n = cross(line.d, other);
+            if is_null(n) {
+                return Err(Failure::Degenerate);
+            }
+            plane[c] = Some(Plane {
+                q: add(line.p, lattice(side, o)),
+                n,
+            });
+        }
+    }
+
+    // The contact points, each checked on both lines.
+    let mut points: Vec<Option<V3<Fp>>> = vec![None; graph.n_edges()];
+    for (e, &[a, b]) in graph.edges().iter().enumerate() {
+        let (Some(la), Some(lb)) = (lines[a as usize], lines[b as usize]) else {
+            continue;
+        };
+        let pb = add(lb.p, lattice(side, topo.seen(e as u32, a)));
+        let n = cross(la.d, lb.d);
+        let inv = dot(n, n).inv().ok_or(Failure::Degenerate)?;
+        let s = dot(cross(sub(pb, la.p), lb.d), n) * inv;
+        let x = add(la.p, scale(la.d, s));
+        if !is_null(cross(sub(x, pb), lb.d)) {
+            return Err(Failure::Broken(format!(
+                "the lines of rods {a} and {b} do not meet although they touch"
+            )));
+        }
+        points[e] = Some(x);
+    }
+
+    // Contacts on one rod are distinct points (no concurrent triangles).
+    let mut along: Vec<Vec<u64>> = vec![Vec::new(); graph.n_nodes()];
+    for (e, &[a, b]) in graph.edges().iter().enumerate() {
+        let Some(x) = points[e] else { continue };
+        for (r, y) in [(a, x), (b, sub(x, lattice(side, topo.seen(e as u32, a))))] {
+            let l = lines[r as usize].expect("placed");
+            let k = (0..3).find(|&k| !l.d[k].is_zero()).expect("non-null direction");
+            let s = (y[k] - l.p[k]) * l.d[k].inv().expect("non-zero");
+            along[r as usize].push(s.value());
+        }
+    }
+    for list in &mut along {
+        list.sort_unstable();
+        if list.windows(2).any(|w| w[0] == w[1]) {
+            return Err(Failure::Degenerate);
+        }
+    }
+    Ok(Realization {
+        side,
+        lines,
+        points,
+    })
+}
