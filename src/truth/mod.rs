@@ -33,8 +33,11 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
+use crate::contacts::Contact;
 use crate::graph::ContactGraph;
 use crate::math::sparse;
+use crate::rods::RodSystem;
+use crate::spanning::{Criterion, SpanChecker};
 use crate::{Error, Result};
 use planes::Offset;
 
@@ -152,15 +155,38 @@ pub struct Truth {
     pub dof: Option<usize>,
     /// Whether the twin realizations gave the same rank.
     pub twins_agree: Option<bool>,
-    /// Rigid clusters of two or more rods, each sorted, largest first.
-    pub clusters: Vec<Vec<u32>>,
+    /// Rigid clusters of two or more rods, largest first.
+    pub clusters: Vec<Cluster>,
+    /// For a generated system: whether a rigid cluster spans under the
+    /// criterion asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub criterion: Option<Criterion>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spanning: Option<bool>,
     pub seconds: f64,
+}
+
+/// A rigid cluster: rods with no relative motion.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Cluster {
+    /// Member rods, sorted.
+    pub rods: Vec<u32>,
+    /// Whether it spans the box under each criterion (generated systems only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spans: Option<Spans>,
+}
+
+/// Spanning of one cluster under both criteria.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Spans {
+    pub wrap: bool,
+    pub faces: bool,
 }
 
 impl Truth {
     /// Rods in the largest rigid cluster (0 when there is none).
     pub fn largest_cluster(&self) -> usize {
-        self.clusters.first().map_or(0, Vec::len)
+        self.clusters.first().map_or(0, |c| c.rods.len())
     }
 
     pub fn decided(&self) -> bool {
@@ -190,6 +216,8 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
         dof: None,
         twins_agree: None,
         clusters: Vec::new(),
+        criterion: None,
+        spanning: None,
         seconds: 0.0,
     };
     let finish = |mut out: Truth| {
@@ -258,6 +286,48 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     out.twins_agree = Some(ranks.iter().all(|&r| r == elim.rank));
     let motions = out.columns - elim.rank + core.pruned_motions();
     out.dof = Some(motions.saturating_sub(out.trivial_motions));
-    out.clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
+    out.clusters = clusters::clusters(topo, &parts, &real, &elim.kernel)
+        .into_iter()
+        .map(|rods| Cluster { rods, spans: None })
+        .collect();
     finish(out)
+}
+
+/// The truth of a generated periodic system (`graph` built from
+/// `contacts`), with the spanning of every cluster under both criteria and
+/// whether one spans under `criterion`.
+pub fn of_system(
+    system: &RodSystem,
+    contacts: &[Contact],
+    graph: &ContactGraph,
+    criterion: Criterion,
+    opts: TruthOptions,
+) -> Truth {
+    let start = Instant::now();
+    let shifts: Vec<Offset> = contacts.iter().map(|c| c.shift).collect();
+    let topo = Topology {
+        graph,
+        shifts: Some(&shifts),
+    };
+    let mut t = truth(&topo, opts);
+    let mut checker = SpanChecker::new();
+    for c in &mut t.clusters {
+        let mut spans = |k| checker.spans(system, contacts, graph, &c.rods, k);
+        c.spans = Some(Spans {
+            wrap: spans(Criterion::Wrap),
+            faces: spans(Criterion::Faces),
+        });
+    }
+    t.criterion = Some(criterion);
+    t.spanning = t.decided().then(|| {
+        t.clusters.iter().any(|c| {
+            let s = c.spans.expect("set above");
+            match criterion {
+                Criterion::Wrap => s.wrap,
+                Criterion::Faces => s.faces,
+            }
+        })
+    });
+    t.seconds = start.elapsed().as_secs_f64();
+    t
 }

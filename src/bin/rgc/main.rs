@@ -56,6 +56,8 @@ enum Command {
     Compare(cmd::compare::CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
     Tradeoff(cmd::tradeoff::TradeoffArgs),
+    /// The exact rigidity of a whole contact graph or generated rod system: DOF, rigid clusters, spanning.
+    Truth(cmd::truth::TruthArgs),
     /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
     AspectRatios(cmd::aspect_ratios::AspectArgs),
 }
@@ -95,5 +97,6 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Compare(a) => cmd::compare::run(a, out),
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),
+        Command::Truth(a) => cmd::truth::run(a, out),
     }
 }

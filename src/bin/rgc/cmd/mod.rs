@@ -26,6 +26,7 @@ pub mod sample;
 pub mod stability;
 pub mod threshold;
 pub mod tradeoff;
+pub mod truth;
 
 fn print_json(value: &impl Serialize, out: &mut String) -> Result<()> {
     let text = serde_json::to_string_pretty(value).expect("reports serialize");

@@ -1,0 +1,131 @@
+//! `rgc truth`: the exact rigidity of a whole contact graph or rod system.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use rgc::contacts;
+use rgc::graph::ContactGraph;
+use rgc::graph::io as graphio;
+use rgc::rods::{RodParams, RodSystem};
+use rgc::spanning::Criterion;
+use rgc::truth::{self, Topology, Truth, TruthOptions};
+use rgc::{Error, Result};
+
+#[derive(Args)]
+#[group(id = "system", required = true, multiple = false)]
+struct SystemInput {
+    /// A rods-only contact graph as graph6 (a finite framework).
+    #[arg(long, group = "system")]
+    graph6: Option<String>,
+    /// A contact graph as an edge list file (`u v` per line, `#` comments).
+    #[arg(long, group = "system")]
+    edges: Option<PathBuf>,
+    /// Aspect ratio of a generated system (with --box and --density).
+    #[arg(long, group = "system", requires_all = ["box_len", "density"])]
+    gamma: Option<f64>,
+}
+
+#[derive(Args)]
+pub struct TruthArgs {
+    #[command(flatten)]
+    input: SystemInput,
+    /// Side of the periodic box of a generated system.
+    #[arg(long = "box", requires = "gamma")]
+    box_len: Option<f64>,
+    /// Rods per unit volume of a generated system.
+    #[arg(long, requires = "gamma")]
+    density: Option<f64>,
+    /// Seed of the generated rods (and of the realizations).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Spanning criterion for a generated system.
+    #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
+    criterion: Criterion,
+    /// Print JSON (every cluster's rods) instead of a summary.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
+    let opts = TruthOptions {
+        seed: a.seed,
+        ..TruthOptions::default()
+    };
+    let t = match (&a.input.graph6, &a.input.edges, a.input.gamma) {
+        (Some(s), _, _) => finite(&graphio::parse_graph6(s)?, opts),
+        (_, Some(path), _) => finite(&graphio::read_edge_list(path)?, opts),
+        (_, _, Some(gamma)) => {
+            let (Some(l), Some(rho)) = (a.box_len, a.density) else {
+                return Err(Error::Parameter("--gamma needs --box and --density".into()));
+            };
+            let system = RodSystem::generate(RodParams::new(gamma, l, rho)?, a.seed);
+            let contacts = contacts::detect(&system);
+            let graph = ContactGraph::from_contacts(system.len(), &contacts);
+            truth::of_system(&system, &contacts, &graph, a.criterion, opts)
+        }
+        _ => unreachable!("clap requires one input"),
+    };
+    if a.json {
+        return super::print_json(&t, out);
+    }
+    summary(&t, out);
+    Ok(())
+}
+
+fn finite(graph: &ContactGraph, opts: TruthOptions) -> Truth {
+    truth::truth(&Topology::finite(graph), opts)
+}
+
+fn summary(t: &Truth, out: &mut String) {
+    let opt = |v: Option<usize>| v.map_or("?".to_string(), |v| v.to_string());
+    say!(
+        out,
+        "{} rods, {} contacts; 2-core {} rods, {} contacts",
+        t.n_rods,
+        t.n_contacts,
+        t.core_rods,
+        t.core_contacts
+    );
+    say!(
+        out,
+        "forced planes: {} classes, largest {} rods",
+        t.plane_classes,
+        t.largest_plane_class
+    );
+    say!(
+        out,
+        "matrix: {} parts, {} columns, {} rows, rank {}",
+        t.parts,
+        t.columns,
+        t.rows,
+        opt(t.rank)
+    );
+    say!(
+        out,
+        "dof {} (trivial motions not counted: {}{})",
+        opt(t.dof),
+        t.trivial_motions,
+        if t.criterion.is_some() {
+            ", translations of the fixed periodic box"
+        } else {
+            ", rigid motions of a finite framework"
+        }
+    );
+    let sizes: Vec<String> = t.clusters.iter().take(8).map(|c| c.rods.len().to_string()).collect();
+    say!(
+        out,
+        "clusters: {} of two or more rods; largest {}{}",
+        t.clusters.len(),
+        sizes.join(", "),
+        if t.clusters.len() > 8 { ", ..." } else { "" }
+    );
+    if let (Some(c), Some(s)) = (t.criterion, t.spanning) {
+        say!(out, "spanning ({c:?}): {s}");
+    }
+    match &t.reason {
+        Some(r) => say!(out, "method: undecided: {r}"),
+        None => say!(out, "method: {:?}, twins agree: {}", t.method, t.twins_agree == Some(true)),
+    }
+    say!(out, "seconds: {:.3}", t.seconds);
+}
