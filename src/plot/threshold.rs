@@ -25,6 +25,7 @@ pub fn study_charts(spec: &StudySpec, report: &StudyReport, dir: &Path) -> Resul
         match spec.kind {
             Kind::Contact => "contact",
             Kind::Rigid => "rigidity",
+            Kind::Truth => "true rigidity",
         },
         spec.gamma,
         spec.rules,

@@ -13,6 +13,7 @@ use crate::engine::{Engine, run_seed};
 use crate::graph::{self, ContactGraph};
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
+use crate::truth::{self, TruthOptions};
 use crate::{Error, Result};
 
 /// Which spanning cluster defines the threshold.
@@ -25,6 +26,17 @@ pub enum Kind {
     /// A rigid body found by the engine spans.
     #[default]
     Rigid,
+    /// A rigid cluster of the exact truth (MODEL §10) spans: the reference
+    /// every engine variant is measured against.
+    Truth,
+}
+
+impl Kind {
+    /// Whether the critical number is found by bisection over compressions
+    /// (or truth evaluations) rather than by one contact sweep.
+    pub fn bisects(self) -> bool {
+        self != Kind::Contact
+    }
 }
 
 /// What every sequence of a study shares.
@@ -168,7 +180,7 @@ impl Record {
     pub fn critical(&self, kind: Kind) -> Option<usize> {
         match kind {
             Kind::Contact => Some(self.contact_critical),
-            Kind::Rigid => self.rigid_critical,
+            Kind::Rigid | Kind::Truth => self.rigid_critical,
         }
     }
 
@@ -212,7 +224,7 @@ impl Record {
                 return Err("a contact study's record has rigid results".into());
             }
             (Protocol::Nested, Kind::Contact) => vec![n_c],
-            (Protocol::Nested, Kind::Rigid) => {
+            (Protocol::Nested, Kind::Rigid | Kind::Truth) => {
                 let n_r = self
                     .rigid_critical
                     .ok_or("a rigid study's nested record has no rigid_critical")?;
@@ -257,7 +269,7 @@ impl Record {
                 for s in &self.fixed {
                     let wrong = match kind {
                         Kind::Contact => s.spans != (s.n >= n_c),
-                        Kind::Rigid => s.spans && s.n < n_c,
+                        Kind::Rigid | Kind::Truth => s.spans && s.n < n_c,
                     };
                     if wrong {
                         return Err(format!(
@@ -328,7 +340,8 @@ fn replay(n_c: usize, steps: &[Step]) -> std::result::Result<usize, String> {
 
 /// Compresses the first `n` rods `setup.runs` times, run `k` starting from
 /// `start[k]` (bodies of a smaller prefix, rigid here too) or from nothing.
-/// Returns the step and each run's bodies.
+/// Returns the step and each run's bodies. For the truth kind, evaluates
+/// the exact truth of the prefix instead (one "run", no bodies carried).
 fn compress(
     setup: &Setup,
     seq: &Sequence,
@@ -337,6 +350,15 @@ fn compress(
 ) -> Result<(Step, Vec<Vec<Body>>)> {
     let graph = seq.graph(n);
     let contacts = seq.contacts_of(n);
+    if setup.kind == Kind::Truth {
+        let spans = truth_spans(setup, seq, n)?;
+        let step = Step {
+            n,
+            spans,
+            runs_spanning: usize::from(spans),
+        };
+        return Ok((step, vec![Vec::new(); setup.runs]));
+    }
     let seed = run_seed(seq.seed, n as u64);
     let results: Vec<(bool, Vec<Body>)> = (0..setup.runs)
         .map(|k| {
@@ -359,6 +381,25 @@ fn compress(
         runs_spanning,
     };
     Ok((step, results.into_iter().map(|r| r.1).collect()))
+}
+
+/// Whether a rigid cluster of the exact truth of the first `n` rods spans;
+/// an undecided truth stops the sequence with an error rather than guess.
+pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
+    let graph = seq.graph(n);
+    let contacts = seq.contacts_of(n);
+    let opts = TruthOptions {
+        seed: run_seed(seq.seed, n as u64),
+        ..TruthOptions::default()
+    };
+    let t = truth::of_system(&seq.system, contacts, &graph, setup.criterion, opts);
+    t.spanning.ok_or_else(|| {
+        Error::Analysis(format!(
+            "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
+            seq.seed,
+            t.reason.unwrap_or_default()
+        ))
+    })
 }
 
 /// First guess for the rigid critical number, as a multiple of the contact
@@ -441,7 +482,12 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
     }
     let hi = search.hi.expect("the search ends on a spanning system");
     record.rigid_critical = Some(hi);
-    record.fresh = Some(compress(setup, seq, hi, None)?.0);
+    record.fresh = Some(if setup.kind == Kind::Truth {
+        // Truth carries nothing from step to step: the last spanning step is fresh.
+        *record.steps.iter().rev().find(|s| s.n == hi).expect("hi was evaluated")
+    } else {
+        compress(setup, seq, hi, None)?.0
+    });
     record.contacts.push(seq.contact_point(hi));
     Ok(())
 }
@@ -463,12 +509,12 @@ pub fn fixed(setup: &Setup, seq: &mut Sequence, grid: &[usize], record: &mut Rec
                 }
             }
             // Rigid spanning needs contact spanning: no need to compress below it.
-            Kind::Rigid if n < n_c => Step {
+            Kind::Rigid | Kind::Truth if n < n_c => Step {
                 n,
                 spans: false,
                 runs_spanning: 0,
             },
-            Kind::Rigid => compress(setup, seq, n, None)?.0,
+            Kind::Rigid | Kind::Truth => compress(setup, seq, n, None)?.0,
         };
         record.fixed.push(step);
         record.contacts.push(seq.contact_point(n));

@@ -175,7 +175,7 @@ impl StudySpec {
     fn first_rods(&self, box_len: f64) -> usize {
         let c0 = match self.kind {
             Kind::Contact => 2.0,
-            Kind::Rigid => 5.0,
+            Kind::Rigid | Kind::Truth => 5.0,
         };
         (c0 / excluded_volume(self.gamma) * box_len.powi(3)).ceil() as usize
     }

@@ -46,6 +46,7 @@ pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
         match r.kind {
             Kind::Contact => "Contact",
             Kind::Rigid => "Rigidity",
+            Kind::Truth => "True rigidity",
         }
     );
     plot::threshold_vs_vex(&r.points(), &r.fit, &title, &with("svg"), &with("png"))?;
