@@ -8,6 +8,7 @@
 //! so nothing is missed and nothing far away is looked at again.
 
 mod base;
+pub mod certify;
 pub mod examples;
 mod matcher;
 pub mod shapes;
@@ -41,6 +42,10 @@ pub enum RuleSet {
     Sound,
     /// The published conditions verbatim.
     Paper,
+    /// `sound`, then every body checked against the exact truth of the
+    /// whole graph and split where truth refutes it (MODEL §10): never a
+    /// false body.
+    Certified,
 }
 
 /// The base motifs, by the paper's names (serialized as [`MotifCounts`]
@@ -121,6 +126,13 @@ pub struct Compression {
     /// The motifs in the order they were applied: how this run compressed
     /// what it did (the audit writes it beside each false compression).
     pub sequence: Vec<Motif>,
+    /// Certified rules: bodies truth refuted (split along the true clusters).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub refuted: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl Compression {
@@ -192,6 +204,14 @@ impl<'r> Engine<'r> {
         bodies: &[Body],
         seed: u64,
     ) -> Result<Compression> {
+        if self.rules == RuleSet::Certified {
+            let sound = Engine {
+                rules: RuleSet::Sound,
+                ..*self
+            };
+            let run = compress_engine(&sound, graph, bodies, seed)?;
+            return Ok(certify::certify(graph, run, seed));
+        }
         compress_engine(self, graph, bodies, seed)
     }
 }
@@ -328,6 +348,7 @@ fn compress_engine(
         components: state.n_nodes(),
         motifs: counts,
         sequence,
+        refuted: 0,
     })
 }
 

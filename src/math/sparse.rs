@@ -76,7 +76,9 @@ pub fn eliminate(
         .map(|_| {
             let x = state.kernel_vector(rng);
             for (i, r) in rows.iter().enumerate() {
-                let s = r.iter().fold(Fp::ZERO, |acc, &(c, v)| acc + v * x[c as usize]);
+                let s = r
+                    .iter()
+                    .fold(Fp::ZERO, |acc, &(c, v)| acc + v * x[c as usize]);
                 assert!(s.is_zero(), "kernel vector violates row {i}");
             }
             x

@@ -484,7 +484,12 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
     record.rigid_critical = Some(hi);
     record.fresh = Some(if setup.kind == Kind::Truth {
         // Truth carries nothing from step to step: the last spanning step is fresh.
-        *record.steps.iter().rev().find(|s| s.n == hi).expect("hi was evaluated")
+        *record
+            .steps
+            .iter()
+            .rev()
+            .find(|s| s.n == hi)
+            .expect("hi was evaluated")
     } else {
         compress(setup, seq, hi, None)?.0
     });

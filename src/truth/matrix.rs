@@ -104,7 +104,10 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
         }
         debug_assert_ne!(pa, pb, "a contact outside every class joins two parts");
         let ya = add(x, real.lattice(oa));
-        let yb = add(sub(x, real.lattice(topo.seen(e as u32, a))), real.lattice(ob));
+        let yb = add(
+            sub(x, real.lattice(topo.seen(e as u32, a))),
+            real.lattice(ob),
+        );
         equal_velocity(pa, ya, pb, yb, &mut rows);
     }
     for (r, owner) in parts.owner.iter().enumerate() {

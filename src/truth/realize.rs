@@ -231,7 +231,9 @@ pub fn build(
         let Some(x) = points[e] else { continue };
         for (r, y) in [(a, x), (b, sub(x, lattice(side, topo.seen(e as u32, a))))] {
             let l = lines[r as usize].expect("placed");
-            let k = (0..3).find(|&k| !l.d[k].is_zero()).expect("non-null direction");
+            let k = (0..3)
+                .find(|&k| !l.d[k].is_zero())
+                .expect("non-null direction");
             let s = (y[k] - l.p[k]) * l.d[k].inv().expect("non-zero");
             along[r as usize].push(s.value());
         }

@@ -112,7 +112,12 @@ fn summary(t: &Truth, out: &mut String) {
             ", rigid motions of a finite framework"
         }
     );
-    let sizes: Vec<String> = t.clusters.iter().take(8).map(|c| c.rods.len().to_string()).collect();
+    let sizes: Vec<String> = t
+        .clusters
+        .iter()
+        .take(8)
+        .map(|c| c.rods.len().to_string())
+        .collect();
     say!(
         out,
         "clusters: {} of two or more rods; largest {}{}",
@@ -125,7 +130,12 @@ fn summary(t: &Truth, out: &mut String) {
     }
     match &t.reason {
         Some(r) => say!(out, "method: undecided: {r}"),
-        None => say!(out, "method: {:?}, twins agree: {}", t.method, t.twins_agree == Some(true)),
+        None => say!(
+            out,
+            "method: {:?}, twins agree: {}",
+            t.method,
+            t.twins_agree == Some(true)
+        ),
     }
     say!(out, "seconds: {:.3}", t.seconds);
 }
