@@ -227,6 +227,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     let planes = match planes::forced(topo, &core.active) {
         Ok(p) => p,
         Err(u) => {
+            out.largest_plane_class = u.rods;
             out.reason = Some(format!(
                 "a forced plane class of {} rods would contain three independent box directions: \
                  the line model has no realization in this box",
