@@ -25,8 +25,11 @@ use crate::truth::{self, Topology, TruthOptions};
 /// confirms and splits the others along the true clusters. When truth is
 /// undecided nothing is certified: every body is dropped.
 pub fn certify(graph: &ContactGraph, mut run: Compression, seed: u64) -> Compression {
+    // One realization proves what it finds rigid, and certification only
+    // needs that.
     let opts = TruthOptions {
         seed,
+        twins: false,
         ..TruthOptions::default()
     };
     let t = truth::truth(&Topology::finite(graph), opts);

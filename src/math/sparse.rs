@@ -227,43 +227,40 @@ impl State {
         for &id in &ids {
             self.rows[id as usize] = None;
         }
-        // Forward elimination over all local columns, g's first: the pivots
-        // on g's columns are kept for back substitution, the others form the
-        // reduced rows that stay in the matrix.
-        let mut top = 0;
-        for col in 0..ncols {
-            let Some(p) = (top..front.len()).find(|&r| !front[r][col].is_zero()) else {
-                continue;
-            };
-            front.swap(top, p);
-            let inv = front[top][col].inv().expect("non-zero pivot");
-            let pivot: Vec<(usize, Fp)> = (col..ncols)
-                .filter(|&k| !front[top][k].is_zero())
-                .map(|k| (k, front[top][k]))
-                .collect();
-            for r in top + 1..front.len() {
-                let f = front[r][col];
-                if f.is_zero() {
-                    continue;
-                }
-                let f = f * inv;
-                let row = &mut front[r];
-                for &(k, v) in &pivot {
-                    row[k] = row[k] - f * v;
-                }
+        // Forward elimination on g's columns: the pivots are kept for back
+        // substitution. What remains of the front stays in the matrix; when it
+        // has more rows than columns some are dependent, and reducing it to
+        // echelon form drops them (otherwise rows would pile up step by step).
+        let top = forward(&mut front, 0, 0, self.width, |col, row| {
+            self.pivots.push(Pivot {
+                col: local[col],
+                row: row.iter().map(|&(k, v)| (local[k], v)).collect(),
+            });
+        });
+        let rest = front.split_off(top);
+        let sparse = |dense: &[Fp]| -> SparseRow {
+            dense
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| !v.is_zero())
+                .map(|(k, &v)| (local[k], v))
+                .collect()
+        };
+        if rest.len() > ncols - self.width {
+            let mut rest = rest;
+            let mut reduced = Vec::new();
+            forward(&mut rest, 0, self.width, ncols, |_, row| {
+                reduced.push(row.iter().map(|&(k, v)| (local[k], v)).collect())
+            });
+            for r in reduced {
+                self.add_row(r);
             }
-            let sparse: SparseRow = pivot.iter().map(|&(k, v)| (local[k], v)).collect();
-            top += 1;
-            if col < self.width {
-                self.pivots.push(Pivot {
-                    col: local[col],
-                    row: sparse,
-                });
-            } else {
-                self.add_row(sparse);
-            }
-            if top == front.len() {
-                break;
+        } else {
+            for dense in &rest {
+                let r = sparse(dense);
+                if !r.is_empty() {
+                    self.add_row(r);
+                }
             }
         }
     }
@@ -294,6 +291,50 @@ impl State {
         }
         x
     }
+}
+
+/// Forward Gaussian elimination of `front` from row `top` on, pivoting on
+/// the columns `from..to` in order; hands each pivot row (its non-zeros from
+/// the pivot column on) to `pivot` and returns the row after the last pivot.
+fn forward(
+    front: &mut [Vec<Fp>],
+    mut top: usize,
+    from: usize,
+    to: usize,
+    mut pivot: impl FnMut(usize, &[(usize, Fp)]),
+) -> usize {
+    let ncols = front.first().map_or(0, Vec::len);
+    let mut row_nz: Vec<(usize, Fp)> = Vec::with_capacity(ncols);
+    for col in from..to {
+        if top == front.len() {
+            break;
+        }
+        let Some(p) = (top..front.len()).find(|&r| !front[r][col].is_zero()) else {
+            continue;
+        };
+        front.swap(top, p);
+        let inv = front[top][col].inv().expect("non-zero pivot");
+        row_nz.clear();
+        row_nz.extend(
+            (col..ncols)
+                .filter(|&k| !front[top][k].is_zero())
+                .map(|k| (k, front[top][k])),
+        );
+        for r in top + 1..front.len() {
+            let f = front[r][col];
+            if f.is_zero() {
+                continue;
+            }
+            let f = f * inv;
+            let row = &mut front[r];
+            for &(k, v) in &row_nz {
+                row[k] = row[k] - f * v;
+            }
+        }
+        pivot(col, &row_nz);
+        top += 1;
+    }
+    top
 }
 
 #[cfg(test)]

@@ -17,10 +17,12 @@ use crate::output;
 use crate::threshold::fss::Estimate;
 use crate::{Error, Result};
 
+mod bias;
 mod compare;
 mod stability;
 mod threshold;
 
+pub use bias::bias_chart;
 pub use compare::{compare_chart, speed_accuracy_chart};
 pub use stability::stability_chart;
 pub use threshold::{study_charts, threshold_charts, threshold_vs_vex};

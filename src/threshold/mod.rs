@@ -1,9 +1,10 @@
 //! Percolation thresholds (MODEL §8, §9): Monte Carlo rod sequences and
 //! their critical numbers of rods, checkpointed studies, finite-size scaling
-//! to `L -> inf`, variants of the engine compared on shared sequences, and
-//! thresholds across aspect ratios.
+//! to `L -> inf`, variants of the engine compared on shared sequences and
+//! against the exact truth, and thresholds across aspect ratios.
 
 pub mod aspect;
+pub mod bias;
 pub mod fss;
 pub mod report;
 pub mod sequence;

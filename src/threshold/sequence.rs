@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::fss::{ContactPoint, Protocol};
 use crate::body::Body;
 use crate::contacts::{self, Contact};
-use crate::engine::{Engine, run_seed};
+use crate::engine::{self, Engine, RuleSet, certify, run_seed};
 use crate::graph::{self, ContactGraph};
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
@@ -360,18 +360,35 @@ fn compress(
         return Ok((step, vec![Vec::new(); setup.runs]));
     }
     let seed = run_seed(seq.seed, n as u64);
+    // Certified compression only changes a verdict that spans (its bodies lie
+    // inside the sound ones), so truth checks only the spanning runs; the
+    // bodies a run carries on are certified when a later run spans.
+    let certified = setup.engine.rules == RuleSet::Certified;
+    let engine = if certified {
+        Engine {
+            rules: RuleSet::Sound,
+            ..setup.engine
+        }
+    } else {
+        setup.engine
+    };
     let results: Vec<(bool, Vec<Body>)> = (0..setup.runs)
         .map(|k| {
             let from = start.map_or(&[][..], |s| &s[k][..]);
-            let run = setup
-                .engine
-                .compress(&graph, from, run_seed(seed, k as u64))?;
+            let run_seed = run_seed(seed, k as u64);
+            let mut run = engine.compress(&graph, from, run_seed)?;
             let mut checker = SpanChecker::new();
-            let spans = run
-                .bodies
-                .iter()
-                .any(|b| checker.spans(&seq.system, contacts, &graph, &b.rods, setup.criterion));
-            Ok((spans, run.bodies))
+            let mut spans = |run: &engine::Compression| {
+                run.bodies
+                    .iter()
+                    .any(|b| checker.spans(&seq.system, contacts, &graph, &b.rods, setup.criterion))
+            };
+            let mut spanning = spans(&run);
+            if certified && spanning {
+                run = certify::certify(&graph, run, run_seed);
+                spanning = spans(&run);
+            }
+            Ok((spanning, run.bodies))
         })
         .collect::<Result<_>>()?;
     let runs_spanning = results.iter().filter(|r| r.0).count();

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use super::fss::{Estimate, Protocol};
 use super::report;
+use super::sequence::{Kind, Record};
 use super::study::{self, MotifSet, RunOptions, Shard, StudySpec};
 use crate::engine::{CompiledRule, RuleSet};
 use crate::output::{self, cell};
@@ -24,6 +25,8 @@ pub struct Variant {
     pub label: String,
     /// Which family of the trade-off it belongs to (`runs`, `motifs`, ...).
     pub family: String,
+    /// What spans: an engine's body (rigid) or a true rigid cluster (truth).
+    pub kind: Kind,
     pub rules: RuleSet,
     pub motifs: Vec<PathBuf>,
     pub runs: usize,
@@ -92,6 +95,7 @@ pub fn compare_design(runs: usize, sequences: u64, extended: &[PathBuf]) -> Desi
     let variant = |label: &str, rules: RuleSet, motifs: &[PathBuf]| Variant {
         label: label.into(),
         family: "rules".into(),
+        kind: Kind::Rigid,
         rules,
         motifs: motifs.to_vec(),
         runs,
@@ -123,6 +127,7 @@ pub fn tradeoff_design(runs_list: &[usize], sequences: u64, rule_dir: &Path) -> 
     let base = Variant {
         label: String::new(),
         family: String::new(),
+        kind: Kind::Rigid,
         rules: RuleSet::Sound,
         motifs: Vec::new(),
         runs: 1,
@@ -185,6 +190,7 @@ pub fn tradeoff_design(runs_list: &[usize], sequences: u64, rule_dir: &Path) -> 
 pub fn check_variants(template: &StudySpec, variants: &[Variant]) -> Result<()> {
     for v in variants {
         let spec = StudySpec {
+            kind: v.kind,
             rules: v.rules,
             runs: v.runs,
             method: v.method,
@@ -276,26 +282,24 @@ pub fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
     }
 }
 
-/// Runs (or resumes) every variant's study on the sequences of
-/// `template` (its `sequences` is ignored: each variant says how many it
-/// analyses) and analyses each. A variant analysing fewer sequences than
-/// another of the same study shares its records.
-pub fn run_variants(
+/// Runs (or resumes) every variant's study on the sequences of `template`
+/// (its `sequences` is ignored: each variant says how many it analyses).
+/// Variants whose records would be the same share one study, run with as
+/// many sequences as the most demanding of them analyses. Returns, per
+/// variant, the index of its study among the returned specs and directories.
+pub fn run_studies(
     template: &StudySpec,
     variants: &[Variant],
     root: &Path,
-    bootstrap: usize,
-    pairing: Pairing,
     progress: &dyn Progress,
-) -> Result<Vec<VariantOutcome>> {
-    // One study per distinct record-determining spec, with as many
-    // sequences as its most demanding variant analyses.
+) -> Result<(Vec<StudySpec>, Vec<PathBuf>, Vec<usize>)> {
     let mut specs: Vec<(StudySpec, Vec<CompiledRule>)> = Vec::new();
     let mut of_variant = Vec::new();
     check_variants(template, variants)?;
     for v in variants {
         let rules = rule_file::load_rules(&v.motifs)?;
         let spec = StudySpec {
+            kind: v.kind,
             rules: v.rules,
             motifs: MotifSet::of(&rules, &v.motifs),
             runs: v.runs,
@@ -331,15 +335,39 @@ pub fn run_variants(
         progress.note(&format!("study {}", opts.out.display()));
         study::run(spec, rules, &opts, progress)?;
     }
+    Ok((
+        specs.into_iter().map(|(s, _)| s).collect(),
+        dirs,
+        of_variant,
+    ))
+}
+
+/// The first `sequences` records of a finished study, in study order.
+pub fn variant_records(spec: &StudySpec, dir: &Path, sequences: u64) -> Result<Vec<Record>> {
+    Ok(study::in_study_order(spec, study::read_records(dir, spec)?)
+        .into_iter()
+        .filter(|r| r.index < sequences)
+        .collect())
+}
+
+/// Runs (or resumes) every variant's study ([`run_studies`]) and analyses
+/// each. A variant analysing fewer sequences than another of the same
+/// study shares its records.
+pub fn run_variants(
+    template: &StudySpec,
+    variants: &[Variant],
+    root: &Path,
+    bootstrap: usize,
+    pairing: Pairing,
+    progress: &dyn Progress,
+) -> Result<Vec<VariantOutcome>> {
+    let (specs, dirs, of_variant) = run_studies(template, variants, root, progress)?;
     let mut outcomes: Vec<VariantOutcome> = Vec::new();
-    let mut analysed: Vec<Vec<super::sequence::Record>> = Vec::new();
+    let mut analysed: Vec<Vec<Record>> = Vec::new();
     for (v, &k) in variants.iter().zip(&of_variant) {
-        let spec = &specs[k].0;
+        let spec = &specs[k];
         let dir = &dirs[k];
-        let records: Vec<_> = study::in_study_order(spec, study::read_records(dir, spec)?)
-            .into_iter()
-            .filter(|r| r.index < v.sequences)
-            .collect();
+        let records = variant_records(spec, dir, v.sequences)?;
         let subset = StudySpec {
             sequences: v.sequences,
             ..spec.clone()
@@ -459,11 +487,7 @@ pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Resu
 
 /// Mean difference of critical densities on the sequences both sets of
 /// records have (nested protocol), with a 95% normal interval.
-fn paired_difference(
-    spec: &StudySpec,
-    first: &[super::sequence::Record],
-    records: &[super::sequence::Record],
-) -> Option<Estimate> {
+fn paired_difference(spec: &StudySpec, first: &[Record], records: &[Record]) -> Option<Estimate> {
     let diffs: Vec<f64> = records
         .iter()
         .filter_map(|r| {

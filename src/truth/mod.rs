@@ -116,6 +116,10 @@ pub struct TruthOptions {
     pub seed: u64,
     /// Redraws of a realization that lands on a degenerate position.
     pub attempts: usize,
+    /// Rank a second, independent realization too (the generic rank is the
+    /// larger). One realization already proves what it finds rigid; the twin
+    /// guards the flexible answers against an unlucky draw.
+    pub twins: bool,
 }
 
 impl Default for TruthOptions {
@@ -123,6 +127,7 @@ impl Default for TruthOptions {
         TruthOptions {
             seed: 1,
             attempts: 8,
+            twins: true,
         }
     }
 }
@@ -153,7 +158,7 @@ pub struct Truth {
     pub trivial_motions: usize,
     /// Internal degrees of freedom of the whole system.
     pub dof: Option<usize>,
-    /// Whether the twin realizations gave the same rank.
+    /// Whether the twin realizations gave the same rank (`None` without twins).
     pub twins_agree: Option<bool>,
     /// Rigid clusters of two or more rods, largest first.
     pub clusters: Vec<Cluster>,
@@ -254,7 +259,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
     let mut best: Option<(sparse::Elimination, realize::Realization)> = None;
     let mut ranks = Vec::with_capacity(2);
-    for _twin in 0..2 {
+    for _twin in 0..if opts.twins { 2 } else { 1 } {
         let mut real = None;
         for _ in 0..opts.attempts.max(1) {
             match realize::build(topo, &planes, &core.active, &order, &mut rng) {
@@ -284,7 +289,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     let (elim, real) = best.expect("two twins ranked");
     out.method = Method::Exact;
     out.rank = Some(elim.rank);
-    out.twins_agree = Some(ranks.iter().all(|&r| r == elim.rank));
+    out.twins_agree = opts.twins.then(|| ranks.iter().all(|&r| r == elim.rank));
     let motions = out.columns - elim.rank + core.pruned_motions();
     out.dof = Some(motions.saturating_sub(out.trivial_motions));
     out.clusters = clusters::clusters(topo, &parts, &real, &elim.kernel)

@@ -411,6 +411,7 @@ fn variants_share_studies_and_analyse_the_first_sequences() {
     let root = scratch("variants");
     let template = spec(Kind::Rigid, Protocol::Nested);
     let v = |label: &str, rules: RuleSet, runs: usize, sequences: u64| Variant {
+        kind: rgc::threshold::sequence::Kind::Rigid,
         label: label.into(),
         family: "test".into(),
         rules,
@@ -465,6 +466,7 @@ fn paired_differences_compare_the_same_sequences() {
     let root = scratch("paired");
     let template = spec(Kind::Rigid, Protocol::Nested);
     let v = |label: &str, rules: RuleSet| Variant {
+        kind: rgc::threshold::sequence::Kind::Rigid,
         label: label.into(),
         family: "rules".into(),
         rules,

@@ -56,6 +56,8 @@ enum Command {
     Compare(cmd::compare::CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
     Tradeoff(cmd::tradeoff::TradeoffArgs),
+    /// Every engine variant against the exact truth on the same sequences: paired bias per box, false spans, CPU time.
+    Bias(cmd::bias::BiasArgs),
     /// The exact rigidity of a whole contact graph or generated rod system: DOF, rigid clusters, spanning.
     Truth(cmd::truth::TruthArgs),
     /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
@@ -98,5 +100,6 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),
         Command::Truth(a) => cmd::truth::run(a, out),
+        Command::Bias(a) => cmd::bias::run(a, out),
     }
 }

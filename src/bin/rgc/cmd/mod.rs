@@ -16,6 +16,7 @@ use crate::progress::Reporter;
 pub mod aspect_ratios;
 pub mod audit;
 pub mod bench;
+pub mod bias;
 pub mod check;
 pub mod compare;
 pub mod compress;
