@@ -109,6 +109,8 @@ pub struct VariantBias {
     pub threshold: Option<Estimate>,
     /// CPU seconds of its sequences (all boxes).
     pub cpu_seconds: f64,
+    /// Truth only: sequences where truth was undecided, left out.
+    pub undecided: usize,
     pub study: String,
 }
 
@@ -171,6 +173,7 @@ pub fn measure(
             false_span_share,
             threshold,
             cpu_seconds,
+            undecided: records.iter().filter(|r| r.undecided.is_some()).count(),
             study: dirs[k].display().to_string(),
         });
     }
@@ -360,6 +363,13 @@ pub fn markdown(title: &str, command: &str, out: &[VariantBias], boxes: &[f64]) 
         cells.push(format!("{:.0}", v.cpu_seconds));
         md += &format!("| {} |\n", cells.join(" | "));
     }
+    if let Some(t) = out.first().filter(|t| t.undecided > 0) {
+        md += &format!(
+            "\nTruth was undecided (no realization of the model: forced coincident contacts) \
+             in {} of {} sequences per box, left out of every pair.\n",
+            t.undecided, t.sequences
+        );
+    }
     md
 }
 
@@ -380,8 +390,11 @@ pub struct Scan {
     pub to: usize,
     /// The first number of rods in the window that spans.
     pub first_spanning: Option<usize>,
-    /// Numbers of rods that do not span although one less does.
+    /// Numbers of rods that do not span although the last decided one
+    /// below does.
     pub drops: Vec<usize>,
+    /// Numbers of rods where truth was undecided (skipped).
+    pub undecided: Vec<usize>,
 }
 
 /// Evaluates truth at every number of rods within `half_width` (a fraction)
@@ -424,10 +437,15 @@ pub fn scan(
         let w = ((critical as f64 * half_width).ceil() as usize).max(1);
         let (from, to) = (critical.saturating_sub(w).max(1), critical + w);
         let seq = super::sequence::Sequence::new(template.gamma, r.box_len, to, r.seed)?;
-        let spans: Vec<bool> = (from..=to)
+        let spans: Vec<Option<bool>> = (from..=to)
             .into_par_iter()
-            .map(|n| super::sequence::truth_spans(&setup, &seq, n))
-            .collect::<Result<_>>()?;
+            .map(|n| super::sequence::truth_spanning(&setup, &seq, n))
+            .collect();
+        let decided: Vec<(usize, bool)> = spans
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.map(|s| (from + i, s)))
+            .collect();
         out.push(Scan {
             box_len: r.box_len,
             index: r.index,
@@ -435,12 +453,17 @@ pub fn scan(
             critical,
             from,
             to,
-            first_spanning: spans.iter().position(|&s| s).map(|i| from + i),
-            drops: spans
+            first_spanning: decided.iter().find(|d| d.1).map(|d| d.0),
+            drops: decided
                 .windows(2)
+                .filter(|w| w[0].1 && !w[1].1)
+                .map(|w| w[1].0)
+                .collect(),
+            undecided: spans
+                .iter()
                 .enumerate()
-                .filter(|(_, w)| w[0] && !w[1])
-                .map(|(i, _)| from + i + 1)
+                .filter(|(_, s)| s.is_none())
+                .map(|(i, _)| from + i)
                 .collect(),
         });
         progress.advance(1);
@@ -456,6 +479,7 @@ pub fn scan_summary(scans: &[Scan]) -> String {
     let evaluated: usize = scans.iter().map(|s| s.to - s.from + 1).sum();
     let drops: usize = scans.iter().map(|s| s.drops.len()).sum();
     let with_drops = scans.iter().filter(|s| !s.drops.is_empty()).count();
+    let undecided: usize = scans.iter().map(|s| s.undecided.len()).sum();
     let agree = scans
         .iter()
         .filter(|s| s.first_spanning == Some(s.critical))
@@ -463,7 +487,8 @@ pub fn scan_summary(scans: &[Scan]) -> String {
     format!(
         "Truth monotonicity: {} sequences scanned at every number of rods ({evaluated} truth evaluations); \
          {drops} steps go from spanning back to not spanning, in {with_drops} sequences; \
-         the bisection's critical number is the first spanning one in {agree} of {} sequences.",
+         the bisection's critical number is the first spanning one in {agree} of {} sequences; \
+         {undecided} evaluations undecided.",
         scans.len(),
         scans.len()
     )
@@ -482,6 +507,7 @@ struct ScanRow {
     drops: usize,
     /// The numbers of rods that drop, separated by spaces.
     drop_rods: String,
+    undecided: usize,
 }
 
 /// The scans as CSV, one row per sequence.
@@ -501,6 +527,7 @@ pub fn scan_csv(scans: &[Scan]) -> String {
             .map(usize::to_string)
             .collect::<Vec<_>>()
             .join(" "),
+        undecided: s.undecided.len(),
     });
     String::from_utf8(output::csv(rows)).expect("CSV of UTF-8 is UTF-8")
 }

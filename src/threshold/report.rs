@@ -36,6 +36,14 @@ pub struct OrderEffects {
     #[serde(rename = "nonmonotone_realizations")]
     pub nonmonotone_sequences: usize,
     pub nonmonotone_steps: usize,
+    /// Truth kind: sequences where truth was undecided before their
+    /// critical number (left out of the analysis).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub undecided: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// The contact critical density of a box: its mean and spread over sequences.
@@ -110,6 +118,7 @@ pub fn order_effects(spec: &StudySpec, records: &[Record]) -> OrderEffects {
                 runs_total += spec.runs;
             }
         }
+        o.undecided += usize::from(r.undecided.is_some());
         if let Some(fresh) = r.fresh {
             o.fresh_checks += 1;
             o.fresh_misses += usize::from(!fresh.spans);

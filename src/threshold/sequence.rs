@@ -168,6 +168,11 @@ pub struct Record {
     pub fixed: Vec<Step>,
     /// Contact numbers at the critical number (nested) or at each grid density (fixed).
     pub contacts: Vec<ContactPoint>,
+    /// Truth kind: the number of rods at which truth was undecided (no
+    /// realization of the model exists there), which ends the sequence
+    /// without a critical number; it is then left out of the analysis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub undecided: Option<usize>,
     /// Time it took on its thread, in seconds (its CPU time: the runs of a
     /// sequence run one after another, sequences in parallel). Not part
     /// of the results: records are compared without it.
@@ -213,6 +218,22 @@ impl Record {
                     s.n, s.runs_spanning, s.spans
                 ));
             }
+        }
+        if let Some(u) = self.undecided {
+            if kind != Kind::Truth || protocol != Protocol::Nested {
+                return Err("only a nested truth record can be undecided".into());
+            }
+            if self.rigid_critical.is_some() || self.fresh.is_some() || !self.contacts.is_empty() {
+                return Err(format!(
+                    "truth was undecided at {u} rods, yet the record has a critical number"
+                ));
+            }
+            return match replay_until(n_c, &self.steps)? {
+                Some(next) if next == u => Ok(()),
+                other => Err(format!(
+                    "truth was undecided at {u} rods, but its steps lead to {other:?} next"
+                )),
+            };
         }
         let nested_only =
             self.rigid_critical.is_some() || !self.steps.is_empty() || self.fresh.is_some();
@@ -308,6 +329,25 @@ impl Record {
     }
 }
 
+/// Where [`Bisection`] goes after replaying `steps` from contact critical
+/// number `n_c`: the next number of rods, or `None` when it has ended.
+fn replay_until(n_c: usize, steps: &[Step]) -> std::result::Result<Option<usize>, String> {
+    let mut search = Bisection::new(n_c);
+    for (k, s) in steps.iter().enumerate() {
+        match search.next() {
+            Some(n) if n == s.n => search.record(n, s.spans),
+            next => {
+                return Err(format!(
+                    "step {} has {} rods where the bisection goes to {next:?}",
+                    k + 1,
+                    s.n
+                ));
+            }
+        }
+    }
+    Ok(search.next())
+}
+
 /// The rigid critical number `steps` lead to when [`Bisection`] replays
 /// them from contact critical number `n_c`, or where they leave its path.
 fn replay(n_c: usize, steps: &[Step]) -> std::result::Result<usize, String> {
@@ -400,8 +440,19 @@ fn compress(
     Ok((step, results.into_iter().map(|r| r.1).collect()))
 }
 
-/// Whether a rigid cluster of the exact truth of the first `n` rods spans;
-/// an undecided truth stops the sequence with an error rather than guess.
+/// Whether a rigid cluster of the exact truth of the first `n` rods spans,
+/// or `None` when truth is undecided there.
+pub fn truth_spanning(setup: &Setup, seq: &Sequence, n: usize) -> Option<bool> {
+    let graph = seq.graph(n);
+    let contacts = seq.contacts_of(n);
+    let opts = TruthOptions {
+        seed: run_seed(seq.seed, n as u64),
+        ..TruthOptions::default()
+    };
+    truth::of_system(&seq.system, contacts, &graph, setup.criterion, opts).spanning
+}
+
+/// [`truth_spanning`], where an undecided truth is an error rather than a guess.
 pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
     let graph = seq.graph(n);
     let contacts = seq.contacts_of(n);
@@ -480,6 +531,27 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         return Ok(());
     }
     let mut search = Bisection::new(n_c);
+    if setup.kind == Kind::Truth {
+        while let Some(n) = search.next() {
+            seq.reach(n)?;
+            let Some(spans) = truth_spanning(setup, seq, n) else {
+                record.undecided = Some(n);
+                return Ok(());
+            };
+            record.steps.push(Step {
+                n,
+                spans,
+                runs_spanning: usize::from(spans),
+            });
+            search.record(n, spans);
+        }
+        let hi = search.hi.expect("the search ends on a spanning system");
+        record.rigid_critical = Some(hi);
+        // Truth carries nothing from step to step: the last spanning step is fresh.
+        record.fresh = record.steps.iter().rev().find(|s| s.n == hi).copied();
+        record.contacts.push(seq.contact_point(hi));
+        return Ok(());
+    }
     let mut lo_bodies = vec![Vec::new(); setup.runs];
     while let Some(n) = search.next() {
         if n > crate::rods::MAX_RODS {

@@ -313,6 +313,7 @@ fn run_sequence(
         fresh: None,
         fixed: Vec::new(),
         contacts: Vec::new(),
+        undecided: None,
         seconds: 0.0,
     };
     match method {

@@ -29,13 +29,16 @@ pub const WIDTH: usize = 6;
 #[derive(Clone, Debug)]
 pub struct Parts {
     pub count: usize,
+    /// Parts `0..classes` are the plane classes, the others single rods.
+    pub classes: usize,
     /// Per rod: its part and its offset in that part's frame (active rods only).
     pub owner: Vec<Option<(u32, Offset)>>,
 }
 
 /// Classes are parts `0..classes`; each other active rod is a part of its own.
 pub fn parts(planes: &Planes, active: &[bool]) -> Parts {
-    let mut count = planes.classes.len();
+    let classes = planes.classes.len();
+    let mut count = classes;
     let owner = active
         .iter()
         .enumerate()
@@ -49,7 +52,11 @@ pub fn parts(planes: &Planes, active: &[bool]) -> Parts {
             }))
         })
         .collect();
-    Parts { count, owner }
+    Parts {
+        count,
+        classes,
+        owner,
+    }
 }
 
 /// The coefficients of the three velocity components of a part at `y`:
@@ -156,4 +163,112 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
         }
     }
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::graph::ContactGraph;
+    use crate::graph::io::parse_graph6;
+    use crate::math::vec3::{cross, dot, scale};
+    use crate::truth::{order, planes, prune, realize};
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    /// The matrix of `graph` at one exact realization, with what built it.
+    fn build(topo: &Topology) -> (Parts, Realization, Vec<SparseRow>) {
+        let core = prune::two_core(topo.graph);
+        let planes = planes::forced(topo, &core.active).unwrap();
+        let order = order::order(topo, &planes, &core.active).unwrap();
+        let real = realize::build(
+            topo,
+            &planes,
+            &core.active,
+            &order,
+            &mut ChaCha8Rng::seed_from_u64(3),
+        )
+        .unwrap();
+        let parts = parts(&planes, &core.active);
+        let rows = rows(topo, &planes, &parts, &real);
+        (parts, real, rows)
+    }
+
+    fn residual(rows: &[SparseRow], x: &[Fp]) -> bool {
+        rows.iter().all(|r| {
+            r.iter()
+                .fold(Fp::ZERO, |a, &(c, v)| a + v * x[c as usize])
+                .is_zero()
+        })
+    }
+
+    /// A rigid motion `v(y) = t + omega x y` of the whole framework in every
+    /// part's columns: a class moves with `(omega, t)` itself; a rod part
+    /// has the spin `alpha d` about its own axis taken out (`omega . d = 0`),
+    /// and `t + alpha d x p` keeps its axis moving with the whole.
+    fn motion(parts: &Parts, real: &Realization, omega: V3<Fp>, t: V3<Fp>) -> Vec<Fp> {
+        let mut x = Vec::with_capacity(parts.count * WIDTH);
+        for _ in 0..parts.classes {
+            x.extend(omega);
+            x.extend(t);
+        }
+        x.resize(parts.count * WIDTH, Fp::ZERO);
+        for (r, owner) in parts.owner.iter().enumerate() {
+            let Some((part, _)) = *owner else { continue };
+            if (part as usize) < parts.classes {
+                continue;
+            }
+            let line = real.lines[r].unwrap();
+            let spin = scale(
+                line.d,
+                dot(omega, line.d) * dot(line.d, line.d).inv().unwrap(),
+            );
+            let b = part as usize * WIDTH;
+            x[b..b + 3].copy_from_slice(&crate::math::vec3::sub(omega, spin));
+            x[b + 3..b + 6].copy_from_slice(&add(t, cross(spin, line.p)));
+        }
+        x
+    }
+
+    #[test]
+    fn rigid_motions_of_a_finite_framework_are_in_the_kernel() {
+        // K_{3,4} (no planes), a prism (two planes) and a 7-rod graph mixing both.
+        for g6 in ["F?~v_", "E{Sw", "FEhvO"] {
+            let g = parse_graph6(g6).unwrap();
+            let topo = Topology::finite(&g);
+            let (parts, real, rows) = build(&topo);
+            let mut rng = ChaCha8Rng::seed_from_u64(9);
+            let mut r3 = || [0; 3].map(|_| Fp::random(&mut rng));
+            let (w, t) = (r3(), r3());
+            assert!(
+                residual(&rows, &motion(&parts, &real, [Fp::ZERO; 3], t)),
+                "{g6}: translation"
+            );
+            assert!(
+                residual(&rows, &motion(&parts, &real, w, [Fp::ZERO; 3])),
+                "{g6}: rotation"
+            );
+            // A motion that is no rigid motion violates some row.
+            let mut bent = motion(&parts, &real, w, t);
+            bent[0] = bent[0] + Fp::ONE;
+            assert!(!residual(&rows, &bent), "{g6}: a bent motion passed");
+        }
+    }
+
+    #[test]
+    fn translations_of_a_periodic_system_are_in_the_kernel() {
+        use crate::contacts;
+        use crate::rods::{RodParams, RodSystem};
+        let system = RodSystem::generate(RodParams::new(23.0, 3.0, 38.0).unwrap(), 2);
+        let cs = contacts::detect(&system);
+        let g = ContactGraph::from_contacts(system.len(), &cs);
+        let shifts: Vec<_> = cs.iter().map(|c| c.shift).collect();
+        assert!(
+            shifts.iter().any(|s| *s != [0; 3]),
+            "contacts across the box"
+        );
+        let topo = Topology::periodic(&g, &shifts).unwrap();
+        let (parts, real, rows) = build(&topo);
+        let t = [Fp::new(3), Fp::new(-7), Fp::new(11)];
+        assert!(residual(&rows, &motion(&parts, &real, [Fp::ZERO; 3], t)));
+    }
 }

@@ -261,19 +261,20 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     let mut ranks = Vec::with_capacity(2);
     for _twin in 0..if opts.twins { 2 } else { 1 } {
         let mut real = None;
+        let mut why = String::new();
         for _ in 0..opts.attempts.max(1) {
             match realize::build(topo, &planes, &core.active, &order, &mut rng) {
                 Ok(r) => {
                     real = Some(r);
                     break;
                 }
-                Err(realize::Failure::Degenerate) => continue,
+                Err(realize::Failure::Degenerate(w)) => why = w,
                 Err(realize::Failure::Broken(why)) => panic!("truth construction: {why}"),
             }
         }
         let Some(real) = real else {
             out.reason = Some(format!(
-                "every one of {} realizations landed on a degenerate position",
+                "every one of {} realizations landed on a degenerate position (the last: {why})",
                 opts.attempts
             ));
             return finish(out);

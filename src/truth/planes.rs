@@ -324,3 +324,96 @@ pub fn forced(topo: &Topology, active: &[bool]) -> Result<Planes, Unrealizable> 
         inside,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::graph::ContactGraph;
+
+    fn classes(n: usize, edges: &[[u32; 2]]) -> Vec<Vec<u32>> {
+        let g = ContactGraph::new(n, edges.to_vec()).unwrap();
+        let p = forced(&Topology::finite(&g), &vec![true; n]).unwrap();
+        p.classes
+            .iter()
+            .map(|c| c.rods.iter().map(|&(r, _)| r).collect())
+            .collect()
+    }
+
+    #[test]
+    fn triangles_sharing_a_contact_are_one_plane() {
+        // Triangles 0-1-2 and 0-1-3 share the contact 0-1.
+        assert_eq!(
+            classes(4, &[[0, 1], [1, 2], [0, 2], [0, 3], [1, 3]]),
+            vec![vec![0, 1, 2, 3]]
+        );
+    }
+
+    #[test]
+    fn triangles_sharing_a_rod_are_two_planes() {
+        // Triangles 0-1-2 and 0-3-4 share rod 0 only: a hinge, not one plane.
+        let c = classes(5, &[[0, 1], [1, 2], [0, 2], [0, 3], [3, 4], [0, 4]]);
+        assert_eq!(c, vec![vec![0, 1, 2], vec![0, 3, 4]]);
+    }
+
+    #[test]
+    fn a_rod_touching_a_plane_twice_joins_it_and_so_do_its_followers() {
+        // Triangle 0-1-2; rod 3 touches 0 and 1 (joins); rod 4 touches 2 and
+        // 3 (joins through 3); rod 5 touches only 4 and 6; rod 6 only 5 and 0.
+        let edges = [
+            [0, 1],
+            [1, 2],
+            [0, 2],
+            [3, 0],
+            [3, 1],
+            [4, 2],
+            [4, 3],
+            [5, 4],
+            [5, 6],
+            [6, 0],
+        ];
+        let c = classes(7, &edges);
+        assert_eq!(c, vec![vec![0, 1, 2, 3, 4]]);
+    }
+
+    #[test]
+    fn a_triangle_closing_through_the_box_is_no_plane() {
+        // Rods 0, 1, 2 touch pairwise, but the loop crosses the box once.
+        let g = ContactGraph::new(3, vec![[0, 1], [1, 2], [0, 2]]).unwrap();
+        let shifts = [[0, 0, 0], [0, 0, 0], [1, 0, 0]];
+        let topo = Topology::periodic(&g, &shifts).unwrap();
+        let p = forced(&topo, &[true; 3]).unwrap();
+        assert!(p.classes.is_empty());
+        let flat = [[0, 0, 0]; 3];
+        let topo = Topology::periodic(&g, &flat).unwrap();
+        assert_eq!(forced(&topo, &[true; 3]).unwrap().classes.len(), 1);
+    }
+
+    #[test]
+    fn a_ring_of_triangles_around_the_box_contains_its_direction() {
+        // A strip of triangles 0-1-2, 1-2-3, 2-3-4, 3-4-5, whose last rods
+        // touch the first ones' images one box further along x.
+        let edges = vec![
+            [0, 1],
+            [0, 2],
+            [1, 2],
+            [1, 3],
+            [2, 3],
+            [2, 4],
+            [3, 4],
+            [3, 5],
+            [4, 5],
+            [4, 0],
+            [5, 0],
+            [5, 1],
+        ];
+        let mut shifts = vec![[0, 0, 0]; 9];
+        shifts.extend([[-1, 0, 0]; 3]);
+        let g = ContactGraph::new(6, edges).unwrap();
+        let topo = Topology::periodic(&g, &shifts).unwrap();
+        let p = forced(&topo, &[true; 6]).unwrap();
+        assert_eq!(p.classes.len(), 1);
+        assert_eq!(p.classes[0].rods.len(), 6);
+        assert_eq!(p.classes[0].wraps.len(), 1);
+        assert!(in_span([1, 0, 0], &p.classes[0].wraps));
+    }
+}

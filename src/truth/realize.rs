@@ -59,8 +59,8 @@ fn random_v3(rng: &mut impl Rng) -> V3<Fp> {
 /// Why a draw failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Failure {
-    /// A random choice hit a special position: draw again.
-    Degenerate,
+    /// A random choice hit a special position: draw again. Says which.
+    Degenerate(String),
     /// A constructed incidence does not hold: a bug, never a special draw.
     Broken(String),
 }
@@ -72,7 +72,9 @@ fn point_on(l: &Line, rng: &mut impl Rng) -> V3<Fp> {
 /// Where line `l` crosses plane `pl`.
 fn crossing(l: &Line, pl: &Plane) -> Result<V3<Fp>, Failure> {
     let den = dot(pl.n, l.d);
-    let inv = den.inv().ok_or(Failure::Degenerate)?;
+    let inv = den
+        .inv()
+        .ok_or_else(|| Failure::Degenerate("a line parallel to a plane it must cross".into()))?;
     Ok(add(l.p, scale(l.d, dot(pl.n, sub(pl.q, l.p)) * inv)))
 }
 
@@ -165,7 +167,9 @@ pub fn build(
             }
             ([p1, p2], []) => {
                 let d = cross(p1.n, p2.n);
-                let inv = dot(d, d).inv().ok_or(Failure::Degenerate)?;
+                let inv = dot(d, d).inv().ok_or_else(|| {
+                    Failure::Degenerate(format!("rod {x}: two planes without a common line"))
+                })?;
                 let (h1, h2) = (dot(p1.n, p1.q), dot(p2.n, p2.q));
                 let p = add(scale(cross(p2.n, d), h1), scale(cross(d, p1.n), h2));
                 Line {
@@ -182,7 +186,11 @@ pub fn build(
             }
         };
         if is_null(line.d) {
-            return Err(Failure::Degenerate);
+            return Err(Failure::Degenerate(format!(
+                "rod {x}: its line has no direction ({} planes, {} lines to meet)",
+                held.len(),
+                targets.len()
+            )));
         }
         lines[xi] = Some(line);
         for &(c, o) in &planes.of_rod[xi] {
@@ -197,7 +205,9 @@ pub fn build(
             };
             let n = cross(line.d, other);
             if is_null(n) {
-                return Err(Failure::Degenerate);
+                return Err(Failure::Degenerate(format!(
+                    "the plane of class {c} through rod {x} is undetermined"
+                )));
             }
             plane[c] = Some(Plane {
                 q: add(line.p, lattice(side, o)),
@@ -214,7 +224,9 @@ pub fn build(
         };
         let pb = add(lb.p, lattice(side, topo.seen(e as u32, a)));
         let n = cross(la.d, lb.d);
-        let inv = dot(n, n).inv().ok_or(Failure::Degenerate)?;
+        let inv = dot(n, n)
+            .inv()
+            .ok_or_else(|| Failure::Degenerate(format!("rods {a} and {b} are parallel")))?;
         let s = dot(cross(sub(pb, la.p), lb.d), n) * inv;
         let x = add(la.p, scale(la.d, s));
         if !is_null(cross(sub(x, pb), lb.d)) {
@@ -226,22 +238,28 @@ pub fn build(
     }
 
     // Contacts on one rod are distinct points (no concurrent triangles).
-    let mut along: Vec<Vec<u64>> = vec![Vec::new(); graph.n_nodes()];
+    let mut along: Vec<Vec<(u64, u32)>> = vec![Vec::new(); graph.n_nodes()];
     for (e, &[a, b]) in graph.edges().iter().enumerate() {
         let Some(x) = points[e] else { continue };
-        for (r, y) in [(a, x), (b, sub(x, lattice(side, topo.seen(e as u32, a))))] {
+        for (r, other, y) in [
+            (a, b, x),
+            (b, a, sub(x, lattice(side, topo.seen(e as u32, a)))),
+        ] {
             let l = lines[r as usize].expect("placed");
             let k = (0..3)
                 .find(|&k| !l.d[k].is_zero())
                 .expect("non-null direction");
             let s = (y[k] - l.p[k]) * l.d[k].inv().expect("non-zero");
-            along[r as usize].push(s.value());
+            along[r as usize].push((s.value(), other));
         }
     }
-    for list in &mut along {
+    for (r, list) in along.iter_mut().enumerate() {
         list.sort_unstable();
-        if list.windows(2).any(|w| w[0] == w[1]) {
-            return Err(Failure::Degenerate);
+        if let Some(w) = list.windows(2).find(|w| w[0].0 == w[1].0) {
+            return Err(Failure::Degenerate(format!(
+                "rod {r} meets rods {} and {} at one point",
+                w[0].1, w[1].1
+            )));
         }
     }
     Ok(Realization {

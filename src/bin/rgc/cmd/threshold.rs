@@ -273,6 +273,13 @@ fn print_summary(s: &Summary, out: &mut String) {
             o.fresh_checks
         );
     }
+    if o.undecided > 0 {
+        say!(
+            out,
+            "truth undecided (no realization of the model) in {} sequences, left out of the analysis",
+            o.undecided
+        );
+    }
     if o.nonmonotone_steps > 0 {
         say!(
             out,
