@@ -5,6 +5,7 @@
 
 pub mod aspect;
 pub mod fss;
+pub mod planes;
 pub mod report;
 pub mod sequence;
 pub mod study;
