@@ -1,6 +1,6 @@
 //! Charts (SVG, and PNG with an embedded font): the float-rank stability
-//! study, the finite-size scaling of the thresholds, and variants of a
-//! study against each other.
+//! study, the finite-size scaling of the thresholds, variants of a study
+//! against each other, and the forced-plane scan.
 //!
 //! Text is rendered with a font compiled into the binary (Ubuntu Light from
 //! `epaint_default_fonts`, through plotters' `ab_glyph` feature), so PNG
@@ -19,11 +19,13 @@ use crate::{Error, Result};
 
 mod bias;
 mod compare;
+mod planes;
 mod stability;
 mod threshold;
 
 pub use bias::bias_chart;
 pub use compare::{compare_chart, speed_accuracy_chart};
+pub use planes::forced_planes_chart;
 pub use stability::stability_chart;
 pub use threshold::{study_charts, threshold_charts, threshold_vs_vex};
 

@@ -10,6 +10,7 @@ mod float;
 mod fss;
 mod graphio;
 mod layers;
+mod planes;
 mod projection;
 mod rank;
 mod rigidity;

@@ -81,6 +81,7 @@ fn empty_record() -> Record {
         fresh: None,
         fixed: vec![],
         contacts: vec![],
+        undecided: None,
         seconds: 0.0,
     }
 }

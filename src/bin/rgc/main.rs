@@ -62,6 +62,8 @@ enum Command {
     Truth(cmd::truth::TruthArgs),
     /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
     AspectRatios(cmd::aspect_ratios::AspectArgs),
+    /// Where forced planes percolate (and force the line model flat), per aspect ratio, against the committed thresholds.
+    Planes(cmd::planes::PlanesArgs),
 }
 
 fn main() -> ExitCode {
@@ -101,5 +103,6 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),
         Command::Truth(a) => cmd::truth::run(a, out),
         Command::Bias(a) => cmd::bias::run(a, out),
+        Command::Planes(a) => cmd::planes::run(a, out),
     }
 }
