@@ -1029,3 +1029,69 @@ fn stability_reproduces_the_committed_study() {
     assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn truth_json_has_the_contract_fields() {
+    // K_{3,4}: no forced plane, flexible by one degree of freedom.
+    let v = json(&["truth", "--graph6", "F?~v_", "--json"]);
+    assert_eq!(v["method"], "exact");
+    assert_eq!(v["dof"], 1);
+    assert_eq!(v["trivial_motions"], 6);
+    assert_eq!(v["rank"], 35);
+    assert_eq!(v["clusters"].as_array().unwrap().len(), 0);
+    assert!(v["spanning"].is_null(), "a graph has no box to span");
+    // A generated system: the box is fixed, clusters say how they span.
+    let v = json(&[
+        "truth",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "42",
+        "--seed",
+        "2",
+        "--json",
+    ]);
+    assert_eq!(v["trivial_motions"], 3);
+    assert_eq!(v["criterion"], "wrap");
+    assert_eq!(v["twins_agree"], true);
+    let clusters = v["clusters"].as_array().unwrap();
+    let first = &clusters[0];
+    assert!(first["rods"].as_array().unwrap().len() > 100);
+    assert_eq!(v["spanning"], first["spans"]["wrap"]);
+    assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+}
+
+#[test]
+fn truth_and_bias_refuse_bad_input() {
+    fails(&["truth", "--graph6", "~~~"], "graph6");
+    fails(
+        &["truth", "--gamma", "0.5", "--box", "3", "--density", "30"],
+        "gamma must be at least",
+    );
+    fails(&["truth", "--gamma", "23"], "--box");
+    fails(
+        &["bias", "--scan-sequences", "2", "--scan-boxes", "7"],
+        "--scan-boxes",
+    );
+    fails(
+        &["bias", "--scan-sequences", "2", "--scan-width", "1.5"],
+        "--scan-width",
+    );
+    fails(
+        &["bias", "--sequences", "6", "--scan-sequences", "7"],
+        "--scan-sequences",
+    );
+}
+
+#[test]
+fn certified_compression_splits_what_truth_refutes() {
+    // Sound compresses this 7-rod graph to one body; truth finds two clusters.
+    for (rules, nodes) in [("sound", 1), ("certified", 2)] {
+        let v = json(&[
+            "compress", "--graph6", "FEhvO", "--rules", rules, "--runs", "64", "--json",
+        ]);
+        assert_eq!(v["components"], nodes, "{rules}");
+    }
+}
