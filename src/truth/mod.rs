@@ -232,7 +232,10 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     let planes = match planes::forced(topo, &core.active) {
         Ok(p) => p,
         Err(u) => {
-            out.largest_plane_class = u.rods;
+            // The periodic closure stops at the contradiction; the closure
+            // without images runs to the end and sizes the whole class.
+            out.largest_plane_class = planes::forced(&Topology::finite(graph), &core.active)
+                .map_or(u.rods, |p| p.largest());
             out.reason = Some(format!(
                 "a forced plane class of {} rods would contain three independent box directions: \
                  the line model has no realization in this box",
