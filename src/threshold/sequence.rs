@@ -440,27 +440,31 @@ fn compress(
     Ok((step, results.into_iter().map(|r| r.1).collect()))
 }
 
-/// Whether a rigid cluster of the exact truth of the first `n` rods spans,
-/// or `None` when truth is undecided there.
-pub fn truth_spanning(setup: &Setup, seq: &Sequence, n: usize) -> Option<bool> {
-    let graph = seq.graph(n);
-    let contacts = seq.contacts_of(n);
+/// The exact truth of the first `n` rods, its realizations seeded by the
+/// sequence and `n`.
+fn truth_of(setup: &Setup, seq: &Sequence, n: usize) -> truth::Truth {
     let opts = TruthOptions {
         seed: run_seed(seq.seed, n as u64),
         ..TruthOptions::default()
     };
-    truth::of_system(&seq.system, contacts, &graph, setup.criterion, opts).spanning
+    truth::of_system(
+        &seq.system,
+        seq.contacts_of(n),
+        &seq.graph(n),
+        setup.criterion,
+        opts,
+    )
+}
+
+/// Whether a rigid cluster of the exact truth of the first `n` rods spans,
+/// or `None` when truth is undecided there.
+pub fn truth_spanning(setup: &Setup, seq: &Sequence, n: usize) -> Option<bool> {
+    truth_of(setup, seq, n).spanning
 }
 
 /// [`truth_spanning`], where an undecided truth is an error rather than a guess.
 pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
-    let graph = seq.graph(n);
-    let contacts = seq.contacts_of(n);
-    let opts = TruthOptions {
-        seed: run_seed(seq.seed, n as u64),
-        ..TruthOptions::default()
-    };
-    let t = truth::of_system(&seq.system, contacts, &graph, setup.criterion, opts);
+    let t = truth_of(setup, seq, n);
     t.spanning.ok_or_else(|| {
         Error::Analysis(format!(
             "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
