@@ -301,11 +301,18 @@ impl PowerLaw {
     }
 }
 
+/// Box sides of the tail fit: the largest ones of a plan.
+pub const TAIL_BOXES: usize = 3;
+
 /// How time and truth's memory grow with the number of rods at one density.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scaling {
     pub density: f64,
     pub time: Option<PowerLaw>,
+    /// The time law of the [`TAIL_BOXES`] largest box sides alone. On small
+    /// boxes fixed costs hide the growth of the dense fronts, so the law of
+    /// all sizes is too flat to extrapolate; predictions use this one.
+    pub time_tail: Option<PowerLaw>,
     /// Fitted to `truth_mib`, the part that grows with truth's fronts.
     pub memory: Option<PowerLaw>,
 }
@@ -342,14 +349,14 @@ pub struct TruthReport {
     pub scaling: Vec<Scaling>,
     pub max_seconds: f64,
     /// The largest box side within `max_seconds` at [`REACH_DENSITY`] by the
-    /// fitted time law: a prediction, not a measurement.
+    /// tail time law: a prediction, not a measurement.
     pub predicted_largest_box: Option<usize>,
     pub reach: Option<Reach>,
 }
 
 /// Runs `plan`, smallest boxes first, each system through `measure` (such
 /// as [`measure_truth`]), fits the growth with the number of rods per
-/// density and predicts the reach within `max_seconds`; with
+/// density and predicts the reach within `max_seconds` from the tail; with
 /// `reach_max_box`, also measures the reach up to that box side (the last
 /// system alone can take longer than `max_seconds`).
 pub fn run_truth(
@@ -382,14 +389,17 @@ pub fn run_truth(
         }
     }
     progress.finish();
+    let tail = boxes[boxes.len().saturating_sub(TAIL_BOXES)];
     let scaling: Vec<Scaling> = plan
         .densities
         .iter()
         .map(|&density| {
             let at = || rows.iter().filter(move |r| r.density == density);
+            let time = |r: &TruthRow| (r.n_rods as f64, r.seconds);
             Scaling {
                 density,
-                time: PowerLaw::fit(at().map(|r| (r.n_rods as f64, r.seconds))),
+                time: PowerLaw::fit(at().map(time)),
+                time_tail: PowerLaw::fit(at().filter(|r| r.box_len >= tail).map(time)),
                 memory: PowerLaw::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
             }
         })
@@ -397,7 +407,7 @@ pub fn run_truth(
     let predicted_largest_box = scaling
         .iter()
         .find(|s| s.density == REACH_DENSITY)
-        .and_then(|s| s.time)
+        .and_then(|s| s.time_tail)
         .and_then(|law| predict_largest_box(&law, REACH_DENSITY, max_seconds));
     let reach = reach_max_box
         .map(|max_box| measure_reach(max_seconds, max_box, &mut measure, progress))

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use clap::Args;
-use rgc::bench::{PowerLaw, REACH_DENSITY, TruthPlan, TruthReport, TruthRow};
+use rgc::bench::{PowerLaw, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow};
 use rgc::{Error, Result, bench, output};
 
 use crate::progress::Reporter;
@@ -39,7 +39,7 @@ pub struct BenchArgs {
     /// Seeds 1..=N of each truth benchmark system [default: 3].
     #[arg(long, requires = "truth", value_parser = clap::value_parser!(u64).range(1..=1000))]
     truth_seeds: Option<u64>,
-    /// The time limit of the reach: the largest box truth decides within it at density 38, predicted from the fitted growth (measured with --truth-reach).
+    /// The time limit of the reach: the largest box truth decides within it at density 38, predicted from the growth on the largest boxes (measured with --truth-reach).
     #[arg(long, default_value_t = 600.0, requires = "truth")]
     truth_max_seconds: f64,
     /// Also measure the reach: box sides 3, 4, ... up to this one at density 38 (seed 1) until one system takes longer than --truth-max-seconds.
@@ -197,30 +197,30 @@ fn truth_table(r: &TruthReport, out: &mut String) {
         "peak MiB",
         "truth MiB"
     );
-    for row in r.rows.iter().chain(r.reach.iter().flat_map(|x| &x.rows)) {
+    for row in &r.rows {
+        truth_line(row, out);
+    }
+    if let Some(reach) = &r.reach {
         say!(
             out,
-            "{:>4} {:>3} {:>4} {:>6} {:>6} {:>6} {:>7} {:>9} {:>11} {:>9.3} {:>8.1} {:>9.1}",
-            row.density,
-            row.box_len,
-            row.seed,
-            row.n_rods,
-            row.core_rods,
-            row.parts,
-            row.columns,
-            row.rank.map_or("undecided".into(), |k| k.to_string()),
-            row.largest_front
-                .map_or("-".into(), |(rows, cols)| format!("{rows}x{cols}")),
-            row.seconds,
-            row.peak_mib,
-            row.truth_mib
+            "reach: density {REACH_DENSITY}, seed 1, box 3 up to {} or the first over {} s",
+            reach.max_box,
+            reach.max_seconds
         );
+        for row in &reach.rows {
+            truth_line(row, out);
+        }
     }
     say!(
         out,
         "peak MiB: the process while truth ran (one per system); truth MiB: what truth added to it"
     );
-    if !r.rows.iter().all(|row| row.peak_reset) {
+    let reset = r
+        .rows
+        .iter()
+        .chain(r.reach.iter().flat_map(|x| &x.rows))
+        .all(|row| row.peak_reset);
+    if !reset {
         say!(
             out,
             "(the peak could not be reset before truth: the figures include generation and contact detection)"
@@ -234,9 +234,10 @@ fn truth_table(r: &TruthReport, out: &mut String) {
     for s in &r.scaling {
         say!(
             out,
-            "density {}: time ~ {}, truth memory ~ {}",
+            "density {}: time ~ {}, on the largest {TAIL_BOXES} boxes ~ {}; truth memory ~ {}",
             s.density,
             law(s.time),
+            law(s.time_tail),
             law(s.memory)
         );
     }
@@ -244,7 +245,7 @@ fn truth_table(r: &TruthReport, out: &mut String) {
     match r.predicted_largest_box {
         Some(l) => say!(
             out,
-            "largest box within {limit} s at density {REACH_DENSITY}: L = {l}, predicted by the fitted time law (not measured)"
+            "largest box within {limit} s at density {REACH_DENSITY}: L = {l}, predicted by the time law of the largest {TAIL_BOXES} boxes (not measured)"
         ),
         None => say!(
             out,
@@ -266,4 +267,24 @@ fn truth_table(r: &TruthReport, out: &mut String) {
             reach.max_box
         );
     }
+}
+
+fn truth_line(row: &TruthRow, out: &mut String) {
+    say!(
+        out,
+        "{:>4} {:>3} {:>4} {:>6} {:>6} {:>6} {:>7} {:>9} {:>11} {:>9.3} {:>8.1} {:>9.1}",
+        row.density,
+        row.box_len,
+        row.seed,
+        row.n_rods,
+        row.core_rods,
+        row.parts,
+        row.columns,
+        row.rank.map_or("undecided".into(), |k| k.to_string()),
+        row.largest_front
+            .map_or("-".into(), |(rows, cols)| format!("{rows}x{cols}")),
+        row.seconds,
+        row.peak_mib,
+        row.truth_mib
+    );
 }
