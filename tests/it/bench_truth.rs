@@ -35,6 +35,7 @@ fn tiny_plan_in_process_gives_consistent_rows() {
     assert_consistent(r);
     assert_eq!((r.density, r.box_len, r.seed, r.n_rods), (34.0, 3, 1, 918));
     assert!(report.scaling[0].time.is_none(), "one size fits no law");
+    assert!(report.scaling[0].time_tail.is_none());
     assert_eq!(report.predicted_largest_box, None);
     let reach = report.reach.expect("asked for");
     assert_eq!(reach.rows.len(), 1);
@@ -94,4 +95,52 @@ fn power_law_fit_and_prediction() {
     // 1e-9 N^2 <= 600 s: N <= 774 597, and 38 L^3 <= N up to L = 27.
     assert_eq!(bench::predict_largest_box(&law, 38.0, 600.0), Some(27));
     assert_eq!(bench::predict_largest_box(&law, 38.0, 1e-6), None);
+}
+
+/// A row of `n` rods that took `seconds`, for plans that need no truth.
+fn fake_row(density: f64, l: usize, seed: u64, seconds: f64) -> TruthRow {
+    let n_rods = (density * (l as f64).powi(3)).round() as usize;
+    TruthRow {
+        gamma: bench::TRUTH_GAMMA,
+        density,
+        box_len: l,
+        seed,
+        n_rods,
+        core_rods: n_rods,
+        parts: n_rods,
+        columns: 6 * n_rods,
+        rows: 6 * n_rods,
+        rank: Some(6 * n_rods),
+        decided: true,
+        largest_front: Some((1, 6)),
+        seconds,
+        peak_mib: 2.0,
+        truth_mib: 1.0,
+        peak_reset: true,
+    }
+}
+
+#[test]
+fn prediction_extrapolates_the_largest_boxes_only() {
+    let plan = TruthPlan {
+        densities: vec![REACH_DENSITY],
+        boxes: (3..=7).collect(),
+        seeds: 1,
+    };
+    // Flat on the small boxes (fixed costs), 1e-12 N^3 on the largest three.
+    let measure = |density: f64, l: usize, seed| {
+        let n = (density * (l as f64).powi(3)).round();
+        Ok(fake_row(
+            density,
+            l,
+            seed,
+            if l < 5 { 1.0 } else { 1e-12 * n.powi(3) },
+        ))
+    };
+    let report = bench::run_truth(&plan, 600.0, None, measure, &Silent).unwrap();
+    let s = &report.scaling[0];
+    assert!(s.time.unwrap().exponent < 3.0, "{s:?}");
+    assert!((s.time_tail.unwrap().exponent - 3.0).abs() < 1e-9, "{s:?}");
+    // 1e-12 (38 L^3)^3 <= 600 s up to L = 13.
+    assert_eq!(report.predicted_largest_box, Some(13));
 }
