@@ -62,6 +62,18 @@ pub fn reset_peak_rss() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
+/// CPU time of the calling thread, user plus system, from Linux
+/// `/proc/thread-self/stat` (in the kernel's fixed 100 ticks per second);
+/// `None` where unknown.
+fn thread_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
+    // The fields after the command name, which may hold spaces, start at
+    // the third (state); user and system time are the 14th and 15th.
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = |i: usize| fields.get(i)?.parse::<f64>().ok();
+    Some((ticks(11)? + ticks(12)?) / 100.0)
+}
+
 /// Runs `f` on a pool of one thread: the figures are per core, whatever the
 /// machine.
 fn one_thread<T: Send>(f: impl FnOnce() -> T + Send) -> T {
@@ -205,6 +217,9 @@ pub struct TruthRow {
     pub largest_front: Option<(usize, usize)>,
     /// Wall time of `truth::of_system` on one thread.
     pub seconds: f64,
+    /// CPU time of the thread that ran it, to 10 ms: unlike the wall time,
+    /// not inflated when other processes share the cores.
+    pub cpu_seconds: Option<f64>,
     /// Peak resident memory of the process while truth ran (the system and
     /// its contacts included), MiB.
     pub peak_mib: f64,
@@ -231,6 +246,7 @@ pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRo
         let graph = ContactGraph::from_contacts(system.len(), &found);
         let peak_reset = reset_peak_rss();
         let before = peak_rss_mib();
+        let cpu_before = thread_cpu_seconds();
         let start = Instant::now();
         let t = truth::of_system(
             &system,
@@ -243,6 +259,7 @@ pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRo
             },
         );
         let seconds = start.elapsed().as_secs_f64();
+        let cpu_seconds = thread_cpu_seconds().zip(cpu_before).map(|(b, a)| b - a);
         let peak_mib = peak_rss_mib();
         TruthRow {
             gamma: TRUTH_GAMMA,
@@ -258,6 +275,7 @@ pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRo
             decided: t.decided(),
             largest_front: t.largest_front,
             seconds,
+            cpu_seconds,
             peak_mib,
             truth_mib: (peak_mib - before).max(0.0),
             peak_reset,

@@ -16,6 +16,12 @@ fn assert_consistent(r: &TruthRow) {
     let (rows, cols) = r.largest_front.expect("a decided truth has a front");
     assert!(rows <= r.rows && cols <= r.columns, "{r:?}");
     assert!(r.seconds > 0.0, "{r:?}");
+    // One thread cannot use more CPU than wall time (ticks are 10 ms).
+    assert!(
+        r.cpu_seconds
+            .is_none_or(|c| (0.0..=r.seconds + 0.05).contains(&c)),
+        "{r:?}"
+    );
     assert!(r.truth_mib <= r.peak_mib, "{r:?}");
 }
 
@@ -114,6 +120,7 @@ fn fake_row(density: f64, l: usize, seed: u64, seconds: f64) -> TruthRow {
         decided: true,
         largest_front: Some((1, 6)),
         seconds,
+        cpu_seconds: Some(seconds),
         peak_mib: 2.0,
         truth_mib: 1.0,
         peak_reset: true,

@@ -183,7 +183,7 @@ fn in_child(density: f64, l: usize, seed: u64) -> Result<TruthRow> {
 fn truth_table(r: &TruthReport, out: &mut String) {
     say!(
         out,
-        "{:>4} {:>3} {:>4} {:>6} {:>6} {:>6} {:>7} {:>9} {:>11} {:>9} {:>8} {:>9}",
+        "{:>4} {:>3} {:>4} {:>6} {:>6} {:>6} {:>7} {:>9} {:>11} {:>9} {:>8} {:>8} {:>9}",
         "rho",
         "L",
         "seed",
@@ -194,6 +194,7 @@ fn truth_table(r: &TruthReport, out: &mut String) {
         "rank",
         "front",
         "seconds",
+        "CPU s",
         "peak MiB",
         "truth MiB"
     );
@@ -213,7 +214,8 @@ fn truth_table(r: &TruthReport, out: &mut String) {
     }
     say!(
         out,
-        "peak MiB: the process while truth ran (one per system); truth MiB: what truth added to it"
+        "seconds: wall time (fitted below); CPU s: of the thread, less where other processes shared the cores;\n\
+         peak MiB: the process while truth ran (one per system); truth MiB: what truth added to it"
     );
     let reset = r
         .rows
@@ -242,10 +244,12 @@ fn truth_table(r: &TruthReport, out: &mut String) {
         );
     }
     let limit = r.max_seconds;
+    let measured = r.rows.iter().map(|row| row.box_len).max().unwrap_or(0);
     match r.predicted_largest_box {
         Some(l) => say!(
             out,
-            "largest box within {limit} s at density {REACH_DENSITY}: L = {l}, predicted by the time law of the largest {TAIL_BOXES} boxes (not measured)"
+            "largest box within {limit} s at density {REACH_DENSITY}: L = {l}, predicted (not measured): \
+             the time law of the largest {TAIL_BOXES} boxes extrapolated beyond L = {measured}"
         ),
         None => say!(
             out,
@@ -272,7 +276,7 @@ fn truth_table(r: &TruthReport, out: &mut String) {
 fn truth_line(row: &TruthRow, out: &mut String) {
     say!(
         out,
-        "{:>4} {:>3} {:>4} {:>6} {:>6} {:>6} {:>7} {:>9} {:>11} {:>9.3} {:>8.1} {:>9.1}",
+        "{:>4} {:>3} {:>4} {:>6} {:>6} {:>6} {:>7} {:>9} {:>11} {:>9.3} {:>8} {:>8.1} {:>9.1}",
         row.density,
         row.box_len,
         row.seed,
@@ -284,6 +288,7 @@ fn truth_line(row: &TruthRow, out: &mut String) {
         row.largest_front
             .map_or("-".into(), |(rows, cols)| format!("{rows}x{cols}")),
         row.seconds,
+        row.cpu_seconds.map_or("-".into(), |c| format!("{c:.2}")),
         row.peak_mib,
         row.truth_mib
     );
