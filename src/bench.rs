@@ -1,14 +1,20 @@
 //! The foundation benchmark: contact detection and one compression, single
-//! threaded, on the reference systems of the paper's aspect ratios.
+//! threaded, on the reference systems of the paper's aspect ratios; and the
+//! truth benchmark: how the cost of exact whole-system rigidity grows with
+//! the system, and so how large a box truth can decide.
 
-use serde::Serialize;
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 use crate::contacts;
 use crate::engine::{self, RuleSet};
 use crate::graph::ContactGraph;
-use crate::math::stats::median;
+use crate::math::stats::{least_squares, median};
+use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
+use crate::spanning::Criterion;
+use crate::truth::{self, TruthOptions};
 
 /// The reference systems: (gamma, density, box side).
 pub const SYSTEMS: [(f64, f64, f64); 4] = [
@@ -49,6 +55,35 @@ pub fn peak_rss_mib() -> f64 {
         .map_or(0.0, |kib| kib / 1024.0)
 }
 
+/// Lowers the peak resident set size to the current one (Linux 4.0 and
+/// later, `clear_refs` mode 5), so that the next peak belongs to what runs
+/// next and not to an earlier, larger system. False where it cannot.
+pub fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// CPU time of the calling thread, user plus system, from Linux
+/// `/proc/thread-self/stat` (in the kernel's fixed 100 ticks per second);
+/// `None` where unknown.
+fn thread_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
+    // The fields after the command name, which may hold spaces, start at
+    // the third (state); user and system time are the 14th and 15th.
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = |i: usize| fields.get(i)?.parse::<f64>().ok();
+    Some((ticks(11)? + ticks(12)?) / 100.0)
+}
+
+/// Runs `f` on a pool of one thread: the figures are per core, whatever the
+/// machine.
+fn one_thread<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool")
+        .install(f)
+}
+
 /// Checks that `max_rods` leaves at least one reference system to run.
 pub fn check_max_rods(max_rods: usize) -> crate::Result<()> {
     let smallest = SYSTEMS
@@ -68,11 +103,7 @@ pub fn check_max_rods(max_rods: usize) -> crate::Result<()> {
 /// Runs the systems up to `max_rods` rods in order of size, `repeat` times
 /// each, on one thread.
 pub fn run(repeat: usize, max_rods: usize) -> Vec<BenchRow> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("a one-thread pool");
-    pool.install(|| {
+    one_thread(|| {
         SYSTEMS
             .iter()
             .filter_map(|&(gamma, density, box_len)| {
@@ -116,4 +147,321 @@ fn measure(params: RodParams, repeat: usize) -> BenchRow {
         components: c.components,
         largest_body_rods: c.largest_rods(),
     }
+}
+
+/// Aspect ratio of the truth benchmark's systems.
+pub const TRUTH_GAMMA: f64 = 23.0;
+
+/// Densities either side of truth's rigidity threshold at gamma 23, where
+/// the rigid and flexible regions are both large and truth works hardest.
+pub const TRUTH_DENSITIES: [f64; 2] = [34.0, 38.0];
+
+/// The density of the reach: the denser, slower one.
+pub const REACH_DENSITY: f64 = 38.0;
+
+/// The largest box side a prediction considers.
+pub const PREDICT_MAX_BOX: usize = 100;
+
+/// What the truth benchmark runs: every density, box side and seed `1..=seeds`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TruthPlan {
+    pub densities: Vec<f64>,
+    pub boxes: Vec<usize>,
+    pub seeds: u64,
+}
+
+impl Default for TruthPlan {
+    /// Boxes 3 to 7 and three seeds: about a minute on one core (box 8
+    /// alone takes about 40 s per seed at density 38).
+    fn default() -> Self {
+        TruthPlan {
+            densities: TRUTH_DENSITIES.to_vec(),
+            boxes: (3..=7).collect(),
+            seeds: 3,
+        }
+    }
+}
+
+impl TruthPlan {
+    /// Checks every system of the plan before the first one runs.
+    pub fn check(&self) -> crate::Result<()> {
+        if self.densities.is_empty() || self.boxes.is_empty() || self.seeds == 0 {
+            return Err(crate::Error::Parameter(
+                "the truth benchmark needs at least one density, box side and seed".into(),
+            ));
+        }
+        for &density in &self.densities {
+            for &l in &self.boxes {
+                RodParams::new(TRUTH_GAMMA, l as f64, density)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Figures of truth on one system.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthRow {
+    pub gamma: f64,
+    pub density: f64,
+    pub box_len: usize,
+    pub seed: u64,
+    pub n_rods: usize,
+    pub core_rods: usize,
+    pub parts: usize,
+    pub columns: usize,
+    pub rows: usize,
+    pub rank: Option<usize>,
+    pub decided: bool,
+    /// Rows times columns of the largest dense front of the elimination.
+    pub largest_front: Option<(usize, usize)>,
+    /// Wall time of `truth::of_system` on one thread.
+    pub seconds: f64,
+    /// CPU time of the thread that ran it, to 10 ms: unlike the wall time,
+    /// not inflated when other processes share the cores.
+    pub cpu_seconds: Option<f64>,
+    /// Peak resident memory of the process while truth ran (the system and
+    /// its contacts included), MiB.
+    pub peak_mib: f64,
+    /// What truth added to the resident memory: the peak above what was
+    /// resident just before it, MiB.
+    pub truth_mib: f64,
+    /// Whether the peak was reset before truth ran. Where it was not, both
+    /// figures are the process's high-water mark, which only ever rises.
+    pub peak_reset: bool,
+}
+
+/// Truth on the system of `density`, box side `l` and `seed`, on a pool of
+/// one thread, with its time and peak memory.
+///
+/// The memory figures are clean only in a fresh process: in one that ran
+/// other systems before, pages the allocator kept from them are reused
+/// without showing as growth. So `rgc bench --truth` runs each system in a
+/// child process of its own.
+pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRow> {
+    let params = RodParams::new(TRUTH_GAMMA, l as f64, density)?;
+    Ok(one_thread(|| {
+        let system = RodSystem::generate(params, seed);
+        let found = contacts::detect(&system);
+        let graph = ContactGraph::from_contacts(system.len(), &found);
+        let peak_reset = reset_peak_rss();
+        let before = peak_rss_mib();
+        let cpu_before = thread_cpu_seconds();
+        let start = Instant::now();
+        let t = truth::of_system(
+            &system,
+            &found,
+            &graph,
+            Criterion::Wrap,
+            TruthOptions {
+                seed,
+                ..TruthOptions::default()
+            },
+        );
+        let seconds = start.elapsed().as_secs_f64();
+        let cpu_seconds = thread_cpu_seconds().zip(cpu_before).map(|(b, a)| b - a);
+        let peak_mib = peak_rss_mib();
+        TruthRow {
+            gamma: TRUTH_GAMMA,
+            density,
+            box_len: l,
+            seed,
+            n_rods: t.n_rods,
+            core_rods: t.core_rods,
+            parts: t.parts,
+            columns: t.columns,
+            rows: t.rows,
+            rank: t.rank,
+            decided: t.decided(),
+            largest_front: t.largest_front,
+            seconds,
+            cpu_seconds,
+            peak_mib,
+            truth_mib: (peak_mib - before).max(0.0),
+            peak_reset,
+        }
+    }))
+}
+
+/// A power law `y = prefactor * x^exponent`, fitted by least squares of
+/// `log y` against `log x`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PowerLaw {
+    pub exponent: f64,
+    pub prefactor: f64,
+    /// R² of the fit in logarithms.
+    pub r2: f64,
+    pub points: usize,
+}
+
+impl PowerLaw {
+    /// The fit through the points with both coordinates positive; `None`
+    /// without two distinct `x` among them.
+    pub fn fit(points: impl IntoIterator<Item = (f64, f64)>) -> Option<PowerLaw> {
+        let logs: Vec<(f64, f64)> = points
+            .into_iter()
+            .filter(|&(x, y)| x > 0.0 && y > 0.0)
+            .map(|(x, y)| (x.ln(), y.ln()))
+            .collect();
+        let x = DMatrix::from_fn(logs.len(), 2, |i, j| if j == 0 { 1.0 } else { logs[i].0 });
+        let y = DVector::from_fn(logs.len(), |i, _| logs[i].1);
+        let (beta, r2, _) = least_squares(&x, &y)?;
+        Some(PowerLaw {
+            exponent: beta[1],
+            prefactor: beta[0].exp(),
+            r2,
+            points: logs.len(),
+        })
+    }
+
+    pub fn at(&self, x: f64) -> f64 {
+        self.prefactor * x.powf(self.exponent)
+    }
+}
+
+/// Box sides of the tail fit: the largest ones of a plan.
+pub const TAIL_BOXES: usize = 3;
+
+/// How time and truth's memory grow with the number of rods at one density.
+#[derive(Clone, Debug, Serialize)]
+pub struct Scaling {
+    pub density: f64,
+    pub time: Option<PowerLaw>,
+    /// The time law of the [`TAIL_BOXES`] largest box sides alone. On small
+    /// boxes fixed costs hide the growth of the dense fronts, so the law of
+    /// all sizes is too flat to extrapolate; predictions use this one.
+    pub time_tail: Option<PowerLaw>,
+    /// Fitted to `truth_mib`, the part that grows with truth's fronts.
+    pub memory: Option<PowerLaw>,
+}
+
+/// The largest box side whose system at `density` the time law puts within
+/// `max_seconds` (up to [`PREDICT_MAX_BOX`]); `None` if not even the
+/// smallest valid box.
+pub fn predict_largest_box(time: &PowerLaw, density: f64, max_seconds: f64) -> Option<usize> {
+    (1..=PREDICT_MAX_BOX)
+        .filter_map(|l| RodParams::new(TRUTH_GAMMA, l as f64, density).ok())
+        .take_while(|p| time.at(p.n_rods() as f64) <= max_seconds)
+        .last()
+        .map(|p| p.box_len as usize)
+}
+
+/// The measured reach: one system (seed 1) per box side 3, 4, ... at
+/// [`REACH_DENSITY`] until one takes longer than `max_seconds` or the cap.
+#[derive(Clone, Debug, Serialize)]
+pub struct Reach {
+    pub max_seconds: f64,
+    pub max_box: usize,
+    /// The largest box side that finished within `max_seconds`.
+    pub largest_box: Option<usize>,
+    /// Whether a system took too long (else the cap stopped the search, and
+    /// the true reach may be larger).
+    pub stopped_by_time: bool,
+    pub rows: Vec<TruthRow>,
+}
+
+/// Everything the truth benchmark found.
+#[derive(Clone, Debug, Serialize)]
+pub struct TruthReport {
+    pub rows: Vec<TruthRow>,
+    pub scaling: Vec<Scaling>,
+    pub max_seconds: f64,
+    /// The largest box side within `max_seconds` at [`REACH_DENSITY`] by the
+    /// tail time law: a prediction, not a measurement.
+    pub predicted_largest_box: Option<usize>,
+    pub reach: Option<Reach>,
+}
+
+/// Runs `plan`, smallest boxes first, each system through `measure` (such
+/// as [`measure_truth`]), fits the growth with the number of rods per
+/// density and predicts the reach within `max_seconds` from the tail; with
+/// `reach_max_box`, also measures the reach up to that box side (the last
+/// system alone can take longer than `max_seconds`).
+pub fn run_truth(
+    plan: &TruthPlan,
+    max_seconds: f64,
+    reach_max_box: Option<usize>,
+    mut measure: impl FnMut(f64, usize, u64) -> crate::Result<TruthRow>,
+    progress: &impl Progress,
+) -> crate::Result<TruthReport> {
+    plan.check()?;
+    if !(max_seconds.is_finite() && max_seconds > 0.0) {
+        return Err(crate::Error::Parameter(format!(
+            "the time limit must be a positive number of seconds, got {max_seconds}"
+        )));
+    }
+    let mut boxes = plan.boxes.clone();
+    boxes.sort_unstable();
+    boxes.dedup();
+    let mut rows = Vec::new();
+    progress.start(
+        "truth systems",
+        (boxes.len() * plan.densities.len()) as u64 * plan.seeds,
+    );
+    for &l in &boxes {
+        for &density in &plan.densities {
+            for seed in 1..=plan.seeds {
+                rows.push(measure(density, l, seed)?);
+                progress.advance(1);
+            }
+        }
+    }
+    progress.finish();
+    let tail = boxes[boxes.len().saturating_sub(TAIL_BOXES)];
+    let scaling: Vec<Scaling> = plan
+        .densities
+        .iter()
+        .map(|&density| {
+            let at = || rows.iter().filter(move |r| r.density == density);
+            let time = |r: &TruthRow| (r.n_rods as f64, r.seconds);
+            Scaling {
+                density,
+                time: PowerLaw::fit(at().map(time)),
+                time_tail: PowerLaw::fit(at().filter(|r| r.box_len >= tail).map(time)),
+                memory: PowerLaw::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
+            }
+        })
+        .collect();
+    let predicted_largest_box = scaling
+        .iter()
+        .find(|s| s.density == REACH_DENSITY)
+        .and_then(|s| s.time_tail)
+        .and_then(|law| predict_largest_box(&law, REACH_DENSITY, max_seconds));
+    let reach = reach_max_box
+        .map(|max_box| measure_reach(max_seconds, max_box, &mut measure, progress))
+        .transpose()?;
+    Ok(TruthReport {
+        rows,
+        scaling,
+        max_seconds,
+        predicted_largest_box,
+        reach,
+    })
+}
+
+fn measure_reach(
+    max_seconds: f64,
+    max_box: usize,
+    measure: &mut impl FnMut(f64, usize, u64) -> crate::Result<TruthRow>,
+    progress: &impl Progress,
+) -> crate::Result<Reach> {
+    let mut reach = Reach {
+        max_seconds,
+        max_box,
+        largest_box: None,
+        stopped_by_time: false,
+        rows: Vec::new(),
+    };
+    for l in 3..=max_box {
+        progress.note(&format!("reach: box {l} at density {REACH_DENSITY}"));
+        let row = measure(REACH_DENSITY, l, 1)?;
+        let within = row.seconds <= max_seconds;
+        reach.rows.push(row);
+        if !within {
+            reach.stopped_by_time = true;
+            break;
+        }
+        reach.largest_box = Some(l);
+    }
+    Ok(reach)
 }

@@ -162,6 +162,10 @@ pub struct Truth {
     pub twins_agree: Option<bool>,
     /// Rigid clusters of two or more rods, largest first.
     pub clusters: Vec<Cluster>,
+    /// The largest dense front of the elimination, rows times columns: what
+    /// the cost of truth grows with.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub largest_front: Option<(usize, usize)>,
     /// For a generated system: whether a rigid cluster spans under the
     /// criterion asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -221,6 +225,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
         dof: None,
         twins_agree: None,
         clusters: Vec::new(),
+        largest_front: None,
         criterion: None,
         spanning: None,
         seconds: 0.0,
@@ -293,6 +298,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     let (elim, real) = best.expect("two twins ranked");
     out.method = Method::Exact;
     out.rank = Some(elim.rank);
+    out.largest_front = Some(elim.largest_front);
     out.twins_agree = opts.twins.then(|| ranks.iter().all(|&r| r == elim.rank));
     let motions = out.columns - elim.rank + core.pruned_motions();
     out.dof = Some(motions.saturating_sub(out.trivial_motions));
