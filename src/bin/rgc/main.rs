@@ -38,7 +38,7 @@ enum Command {
     Compress(cmd::compress::CompressArgs),
     /// Audit the engine against every small rigid motif (exact rank) and write the missed ones as rule files.
     Audit(cmd::audit::AuditArgs),
-    /// Time contact detection and compression on the reference systems (single thread).
+    /// Time contact detection and compression on the reference systems (single thread); --truth: time and memory of exact truth against system size.
     Bench(cmd::bench::BenchArgs),
     /// Decide whether a contact pattern is rigid (exact rank on every realization component, or floats).
     Check(cmd::check::CheckArgs),

@@ -95,11 +95,13 @@ fn summary(t: &Truth, out: &mut String) {
     );
     say!(
         out,
-        "matrix: {} parts, {} columns, {} rows, rank {}",
+        "matrix: {} parts, {} columns, {} rows, rank {}{}",
         t.parts,
         t.columns,
         t.rows,
-        opt(t.rank)
+        opt(t.rank),
+        t.largest_front
+            .map_or(String::new(), |(r, c)| format!(", largest front {r} x {c}"))
     );
     say!(
         out,
