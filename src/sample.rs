@@ -5,10 +5,11 @@ use std::time::Instant;
 
 use crate::body::BodyClass;
 use crate::contacts::{self, Contact};
-use crate::engine::{self, Compression, MotifCounts, RuleSet};
+use crate::engine::{self, Compression, MotifCounts, RuleSet, certify};
 use crate::graph::{self, ContactGraph, ContactStats};
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
+use crate::truth::Topology;
 
 /// What to sample and how to compress it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,7 +139,19 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
     let contact_spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
 
     let t = Instant::now();
-    let runs = engine::Engine::with_rules(opts.rules, extra).runs(&graph, opts.seed, opts.runs);
+    let runs = if opts.rules == RuleSet::Certified {
+        // Certified against the truth of this box, not of the bare graph.
+        let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+        let topo = Topology::periodic(&graph, &shifts).expect("one shift per contact");
+        engine::Engine::with_rules(RuleSet::Sound, extra)
+            .runs(&graph, opts.seed, opts.runs)
+            .into_iter()
+            .enumerate()
+            .map(|(k, run)| certify::certify(&topo, run, engine::run_seed(opts.seed, k as u64)))
+            .collect()
+    } else {
+        engine::Engine::with_rules(opts.rules, extra).runs(&graph, opts.seed, opts.runs)
+    };
     let seconds_compression = t.elapsed().as_secs_f64();
     let mut checker = SpanChecker::new();
     let spans: Vec<bool> = runs

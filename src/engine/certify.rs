@@ -9,22 +9,24 @@
 //! a cluster is still mutually rigid). A certified body, and so a certified
 //! spanning verdict, is never false.
 //!
-//! Truth is taken on the contact graph as a finite framework. For a
-//! periodic system that is the fixed box with side 0, a special position of
-//! the fixed box: rank can only rise away from it, so what it certifies
-//! rigid is rigid in the box too.
+//! Truth must be taken on the system's own topology: for a generated
+//! system, the fixed periodic box with each contact's image. The contact
+//! graph alone, as a finite framework, closes every loop through the box
+//! on itself; that is no realization of the box, and on a committed
+//! sequence it makes a cluster span that does not span in the box (a test
+//! keeps that case).
 
 use rustc_hash::FxHashMap;
 
 use super::Compression;
 use crate::body::Body;
-use crate::graph::ContactGraph;
 use crate::truth::{self, Topology, TruthOptions};
 
-/// Keeps the bodies of `run` (a `sound` compression of `graph`) that truth
-/// confirms and splits the others along the true clusters. When truth is
-/// undecided nothing is certified: every body is dropped.
-pub fn certify(graph: &ContactGraph, mut run: Compression, seed: u64) -> Compression {
+/// Keeps the bodies of `run` (a `sound` compression of `topo`'s graph) that
+/// truth confirms and splits the others along the true clusters. When truth
+/// is undecided nothing is certified: every body is dropped.
+pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression {
+    let graph = topo.graph;
     // One realization proves what it finds rigid, and certification only
     // needs that.
     let opts = TruthOptions {
@@ -32,7 +34,7 @@ pub fn certify(graph: &ContactGraph, mut run: Compression, seed: u64) -> Compres
         twins: false,
         ..TruthOptions::default()
     };
-    let t = truth::truth(&Topology::finite(graph), opts);
+    let t = truth::truth(topo, opts);
     let mut bodies: Vec<Body> = Vec::with_capacity(run.bodies.len());
     let mut refuted = 0;
     if t.decided() {

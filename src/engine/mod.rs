@@ -210,7 +210,10 @@ impl<'r> Engine<'r> {
                 ..*self
             };
             let run = compress_engine(&sound, graph, bodies, seed)?;
-            return Ok(certify::certify(graph, run, seed));
+            // A graph without geometry is a finite framework; a generated
+            // system certifies with its box (`certify::certify`).
+            let topo = crate::truth::Topology::finite(graph);
+            return Ok(certify::certify(&topo, run, seed));
         }
         compress_engine(self, graph, bodies, seed)
     }

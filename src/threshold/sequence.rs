@@ -425,7 +425,9 @@ fn compress(
             };
             let mut spanning = spans(&run);
             if certified && spanning {
-                run = certify::certify(&graph, run, run_seed);
+                let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+                let topo = truth::Topology::periodic(&graph, &shifts)?;
+                run = certify::certify(&topo, run, run_seed);
                 spanning = spans(&run);
             }
             Ok((spanning, run.bodies))

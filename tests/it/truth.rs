@@ -127,8 +127,20 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
                 .iter()
                 .any(|k| rods.iter().all(|r| of_rod[*r as usize].contains(k)))
         };
+        let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+        let topo = Topology::periodic(&graph, &shifts).unwrap();
         for rules in [RuleSet::Certified, RuleSet::Sound, RuleSet::Paper] {
-            for run in Engine::base(rules).runs(&graph, seed, 3) {
+            let engine = Engine::base(if rules == RuleSet::Certified {
+                RuleSet::Sound
+            } else {
+                rules
+            });
+            for (k, run) in engine.runs(&graph, seed, 3).into_iter().enumerate() {
+                let run = if rules == RuleSet::Certified {
+                    rgc::engine::certify::certify(&topo, run, rgc::engine::run_seed(seed, k as u64))
+                } else {
+                    run
+                };
                 for b in &run.bodies {
                     assert!(
                         inside(&b.rods),
@@ -209,4 +221,74 @@ fn truth_finds_a_locked_hinge_the_engine_misses() {
         runs.iter().all(|r| r.largest_rods() < 5),
         "the engine now finds it: update this test"
     );
+}
+
+/// A false rigid span found by measuring against truth: on one committed
+/// sequence (gamma 23, L = 3), 40 runs of the sound rules find a spanning
+/// body in 828 rods, where truth spans only from 856 on. The body is not
+/// inside any true rigid cluster; certified compression does not span there
+/// (when it certifies against the box, not the bare graph).
+#[test]
+fn sound_with_40_runs_spans_falsely_where_truth_and_certified_do_not() {
+    use rgc::engine::{Engine, RuleSet, run_seed};
+    use rgc::spanning::{Criterion, SpanChecker};
+    use rgc::threshold::sequence::Sequence;
+    let (seed, n) = (13354648569331998775, 828);
+    let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
+    let graph = seq.graph(n);
+    let contacts = seq.contacts_of(n);
+    let t = rgc::truth::of_system(
+        &seq.system,
+        contacts,
+        &graph,
+        Criterion::Wrap,
+        TruthOptions::default(),
+    );
+    assert_eq!(t.spanning, Some(false));
+    let mut checker = SpanChecker::new();
+    let mut spans =
+        |rods: &[u32]| checker.spans(&seq.system, contacts, &graph, rods, Criterion::Wrap);
+    let spanning_bodies = |rules| -> Vec<Vec<u32>> {
+        Engine::base(rules)
+            .runs(&graph, run_seed(seed, n as u64), 40)
+            .into_iter()
+            .flat_map(|r| r.bodies)
+            .map(|b| b.rods)
+            .collect()
+    };
+    let sound: Vec<Vec<u32>> = spanning_bodies(RuleSet::Sound)
+        .into_iter()
+        .filter(|b| spans(b))
+        .collect();
+    assert!(
+        !sound.is_empty(),
+        "sound no longer spans here: update this test"
+    );
+    for b in &sound {
+        let inside = t
+            .clusters
+            .iter()
+            .any(|c| b.iter().all(|r| c.rods.binary_search(r).is_ok()));
+        assert!(
+            !inside,
+            "a spanning sound body of {} rods lies in a true cluster",
+            b.len()
+        );
+    }
+    // Certified against the truth of the box: no spanning body.
+    let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+    let topo = Topology::periodic(&graph, &shifts).unwrap();
+    let seed_n = run_seed(seed, n as u64);
+    let runs = Engine::base(RuleSet::Sound).runs(&graph, seed_n, 40);
+    for (k, run) in runs.into_iter().enumerate() {
+        let run = rgc::engine::certify::certify(&topo, run, run_seed(seed_n, k as u64));
+        assert!(
+            run.bodies.iter().all(|b| !spans(&b.rods)),
+            "certified run {k} spans"
+        );
+    }
+    // The bare graph as a finite framework closes the loops through the box
+    // on themselves and lets a cluster span: not the truth of the box.
+    let bare = truth(&Topology::finite(&graph), TruthOptions::default());
+    assert!(bare.clusters.iter().any(|c| spans(&c.rods)));
 }
