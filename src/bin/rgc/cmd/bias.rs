@@ -63,24 +63,6 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
     let design = variants::checked_design(|r| bias::truth_design(r, &a.extended), &template)?;
     bias::check_design(&design)?;
     fss::check_bootstrap(c.study.bootstrap)?;
-    output::check_dir(&c.results)?;
-    output::check_dir(&c.studies)?;
-    let path = |ext: &str| c.results.join(format!("{NAME}.{ext}"));
-    let made = made_by(
-        &serde_json::to_value(&template).expect("specs serialize"),
-        &design,
-    );
-    if !c.force {
-        if let Ok(text) = std::fs::read_to_string(path("json")) {
-            let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-            if there.get("made_by") != Some(&made) {
-                return Err(Error::Parameter(format!(
-                    "{} holds the results of another experiment; choose another --results, or --force to replace them",
-                    path("json").display()
-                )));
-            }
-        }
-    }
     if a.scan_sequences > 0 {
         if let Some(l) = a.scan_boxes.iter().find(|l| !template.boxes.contains(l)) {
             return Err(Error::Parameter(format!(
@@ -99,6 +81,24 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
                 "--scan-sequences {} exceeds --sequences {}",
                 a.scan_sequences, template.sequences
             )));
+        }
+    }
+    output::check_dir(&c.results)?;
+    output::check_dir(&c.studies)?;
+    let path = |ext: &str| c.results.join(format!("{NAME}.{ext}"));
+    let made = made_by(
+        &serde_json::to_value(&template).expect("specs serialize"),
+        &design,
+    );
+    if !c.force {
+        if let Ok(text) = std::fs::read_to_string(path("json")) {
+            let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+            if there.get("made_by") != Some(&made) {
+                return Err(Error::Parameter(format!(
+                    "{} holds the results of another experiment; choose another --results, or --force to replace them",
+                    path("json").display()
+                )));
+            }
         }
     }
     let progress = Reporter::new(c.quiet || c.json);
