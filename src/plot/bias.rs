@@ -126,6 +126,6 @@ impl Chart for Bias<'_> {
                 ))
                 .legend(move |(px, py)| Circle::new((px + 10, py), 6, c.filled()));
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+        legend(&mut chart, SeriesLabelPosition::LowerRight)
     }
 }
