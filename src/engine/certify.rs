@@ -69,6 +69,7 @@ pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression 
         }
     } else {
         refuted = run.bodies.len();
+        run.undecided = true;
     }
     bodies.sort_by(|a, b| {
         b.rods

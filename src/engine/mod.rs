@@ -129,6 +129,10 @@ pub struct Compression {
     /// Certified rules: bodies truth refuted (split along the true clusters).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub refuted: usize,
+    /// Certified rules: truth was undecided, so nothing could be certified
+    /// (every body dropped).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub undecided: bool,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -352,6 +356,7 @@ fn compress_engine(
         motifs: counts,
         sequence,
         refuted: 0,
+        undecided: false,
     })
 }
 

@@ -109,7 +109,7 @@ pub struct VariantBias {
     pub threshold: Option<Estimate>,
     /// CPU seconds of its sequences (all boxes).
     pub cpu_seconds: f64,
-    /// Truth only: sequences where truth was undecided, left out.
+    /// Sequences where truth (or certification) was undecided, left out.
     pub undecided: usize,
     pub study: String,
 }
@@ -363,11 +363,12 @@ pub fn markdown(title: &str, command: &str, out: &[VariantBias], boxes: &[f64]) 
         cells.push(format!("{:.0}", v.cpu_seconds));
         md += &format!("| {} |\n", cells.join(" | "));
     }
-    if let Some(t) = out.first().filter(|t| t.undecided > 0) {
+    for v in out.iter().filter(|v| v.undecided > 0) {
         md += &format!(
-            "\nTruth was undecided (no realization of the model: forced coincident contacts) \
-             in {} of {} sequences per box, left out of every pair.\n",
-            t.undecided, t.sequences
+            "\n{}: truth was undecided (no realization of the model: forced coincident \
+             contacts, or forced planes holding three box directions) in {} of its {} \
+             sequences per box, left out of every pair.\n",
+            v.label, v.undecided, v.sequences
         );
     }
     md

@@ -168,9 +168,10 @@ pub struct Record {
     pub fixed: Vec<Step>,
     /// Contact numbers at the critical number (nested) or at each grid density (fixed).
     pub contacts: Vec<ContactPoint>,
-    /// Truth kind: the number of rods at which truth was undecided (no
-    /// realization of the model exists there), which ends the sequence
-    /// without a critical number; it is then left out of the analysis.
+    /// Truth kind, or certified rules: the number of rods at which truth was
+    /// undecided (no realization of the model exists there), which ends the
+    /// sequence without a critical number; it is then left out of the
+    /// analysis.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub undecided: Option<usize>,
     /// Time it took on its thread, in seconds (its CPU time: the runs of a
@@ -220,8 +221,8 @@ impl Record {
             }
         }
         if let Some(u) = self.undecided {
-            if kind != Kind::Truth || protocol != Protocol::Nested {
-                return Err("only a nested truth record can be undecided".into());
+            if kind == Kind::Contact || protocol != Protocol::Nested {
+                return Err("only a nested truth or certified record can be undecided".into());
             }
             if self.rigid_critical.is_some() || self.fresh.is_some() || !self.contacts.is_empty() {
                 return Err(format!(
@@ -380,14 +381,16 @@ fn replay(n_c: usize, steps: &[Step]) -> std::result::Result<usize, String> {
 
 /// Compresses the first `n` rods `setup.runs` times, run `k` starting from
 /// `start[k]` (bodies of a smaller prefix, rigid here too) or from nothing.
-/// Returns the step and each run's bodies. For the truth kind, evaluates
-/// the exact truth of the prefix instead (one "run", no bodies carried).
+/// Returns the step, each run's bodies and whether certification was
+/// undecided in a run that did not span (then the step's "no" is no
+/// verdict). For the truth kind, evaluates the exact truth of the prefix
+/// instead (one "run", no bodies carried).
 fn compress(
     setup: &Setup,
     seq: &Sequence,
     n: usize,
     start: Option<&[Vec<Body>]>,
-) -> Result<(Step, Vec<Vec<Body>>)> {
+) -> Result<(Step, Vec<Vec<Body>>, bool)> {
     let graph = seq.graph(n);
     let contacts = seq.contacts_of(n);
     if setup.kind == Kind::Truth {
@@ -397,7 +400,7 @@ fn compress(
             spans,
             runs_spanning: usize::from(spans),
         };
-        return Ok((step, vec![Vec::new(); setup.runs]));
+        return Ok((step, vec![Vec::new(); setup.runs], false));
     }
     let seed = run_seed(seq.seed, n as u64);
     // Certified compression only changes a verdict that spans (its bodies lie
@@ -412,7 +415,7 @@ fn compress(
     } else {
         setup.engine
     };
-    let results: Vec<(bool, Vec<Body>)> = (0..setup.runs)
+    let results: Vec<(bool, Vec<Body>, bool)> = (0..setup.runs)
         .map(|k| {
             let from = start.map_or(&[][..], |s| &s[k][..]);
             let run_seed = run_seed(seed, k as u64);
@@ -430,7 +433,7 @@ fn compress(
                 run = certify::certify(&topo, run, run_seed);
                 spanning = spans(&run);
             }
-            Ok((spanning, run.bodies))
+            Ok((spanning, run.bodies, run.undecided))
         })
         .collect::<Result<_>>()?;
     let runs_spanning = results.iter().filter(|r| r.0).count();
@@ -439,7 +442,8 @@ fn compress(
         spans: runs_spanning > 0,
         runs_spanning,
     };
-    Ok((step, results.into_iter().map(|r| r.1).collect()))
+    let undecided = !step.spans && results.iter().any(|r| r.2);
+    Ok((step, results.into_iter().map(|r| r.1).collect(), undecided))
 }
 
 /// The exact truth of the first `n` rods, its realizations seeded by the
@@ -568,7 +572,12 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
             )));
         }
         seq.reach(n)?;
-        let (step, bodies) = compress(setup, seq, n, Some(&lo_bodies))?;
+        let (step, bodies, undecided) = compress(setup, seq, n, Some(&lo_bodies))?;
+        if undecided {
+            // Certification had no truth to check against: no verdict here.
+            record.undecided = Some(n);
+            return Ok(());
+        }
         record.steps.push(step);
         if !step.spans {
             lo_bodies = bodies;
