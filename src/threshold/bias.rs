@@ -367,8 +367,10 @@ pub fn markdown(title: &str, command: &str, out: &[VariantBias], boxes: &[f64]) 
         md += &format!(
             "\n{}: truth was undecided (no realization of the model: forced coincident \
              contacts, or forced planes holding three box directions) in {} of its {} \
-             sequences per box, left out of every pair.\n",
-            v.label, v.undecided, v.sequences
+             sequences, left out of every pair.\n",
+            v.label,
+            v.undecided,
+            v.sequences * boxes.len() as u64
         );
     }
     md
