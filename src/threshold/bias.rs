@@ -26,21 +26,7 @@ use crate::{Error, Result};
 /// the paper's and the sound base motifs, certified compression, 10 and
 /// 40 runs per system, and the sound base motifs with `extended` rule files.
 pub fn truth_design(sequences: u64, extended: &[PathBuf]) -> Design {
-    let base = Variant {
-        label: String::new(),
-        family: String::new(),
-        kind: Kind::Rigid,
-        rules: RuleSet::Sound,
-        motifs: Vec::new(),
-        runs: 1,
-        method: Protocol::Nested,
-        sequences,
-    };
-    let v = |label: &str, family: &str| Variant {
-        label: label.into(),
-        family: family.into(),
-        ..base.clone()
-    };
+    let v = |label: &str, family: &str| Variant::sound_base(label, family, sequences);
     Design {
         variants: vec![
             Variant {

@@ -35,6 +35,23 @@ pub struct Variant {
     pub sequences: u64,
 }
 
+impl Variant {
+    /// The sound base motifs, one run, nested, on `sequences` per box: what
+    /// the experiments' variants change one thing of.
+    pub fn sound_base(label: &str, family: &str, sequences: u64) -> Self {
+        Variant {
+            label: label.into(),
+            family: family.into(),
+            kind: Kind::Rigid,
+            rules: RuleSet::Sound,
+            motifs: Vec::new(),
+            runs: 1,
+            method: Protocol::Nested,
+            sequences,
+        }
+    }
+}
+
 /// What a variant measured.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct VariantOutcome {
@@ -124,16 +141,7 @@ pub fn compare_design(runs: usize, sequences: u64, extended: &[PathBuf]) -> Desi
 /// * `method`: the fixed protocol with 1 and 10 runs.
 pub fn tradeoff_design(runs_list: &[usize], sequences: u64, rule_dir: &Path) -> Design {
     let r = sequences;
-    let base = Variant {
-        label: String::new(),
-        family: String::new(),
-        kind: Kind::Rigid,
-        rules: RuleSet::Sound,
-        motifs: Vec::new(),
-        runs: 1,
-        method: Protocol::Nested,
-        sequences: r,
-    };
+    let base = Variant::sound_base("", "", r);
     let mut variants = Vec::new();
     for &k in runs_list {
         variants.push(Variant {
