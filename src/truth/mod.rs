@@ -295,7 +295,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
             best = Some((elim, real));
         }
     }
-    let (elim, real) = best.expect("two twins ranked");
+    let (elim, real) = best.expect("at least one realization was ranked");
     out.method = Method::Exact;
     out.rank = Some(elim.rank);
     out.largest_front = Some(elim.largest_front);
