@@ -101,6 +101,35 @@ impl ContactGraph {
         self.neighbors(i).len()
     }
 
+    /// The 2-core: nodes with fewer than two neighbours left are peeled
+    /// until none is (petgraph 0.8 has no k-core algorithm). Returns each
+    /// node's membership, and the peeled nodes in order with their degree
+    /// when peeled (0 or 1).
+    pub fn two_core(&self) -> (Vec<bool>, Vec<(u32, u8)>) {
+        let n = self.n;
+        let mut degree: Vec<usize> = (0..n as u32).map(|i| self.degree(i)).collect();
+        let mut alive = vec![true; n];
+        let mut stack: Vec<u32> = (0..n as u32).filter(|&i| degree[i as usize] < 2).collect();
+        let mut peeled = Vec::new();
+        while let Some(i) = stack.pop() {
+            if !alive[i as usize] {
+                continue;
+            }
+            alive[i as usize] = false;
+            peeled.push((i, degree[i as usize] as u8));
+            for &(j, _) in self.neighbors(i) {
+                let j = j as usize;
+                if alive[j] {
+                    degree[j] -= 1;
+                    if degree[j] == 1 {
+                        stack.push(j as u32);
+                    }
+                }
+            }
+        }
+        (alive, peeled)
+    }
+
     /// The edge joining `a` and `b`, if any.
     pub fn edge_between(&self, a: u32, b: u32) -> Option<u32> {
         let nb = self.neighbors(a);

@@ -33,7 +33,7 @@ pub fn stats(graph: &ContactGraph) -> ContactStats {
     let c0 = 2.0 * graph.n_edges() as f64 / n as f64;
     let everyone = vec![true; n];
     let c1 = largest_component_mean_degree(graph, &everyone);
-    let core = two_core(graph);
+    let core = graph.two_core().0;
     let c2 = largest_component_mean_degree(graph, &core);
     ContactStats {
         c0,
@@ -41,31 +41,6 @@ pub fn stats(graph: &ContactGraph) -> ContactStats {
         c2,
         clustering: average_clustering(graph),
     }
-}
-
-/// Membership of the 2-core: peel nodes of degree < 2 until none is left
-/// (petgraph 0.8 has no k-core algorithm).
-fn two_core(graph: &ContactGraph) -> Vec<bool> {
-    let n = graph.n_nodes();
-    let mut degree: Vec<usize> = (0..n as u32).map(|i| graph.degree(i)).collect();
-    let mut alive = vec![true; n];
-    let mut stack: Vec<u32> = (0..n as u32).filter(|&i| degree[i as usize] < 2).collect();
-    while let Some(i) = stack.pop() {
-        if !alive[i as usize] {
-            continue;
-        }
-        alive[i as usize] = false;
-        for &(j, _) in graph.neighbors(i) {
-            let j = j as usize;
-            if alive[j] {
-                degree[j] -= 1;
-                if degree[j] == 1 {
-                    stack.push(j as u32);
-                }
-            }
-        }
-    }
-    alive
 }
 
 /// Mean degree `2 E_C / N_C` of the largest connected component `C` of the
@@ -172,7 +147,10 @@ mod tests {
         let mut alive = vec![true; 7];
         alive[4] = false;
         assert_eq!(largest_component_mean_degree(&g, &alive), 2.0);
-        assert_eq!(two_core(&g), [true, true, true, false, false, false, false]);
+        assert_eq!(
+            g.two_core().0,
+            [true, true, true, false, false, false, false]
+        );
         assert_eq!(largest_component_mean_degree(&g, &[false; 7]), 0.0);
     }
 }

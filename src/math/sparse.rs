@@ -320,13 +320,12 @@ fn forward(
                 .filter(|&k| !front[top][k].is_zero())
                 .map(|k| (k, front[top][k])),
         );
-        for r in top + 1..front.len() {
-            let f = front[r][col];
+        for row in &mut front[top + 1..] {
+            let f = row[col];
             if f.is_zero() {
                 continue;
             }
             let f = f * inv;
-            let row = &mut front[r];
             for &(k, v) in &row_nz {
                 row[k] = row[k] - f * v;
             }

@@ -35,11 +35,7 @@ pub fn clusters(
     // The common omega of each contact whose rods move as one, per kernel vector.
     let mut field: Vec<Option<Vec<Fp>>> = vec![None; graph.n_edges()];
     for (e, &[a, b]) in graph.edges().iter().enumerate() {
-        let (Some((pa, _)), Some((pb, _)), Some(_)) = (
-            parts.owner[a as usize],
-            parts.owner[b as usize],
-            real.points[e],
-        ) else {
+        let Some(((pa, _), (pb, _), _)) = parts.contact(real, e, [a, b]) else {
             continue;
         };
         let da = real.lines[a as usize].expect("placed").d;

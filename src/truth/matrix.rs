@@ -25,6 +25,9 @@ use crate::math::vec3::{V3, add, sub};
 /// Columns per part.
 pub const WIDTH: usize = 6;
 
+/// A rod's part and its image offset in that part's frame.
+pub type Owner = (u32, Offset);
+
 /// The parts of a system and which part moves each rod.
 #[derive(Clone, Debug)]
 pub struct Parts {
@@ -32,7 +35,24 @@ pub struct Parts {
     /// Parts `0..classes` are the plane classes, the others single rods.
     pub classes: usize,
     /// Per rod: its part and its offset in that part's frame (active rods only).
-    pub owner: Vec<Option<(u32, Offset)>>,
+    pub owner: Vec<Option<Owner>>,
+}
+
+impl Parts {
+    /// For an edge between two active rods: each rod's part with its offset,
+    /// and the contact point (in the frame of the edge's first rod).
+    pub fn contact(
+        &self,
+        real: &Realization,
+        e: usize,
+        [a, b]: [u32; 2],
+    ) -> Option<(Owner, Owner, V3<Fp>)> {
+        Some((
+            self.owner[a as usize]?,
+            self.owner[b as usize]?,
+            real.points[e]?,
+        ))
+    }
 }
 
 /// Classes are parts `0..classes`; each other active rod is a part of its own.
@@ -99,11 +119,7 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
     let graph = topo.graph;
     let mut rows = Vec::new();
     for (e, &[a, b]) in graph.edges().iter().enumerate() {
-        let (Some((pa, oa)), Some((pb, ob)), Some(x)) = (
-            parts.owner[a as usize],
-            parts.owner[b as usize],
-            real.points[e],
-        ) else {
+        let Some(((pa, oa), (pb, ob), x)) = parts.contact(real, e, [a, b]) else {
             continue;
         };
         if planes.inside[e].is_some() {

@@ -47,13 +47,16 @@ pub fn order(topo: &Topology, planes: &Planes, active: &[bool]) -> Result<Vec<u3
     }
     let mut in_class: Vec<usize> = planes.classes.iter().map(|c| c.rods.len()).collect();
     // Placed planes holding each rod.
-    let mut placed_planes = vec![0usize; n];
-    for r in 0..n {
-        placed_planes[r] = planes.of_rod[r]
-            .iter()
-            .filter(|&&(c, _)| preplaced(planes, c) || in_class[c as usize] >= 2)
-            .count();
-    }
+    let mut placed_planes: Vec<usize> = planes
+        .of_rod
+        .iter()
+        .map(|classes| {
+            classes
+                .iter()
+                .filter(|&&(c, _)| preplaced(planes, c) || in_class[c as usize] >= 2)
+                .count()
+        })
+        .collect();
     let placeable = |r: usize, held: &[usize], placed: &[usize]| match placed[r] {
         0 => held[r] <= 3,
         1 => held[r] <= 2,

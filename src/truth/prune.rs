@@ -39,27 +39,7 @@ impl Core {
 
 /// Removes rods with fewer than two contacts until none is left.
 pub fn two_core(graph: &ContactGraph) -> Core {
-    let n = graph.n_nodes();
-    let mut degree: Vec<usize> = (0..n as u32).map(|r| graph.degree(r)).collect();
-    let mut active = vec![true; n];
-    let mut stack: Vec<u32> = (0..n as u32).filter(|&r| degree[r as usize] < 2).collect();
-    let mut removed = Vec::new();
-    while let Some(r) = stack.pop() {
-        if !active[r as usize] {
-            continue;
-        }
-        active[r as usize] = false;
-        removed.push((r, degree[r as usize] as u8));
-        for &(m, _) in graph.neighbors(r) {
-            let m = m as usize;
-            if active[m] {
-                degree[m] -= 1;
-                if degree[m] == 1 {
-                    stack.push(m as u32);
-                }
-            }
-        }
-    }
+    let (active, removed) = graph.two_core();
     Core { active, removed }
 }
 

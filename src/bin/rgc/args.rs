@@ -101,3 +101,15 @@ pub struct VariantArgs {
     #[arg(long)]
     pub force: bool,
 }
+
+/// The extended motif sets that `compare` and `bias` measure.
+#[derive(Args)]
+pub struct ExtendedArgs {
+    /// The extended motif rule files.
+    #[arg(
+        long = "extended",
+        value_delimiter = ',',
+        default_value = "motifs/rods-6.json,motifs/rods-8.json,motifs/mixed-4.json"
+    )]
+    pub files: Vec<PathBuf>,
+}

@@ -1,8 +1,6 @@
 //! `rgc bias`: every 3D-RGC variant against the exact truth on the same
 //! sequences; writes `truth-vs-rgc.{json,md,csv,svg,png}`.
 
-use std::path::PathBuf;
-
 use clap::Args;
 use serde_json::json;
 
@@ -11,7 +9,7 @@ use rgc::threshold::fss;
 use rgc::threshold::variants::{self, Design};
 use rgc::{Error, Result, output};
 
-use crate::args::VariantArgs;
+use crate::args::{ExtendedArgs, VariantArgs};
 use crate::progress::Reporter;
 
 #[derive(Args)]
@@ -19,13 +17,8 @@ use crate::progress::Reporter;
 pub struct BiasArgs {
     #[command(flatten)]
     common: VariantArgs,
-    /// The extended motif rule files.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "motifs/rods-6.json,motifs/rods-8.json,motifs/mixed-4.json"
-    )]
-    extended: Vec<PathBuf>,
+    #[command(flatten)]
+    extended: ExtendedArgs,
     /// Also evaluate truth at every number of rods around the critical
     /// number of this many sequences per scanned box (is it monotone?);
     /// writes `truth-monotone.{json,csv}`.
@@ -57,10 +50,28 @@ fn made_by(template: &serde_json::Value, design: &Design) -> serde_json::Value {
     json!({ "template": template, "design": variants })
 }
 
+/// Refuses to replace an experiment file that another experiment made
+/// (an unreadable file is an error, a missing one is fine).
+fn check_replace(path: &std::path::Path, made: &serde_json::Value) -> Result<()> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(Error::io(path, e)),
+    };
+    let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+    if there.get("made_by") == Some(made) {
+        return Ok(());
+    }
+    Err(Error::Parameter(format!(
+        "{} holds the results of another experiment; choose another --results, or --force to replace them",
+        path.display()
+    )))
+}
+
 pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
     let c = &a.common;
     let template = c.study.spec();
-    let design = variants::checked_design(|r| bias::truth_design(r, &a.extended), &template)?;
+    let design = variants::checked_design(|r| bias::truth_design(r, &a.extended.files), &template)?;
     bias::check_design(&design)?;
     fss::check_bootstrap(c.study.bootstrap)?;
     if a.scan_sequences > 0 {
@@ -91,15 +102,7 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
         &design,
     );
     if !c.force {
-        if let Ok(text) = std::fs::read_to_string(path("json")) {
-            let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-            if there.get("made_by") != Some(&made) {
-                return Err(Error::Parameter(format!(
-                    "{} holds the results of another experiment; choose another --results, or --force to replace them",
-                    path("json").display()
-                )));
-            }
-        }
+        check_replace(&path("json"), &made)?;
     }
     let progress = Reporter::new(c.quiet || c.json);
     let (outcomes, truth): (Vec<VariantBias>, _) =

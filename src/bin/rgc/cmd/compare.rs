@@ -1,13 +1,11 @@
 //! `rgc compare`: paper base, sound base and sound + extended motifs on the
 //! same sequences.
 
-use std::path::PathBuf;
-
 use clap::Args;
 use rgc::Result;
 use rgc::threshold::variants;
 
-use crate::args::VariantArgs;
+use crate::args::{ExtendedArgs, VariantArgs};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -16,13 +14,8 @@ pub struct CompareArgs {
     /// Runs per system.
     #[arg(long, default_value_t = 1)]
     runs: usize,
-    /// The extended motif rule files.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "motifs/rods-6.json,motifs/rods-8.json,motifs/mixed-4.json"
-    )]
-    extended: Vec<PathBuf>,
+    #[command(flatten)]
+    extended: ExtendedArgs,
 }
 
 pub fn run(a: CompareArgs, out: &mut String) -> Result<()> {
@@ -32,7 +25,7 @@ pub fn run(a: CompareArgs, out: &mut String) -> Result<()> {
         c.study.gamma
     );
     let name = "compare-base-extended";
-    let make = |r| variants::compare_design(a.runs, r, &a.extended);
+    let make = |r| variants::compare_design(a.runs, r, &a.extended.files);
     let outcomes = super::run_experiment(c, name, &title, make, out)?;
     rgc::plot::compare_chart(
         &outcomes,
