@@ -13,13 +13,7 @@ fn rgc(args: &[&str]) -> Output {
 }
 
 fn json(args: &[&str]) -> Value {
-    let out = rgc(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+    serde_json::from_str(&stdout_of(args)).expect("stdout is one JSON object")
 }
 
 /// Runs a command that must fail with exit code 2 and a message containing `needle`.
