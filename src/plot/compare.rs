@@ -42,9 +42,11 @@ pub fn compare_chart(
     render(&Compare { outcomes, title }, COMPARE_SIZE, svg, png)
 }
 
-/// Draws (a) the threshold with its interval and (b) the interval's width
-/// against CPU seconds, a colour and marker per `family`, so that the cheapest
-/// variant of acceptable accuracy stands out.
+/// Draws (a) each variant's difference to the first (the exact truth in
+/// `rgc tradeoff`): the paired difference of critical densities where there
+/// is one, else of thresholds, with its interval, and (b) the width of the
+/// threshold's interval, against CPU seconds, a colour and marker per
+/// `family`, so that the cheapest variant of acceptable accuracy stands out.
 pub fn speed_accuracy_chart(
     outcomes: &[VariantOutcome],
     title: &str,
@@ -78,6 +80,11 @@ fn check(outcomes: &[VariantOutcome], cpu: bool) -> Result<()> {
         if values
             .into_iter()
             .chain([o.interval_width])
+            .chain(
+                o.difference()
+                    .into_iter()
+                    .flat_map(|d| [Some(d.value), d.lo, d.hi]),
+            )
             .flatten()
             .any(|v| !v.is_finite())
         {
@@ -379,6 +386,19 @@ struct Tradeoff<'a> {
 }
 
 impl Tradeoff<'_> {
+    /// What panel (a) plots: the difference to the first variant (zero for
+    /// the first itself, which the dashed line marks).
+    fn bias(&self, o: &VariantOutcome) -> Option<Estimate> {
+        if std::ptr::eq(o, &self.outcomes[0]) {
+            return Some(Estimate {
+                value: 0.0,
+                lo: None,
+                hi: None,
+            });
+        }
+        o.difference()
+    }
+
     fn family(&self, o: &VariantOutcome) -> usize {
         self.families
             .iter()
@@ -395,7 +415,7 @@ impl Tradeoff<'_> {
     ) -> Drawn<DB> {
         let style =
             TextStyle::from(("sans-serif", 18).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
-        let reference = format!("first variant ({})", self.outcomes[0].label);
+        let reference = format!("{}: the reference", self.outcomes[0].label);
         let (key, gap) = (34, 30);
         let mut entries = Vec::new();
         for name in self
@@ -432,15 +452,14 @@ impl Tradeoff<'_> {
     }
 
     /// The points `value` of every family on a panel: a line joining each
-    /// family in order of CPU time, the threshold's intervals when `bars`,
+    /// family in order of CPU time, each value's interval where it has one,
     /// the markers, and each label where it overlaps the least (also the
     /// horizontal line at `level`).
     fn points<DB, X, Y>(
         &self,
         root: &DrawingArea<DB, Shift>,
         chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
-        value: &dyn Fn(&VariantOutcome) -> Option<f64>,
-        bars: bool,
+        value: &dyn Fn(&VariantOutcome) -> Option<Estimate>,
         level: Option<f64>,
     ) -> Drawn<DB>
     where
@@ -448,7 +467,7 @@ impl Tradeoff<'_> {
         X: Ranged<ValueType = f64> + ValueFormatter<f64>,
         Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
     {
-        let shown: Vec<(&VariantOutcome, f64)> = self
+        let shown: Vec<(&VariantOutcome, Estimate)> = self
             .outcomes
             .iter()
             .filter_map(|o| Some((o, value(o)?)))
@@ -468,7 +487,7 @@ impl Tradeoff<'_> {
             let mut line: Vec<(f64, f64)> = shown
                 .iter()
                 .filter(|(o, _)| self.family(o) == k)
-                .map(|(o, v)| (o.cpu_seconds, *v))
+                .map(|(o, v)| (o.cpu_seconds, v.value))
                 .collect();
             line.sort_by(|a, b| a.0.total_cmp(&b.0));
             chart.draw_series(LineSeries::new(
@@ -486,25 +505,23 @@ impl Tradeoff<'_> {
                 }));
             }
         }
-        if bars {
-            for (o, _) in &shown {
-                let (t, c) = (&o.threshold, colour(self.family(o)));
-                if let (Some(lo), Some(hi)) = (t.lo, t.hi) {
-                    error_bars(chart, [(o.cpu_seconds, lo, hi)], c.mix(0.7), 5)?;
-                    let (x, top) = chart.backend_coord(&(o.cpu_seconds, hi));
-                    let (_, bottom) = chart.backend_coord(&(o.cpu_seconds, lo));
-                    obstacles.push(Rect {
-                        x0: x - 5,
-                        y0: top - 1,
-                        x1: x + 5,
-                        y1: bottom + 1,
-                    });
-                }
+        for (o, e) in &shown {
+            let c = colour(self.family(o));
+            if let (Some(lo), Some(hi)) = (e.lo, e.hi) {
+                error_bars(chart, [(o.cpu_seconds, lo, hi)], c.mix(0.7), 5)?;
+                let (x, top) = chart.backend_coord(&(o.cpu_seconds, hi));
+                let (_, bottom) = chart.backend_coord(&(o.cpu_seconds, lo));
+                obstacles.push(Rect {
+                    x0: x - 5,
+                    y0: top - 1,
+                    x1: x + 5,
+                    y1: bottom + 1,
+                });
             }
         }
         let mut at: Vec<(i32, i32)> = Vec::new();
         for (o, v) in &shown {
-            let p = chart.backend_coord(&(o.cpu_seconds, *v));
+            let p = chart.backend_coord(&(o.cpu_seconds, v.value));
             let k = self.family(o);
             draw_marker(root, p, k, colour(k))?;
             let r = MARKER as i32 + 2;
@@ -582,36 +599,46 @@ impl Chart for Tradeoff<'_> {
         let (x0, x1) = (c0 / 1.6, c1 * 2.2);
         let x_axis = || (x0..x1).log_scale().with_key_points(log_ticks(x0, x1));
 
-        let thresholds = self.outcomes.iter().flat_map(|o| {
-            let t = o.threshold;
-            [Some(t.value), t.lo, t.hi]
-        });
-        let (y0, y1) = span(thresholds.flatten(), 0.12);
+        let bias = |o: &VariantOutcome| self.bias(o);
+        let values = self
+            .outcomes
+            .iter()
+            .filter_map(bias)
+            .flat_map(|e| [Some(e.value), e.lo, e.hi]);
+        let (y0, y1) = span(values.flatten().chain([0.0]), 0.12);
+        let caption = format!(
+            "(a) ρc minus {}'s: paired per sequence (nested), of thresholds (fixed)",
+            self.outcomes[0].label
+        );
         let mut chart = ChartBuilder::on(&panels[0])
-            .caption("(a) threshold ρc with its 95% interval", ("sans-serif", 22))
+            .caption(caption, ("sans-serif", 22))
             .margin(MARGIN)
             .x_label_area_size(55)
             .y_label_area_size(Y_AREA)
             .build_cartesian_2d(x_axis(), y0..y1)?;
-        cpu_mesh(&mut chart, &format!("threshold ρc ({RHO})"), false)?;
-        let reference = self.outcomes[0].threshold.value;
+        cpu_mesh(
+            &mut chart,
+            &format!("difference of critical densities ({RHO})"),
+            false,
+        )?;
         chart.draw_series(DashedLineSeries::new(
-            [(x0, reference), (x1, reference)],
+            [(x0, 0.0), (x1, 0.0)],
             8,
             6,
             BLACK.mix(0.6).stroke_width(2),
         ))?;
-        self.points(
-            &root,
-            &mut chart,
-            &|o| Some(o.threshold.value),
-            true,
-            Some(reference),
-        )?;
+        self.points(&root, &mut chart, &bias, Some(0.0))?;
 
         let caption = "(b) width of the 95% interval of ρc";
         let width = |o: &VariantOutcome| o.interval_width;
         let widths: Vec<f64> = self.outcomes.iter().filter_map(width).collect();
+        let width = |o: &VariantOutcome| {
+            o.interval_width.map(|value| Estimate {
+                value,
+                lo: None,
+                hi: None,
+            })
+        };
         let (w0, w1) = (
             widths.iter().copied().fold(f64::INFINITY, f64::min),
             widths.iter().copied().fold(0.0, f64::max),
@@ -633,7 +660,7 @@ impl Chart for Tradeoff<'_> {
                 &format!("interval width ({RHO}), log scale"),
                 true,
             )?;
-            self.points(&root, &mut chart, &width, false, None)?;
+            self.points(&root, &mut chart, &width, None)?;
         } else {
             let top = if w1 > 0.0 { 1.15 * w1 } else { 1.0 };
             let mut chart = builder().build_cartesian_2d(x_axis(), 0.0..top)?;
@@ -648,7 +675,7 @@ impl Chart for Tradeoff<'_> {
                     ((xs.start + xs.end) / 2, (ys.start + ys.end) / 2),
                 )?;
             }
-            self.points(&root, &mut chart, &width, false, None)?;
+            self.points(&root, &mut chart, &width, None)?;
         }
         root.present()
     }

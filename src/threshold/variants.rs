@@ -76,8 +76,12 @@ pub struct VariantOutcome {
     /// variant's on the same sequence, with a 95% normal interval. Paired,
     /// so far tighter than the difference of two thresholds.
     pub paired_difference: Option<Estimate>,
-    /// The variant the paired difference is taken against.
+    /// The variant both differences are taken against.
     pub paired_with: Option<String>,
+    /// The threshold minus that of the variant it is measured against, with
+    /// the two intervals' half-widths added in quadrature.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threshold_difference: Option<Estimate>,
     /// CPU seconds of the analysed sequences.
     pub cpu_seconds: f64,
     /// How often one run misses a spanning body that all runs find together.
@@ -87,6 +91,15 @@ pub struct VariantOutcome {
     pub fresh_checks: usize,
     /// The study directory.
     pub study: String,
+}
+
+impl VariantOutcome {
+    /// How far the variant sits from the one it is measured against: the
+    /// paired difference where there is one, else the difference of
+    /// thresholds (the accuracy axis of `rgc tradeoff`).
+    pub fn difference(&self) -> Option<Estimate> {
+        self.paired_difference.or(self.threshold_difference)
+    }
 }
 
 /// Which variant each variant's paired difference is taken against.
@@ -129,9 +142,12 @@ pub fn compare_design(runs: usize, sequences: u64, extended: &[PathBuf]) -> Desi
     }
 }
 
-/// `rgc tradeoff`: threshold and interval width against CPU time, each
-/// variant changing one thing of the sound base motifs, one run, nested,
-/// `sequences` per box, and paired with that first variant:
+/// `rgc tradeoff`: bias against the exact truth and interval width against
+/// CPU time. Truth comes first and every variant is measured against it:
+/// the paired difference of critical densities on the same sequences
+/// (nested), or the difference of thresholds (fixed protocol). Each variant
+/// changes one thing of the sound base motifs, one run, nested, `sequences`
+/// per box:
 /// * `runs`: each count of `runs_list`; more than 10 runs analyse half the
 ///   sequences, which is where their cost puts them;
 /// * `motifs`: the audit's rule files in `rule_dir`, added size by size
@@ -142,7 +158,10 @@ pub fn compare_design(runs: usize, sequences: u64, extended: &[PathBuf]) -> Desi
 pub fn tradeoff_design(runs_list: &[usize], sequences: u64, rule_dir: &Path) -> Design {
     let r = sequences;
     let base = Variant::sound_base("", "", r);
-    let mut variants = Vec::new();
+    let mut variants = vec![Variant {
+        kind: Kind::Truth,
+        ..Variant::sound_base("truth", "truth", r)
+    }];
     for &k in runs_list {
         variants.push(Variant {
             label: format!("K={k}"),
@@ -394,12 +413,12 @@ pub fn run_variants(
             Pairing::First => (!analysed.is_empty()).then_some(0),
             Pairing::Previous => analysed.len().checked_sub(1),
         };
+        let threshold_difference = partner.map(|p| difference(t, outcomes[p].threshold));
+        let paired_with = partner.map(|p| variants[p].label.clone());
         // Variants reading one study (sequence subsets) have nothing to pair.
-        let partner = partner.filter(|&p| of_variant[p] != k);
-        let paired = partner.and_then(|p| paired_difference(spec, &analysed[p], &records));
-        let paired_with = partner
-            .filter(|_| paired.is_some())
-            .map(|p| variants[p].label.clone());
+        let paired = partner
+            .filter(|&p| of_variant[p] != k)
+            .and_then(|p| paired_difference(spec, &analysed[p], &records));
         analysed.push(records.clone());
         let reference = outcomes.first().map_or(t.value, |o| o.threshold.value);
         outcomes.push(VariantOutcome {
@@ -416,6 +435,7 @@ pub fn run_variants(
             relative_difference: (t.value - reference) / reference,
             paired_difference: paired,
             paired_with,
+            threshold_difference,
             cpu_seconds: report::timing(&subset, &records).cpu_seconds,
             single_run_miss_rate: summary.order.single_run_miss_rate,
             fresh_misses: summary.order.fresh_misses,
@@ -493,6 +513,18 @@ pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Resu
     )))
 }
 
+/// `a - b`, with the half-widths of their intervals added in quadrature on
+/// each side (the two may be correlated: this errs on the wide side).
+fn difference(a: Estimate, b: Estimate) -> Estimate {
+    let value = a.value - b.value;
+    let half = |x: Option<f64>, y: Option<f64>| Some(x?.hypot(y?));
+    Estimate {
+        value,
+        lo: half(a.lo.map(|lo| a.value - lo), b.hi.map(|hi| hi - b.value)).map(|h| value - h),
+        hi: half(a.hi.map(|hi| hi - a.value), b.lo.map(|lo| b.value - lo)).map(|h| value + h),
+    }
+}
+
 /// Mean difference of critical densities on the sequences both sets of
 /// records have (nested protocol), with a 95% normal interval.
 fn paired_difference(spec: &StudySpec, first: &[Record], records: &[Record]) -> Option<Estimate> {
@@ -557,6 +589,12 @@ struct Row<'a> {
     paired_lo: Option<f64>,
     #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
     paired_hi: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    threshold_difference: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    threshold_difference_lo: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    threshold_difference_hi: Option<f64>,
     /// The Markdown table's only field that is no CSV column.
     #[serde(skip)]
     paired_with: Option<&'a str>,
@@ -594,6 +632,9 @@ impl<'a> Row<'a> {
             paired_difference: paired.map(|p| p.value),
             paired_lo: paired.and_then(|p| p.lo),
             paired_hi: paired.and_then(|p| p.hi),
+            threshold_difference: o.threshold_difference.map(|d| d.value),
+            threshold_difference_lo: o.threshold_difference.and_then(|d| d.lo),
+            threshold_difference_hi: o.threshold_difference.and_then(|d| d.hi),
             paired_with: o.paired_with.as_deref(),
             cpu_seconds: o.cpu_seconds,
             single_run_miss_rate: o.single_run_miss_rate,
@@ -611,11 +652,22 @@ fn interval(lo: Option<f64>, hi: Option<f64>) -> String {
     }
 }
 
+/// A difference with its interval and the variant it is taken against, or a dash.
+fn against(r: &Row, d: Option<f64>, lo: Option<f64>, hi: Option<f64>) -> String {
+    d.map_or("—".into(), |d| {
+        format!(
+            "{d:+.3} {} (vs {})",
+            interval(lo, hi),
+            r.paired_with.unwrap_or("?")
+        )
+    })
+}
+
 /// A Markdown column: its heading and how a [`Row`] fills its cell.
 type Column = (&'static str, fn(&Row) -> String);
 
 /// The Markdown table's columns.
-const MARKDOWN: [Column; 14] = [
+const MARKDOWN: [Column; 15] = [
     ("variant", |r| r.label.to_string()),
     ("rules", |r| format!("{:?}", r.rules)),
     ("motifs", |r| r.motif_rules.to_string()),
@@ -628,13 +680,15 @@ const MARKDOWN: [Column; 14] = [
         format!("{:+.2}%", 100.0 * r.relative_difference)
     }),
     ("paired diff. of critical densities (against)", |r| {
-        r.paired_difference.map_or("—".into(), |p| {
-            format!(
-                "{p:+.3} {} (vs {})",
-                interval(r.paired_lo, r.paired_hi),
-                r.paired_with.unwrap_or("?")
-            )
-        })
+        against(r, r.paired_difference, r.paired_lo, r.paired_hi)
+    }),
+    ("diff. of thresholds (against)", |r| {
+        against(
+            r,
+            r.threshold_difference,
+            r.threshold_difference_lo,
+            r.threshold_difference_hi,
+        )
     }),
     ("nu", |r| {
         format!("{:.3} {}", r.nu, interval(r.nu_lo, r.nu_hi))
@@ -711,6 +765,6 @@ mod tests {
             row.starts_with("\"k=1, \"\"base\"\"\",rules,paper,"),
             "{row}"
         );
-        assert_eq!(row.matches(',').count(), 22, "{row}");
+        assert_eq!(row.matches(',').count(), 25, "{row}");
     }
 }

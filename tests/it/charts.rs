@@ -57,6 +57,7 @@ fn outcomes() -> Vec<VariantOutcome> {
             relative_difference: (t - first) / first,
             paired_difference: None,
             paired_with: None,
+            threshold_difference: Some(estimate(t - first, half)),
             cpu_seconds: cpu,
             single_run_miss_rate: None,
             fresh_misses: 0,
