@@ -107,14 +107,17 @@ impl CompiledRule {
     }
 }
 
+/// A contact's (pattern node, rod label) on each of its two sides.
+type Sides = [(usize, u8); 2];
+
 /// A host node's kind as the matcher sees it.
 fn fits(pattern: NodeKind, host: Option<BodyClass>) -> bool {
-    match (pattern, host) {
-        (NodeKind::Rod, None) => true,
-        (NodeKind::Planar, Some(_)) => true,
-        (NodeKind::Spatial, Some(BodyClass::Spatial)) => true,
-        _ => false,
-    }
+    matches!(
+        (pattern, host),
+        (NodeKind::Rod, None)
+            | (NodeKind::Planar, Some(_))
+            | (NodeKind::Spatial, Some(BodyClass::Spatial))
+    )
 }
 
 impl State<'_> {
@@ -428,7 +431,7 @@ impl State<'_> {
             }
         };
         // (plane pair) -> the chosen contacts' (pattern node, label) on each side.
-        let mut groups: Vec<((u32, u32), Vec<[(usize, u8); 2]>)> = Vec::new();
+        let mut groups: Vec<((u32, u32), Vec<Sides>)> = Vec::new();
         for (k, pair) in chosen.iter().enumerate() {
             let (a, b, _) = pairs[k];
             for (l, (la, lb)) in pair {

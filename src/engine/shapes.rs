@@ -115,9 +115,12 @@ pub fn rod_sharing_variants(kinds: &[NodeKind], pairs: &[(u8, u8)]) -> Vec<Patte
     out
 }
 
+/// A motif's name, node kinds and contacts (pairs of nodes).
+pub type Shape = (&'static str, Vec<NodeKind>, Vec<(u8, u8)>);
+
 /// The base motifs as shapes: kinds (planar where every class assignment is
 /// rigid, so the rule matches any body) and contacts.
-pub fn base_shapes() -> Vec<(&'static str, Vec<NodeKind>, Vec<(u8, u8)>)> {
+pub fn base_shapes() -> Vec<Shape> {
     use NodeKind::{Planar as P, Rod as R, Spatial as S};
     let k24: Vec<(u8, u8)> = (2..6).flat_map(|k| [(0, k), (1, k)]).collect();
     vec![

@@ -19,8 +19,9 @@ fn dense_rank(m: &Matrix<Fp>) -> usize {
         for r in 0..m.rows {
             if r != rank && !a[r][c].is_zero() {
                 let f = a[r][c] * inv;
-                for k in 0..m.cols {
-                    a[r][k] = a[r][k] - f * a[rank][k];
+                let pivot = a[rank].clone();
+                for (x, &p) in a[r].iter_mut().zip(&pivot).take(m.cols) {
+                    *x = *x - f * p;
                 }
             }
         }

@@ -39,7 +39,7 @@ fn rules_round_trip_through_files_and_directories() {
     write_rules(&d.join("a.json"), &[rule("a")]).unwrap();
     write_rules(&d.join("b.json"), &[rule("b")]).unwrap();
     std::fs::write(d.join("notes.txt"), "not a rule file").unwrap();
-    let loaded = load_rules(&[d.clone()]).unwrap();
+    let loaded = load_rules(std::slice::from_ref(&d)).unwrap();
     assert_eq!(
         loaded.iter().map(|r| r.id.as_str()).collect::<Vec<_>>(),
         ["a", "b"]
