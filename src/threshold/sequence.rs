@@ -145,6 +145,30 @@ pub struct Step {
     pub spans: bool,
     /// Runs (of `Setup::runs`) with a spanning body.
     pub runs_spanning: usize,
+    /// Truth (or certification) had no verdict here: a probe above the
+    /// critical number that landed where the model has no realization, so
+    /// the search looks below it (it does not span, by this step).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub undecided: bool,
+}
+
+impl Step {
+    pub fn new(n: usize, spans: bool, runs_spanning: usize) -> Self {
+        Step {
+            n,
+            spans,
+            runs_spanning,
+            undecided: false,
+        }
+    }
+
+    /// A probe without a verdict.
+    fn undecided(n: usize) -> Self {
+        Step {
+            undecided: true,
+            ..Step::new(n, false, 0)
+        }
+    }
 }
 
 /// What one sequence produced: one line of a study's record file.
@@ -331,12 +355,13 @@ impl Record {
 }
 
 /// Where [`Bisection`] goes after replaying `steps` from contact critical
-/// number `n_c`: the next number of rods, or `None` when it has ended.
+/// number `n_c`: where it waits for a verdict ([`Bisection::waiting`]), or
+/// `None` when it has ended.
 fn replay_until(n_c: usize, steps: &[Step]) -> std::result::Result<Option<usize>, String> {
     let mut search = Bisection::new(n_c);
     for (k, s) in steps.iter().enumerate() {
         match search.next() {
-            Some(n) if n == s.n => search.record(n, s.spans),
+            Some(n) if n == s.n => search.replay(s)?,
             next => {
                 return Err(format!(
                     "step {} has {} rods where the bisection goes to {next:?}",
@@ -346,7 +371,7 @@ fn replay_until(n_c: usize, steps: &[Step]) -> std::result::Result<Option<usize>
             }
         }
     }
-    Ok(search.next())
+    Ok(search.waiting())
 }
 
 /// The rigid critical number `steps` lead to when [`Bisection`] replays
@@ -367,7 +392,7 @@ fn replay(n_c: usize, steps: &[Step]) -> std::result::Result<usize, String> {
                 s.n
             ));
         }
-        search.record(n, s.spans);
+        search.replay(s)?;
     }
     match steps.next() {
         Some((k, s)) => Err(format!(
@@ -375,7 +400,9 @@ fn replay(n_c: usize, steps: &[Step]) -> std::result::Result<usize, String> {
             k + 1,
             s.n
         )),
-        None => Ok(search.hi.expect("the search ends on a spanning system")),
+        None => search
+            .hi
+            .ok_or_else(|| "the steps end below a guess without a verdict".into()),
     }
 }
 
@@ -395,11 +422,7 @@ fn compress(
     let contacts = seq.contacts_of(n);
     if setup.kind == Kind::Truth {
         let spans = truth_spans(setup, seq, n)?;
-        let step = Step {
-            n,
-            spans,
-            runs_spanning: usize::from(spans),
-        };
+        let step = Step::new(n, spans, usize::from(spans));
         return Ok((step, vec![Vec::new(); setup.runs], false));
     }
     let seed = run_seed(seq.seed, n as u64);
@@ -437,11 +460,7 @@ fn compress(
         })
         .collect::<Result<_>>()?;
     let runs_spanning = results.iter().filter(|r| r.0).count();
-    let step = Step {
-        n,
-        spans: runs_spanning > 0,
-        runs_spanning,
-    };
+    let step = Step::new(n, runs_spanning > 0, runs_spanning);
     let undecided = !step.spans && results.iter().any(|r| r.2);
     Ok((step, results.into_iter().map(|r| r.1).collect(), undecided))
 }
@@ -490,6 +509,10 @@ const GROWTH: f64 = 1.25;
 /// number `n_c`, grows its upper end from a guess until that spans, then
 /// bisects. [`nested`] runs it on compressions, and [`Record::check`]
 /// replays it on a record's steps.
+///
+/// Truth has no verdict where forced planes percolate, far above the
+/// critical number; a growing guess can land there. Such a guess becomes a
+/// ceiling, and the search halves the gap below it until a guess spans.
 struct Bisection {
     /// Largest number of rods known not to span.
     lo: usize,
@@ -497,6 +520,8 @@ struct Bisection {
     hi: Option<usize>,
     /// The next guess while none spans.
     probe: usize,
+    /// The smallest guess without a verdict, while none spans.
+    ceiling: Option<usize>,
 }
 
 impl Bisection {
@@ -505,16 +530,53 @@ impl Bisection {
             lo: n_c - 1,
             hi: None,
             probe: (n_c as f64 * FIRST_GUESS).ceil() as usize,
+            ceiling: None,
         }
     }
 
-    /// The number of rods to compress next, or `None` once `hi` is one above `lo`.
+    /// The number of rods to compress next, or `None` once `hi` (or the
+    /// ceiling, when nothing spans) is one above `lo`.
     fn next(&self) -> Option<usize> {
-        match self.hi {
-            None => Some(self.probe),
-            Some(hi) if hi - self.lo > 1 => Some(self.lo + (hi - self.lo) / 2),
-            Some(_) => None,
+        match (self.hi, self.ceiling) {
+            (None, None) => Some(self.probe),
+            (Some(top), _) | (None, Some(top)) if top - self.lo > 1 => {
+                Some(self.lo + (top - self.lo) / 2)
+            }
+            _ => None,
         }
+    }
+
+    /// Takes in that `n` rods (the last [`Bisection::next`]) have no
+    /// verdict; whether the search goes on below it. Only a guess above
+    /// everything that spans can be stepped over: inside the bisection, a
+    /// missing verdict would leave the critical number unknown.
+    fn undecided(&mut self, n: usize) -> bool {
+        if self.hi.is_some() {
+            return false;
+        }
+        self.ceiling = Some(n);
+        self.next().is_some()
+    }
+
+    /// Where the search waits for a verdict: the next guess, or the ceiling
+    /// once nothing spans below it.
+    fn waiting(&self) -> Option<usize> {
+        self.next().or(self.ceiling.filter(|_| self.hi.is_none()))
+    }
+
+    /// Replays one recorded step, or says why the search could not have made it.
+    fn replay(&mut self, s: &Step) -> std::result::Result<(), String> {
+        if !s.undecided {
+            self.record(s.n, s.spans);
+            return Ok(());
+        }
+        if s.spans || !self.undecided(s.n) {
+            return Err(format!(
+                "{} rods are recorded without a verdict where the search could not go on",
+                s.n
+            ));
+        }
+        Ok(())
     }
 
     /// Takes in whether `n` rods (the last [`Bisection::next`]) span.
@@ -545,17 +607,20 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         while let Some(n) = search.next() {
             seq.reach(n)?;
             let Some(spans) = truth_spanning(setup, seq, n) else {
+                if search.undecided(n) {
+                    record.steps.push(Step::undecided(n));
+                    continue;
+                }
                 record.undecided = Some(n);
                 return Ok(());
             };
-            record.steps.push(Step {
-                n,
-                spans,
-                runs_spanning: usize::from(spans),
-            });
+            record.steps.push(Step::new(n, spans, usize::from(spans)));
             search.record(n, spans);
         }
-        let hi = search.hi.expect("the search ends on a spanning system");
+        let Some(hi) = search.hi else {
+            record.undecided = search.waiting();
+            return Ok(());
+        };
         record.rigid_critical = Some(hi);
         // Truth carries nothing from step to step: the last spanning step is fresh.
         record.fresh = record.steps.iter().rev().find(|s| s.n == hi).copied();
@@ -575,6 +640,10 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         let (step, bodies, undecided) = compress(setup, seq, n, Some(&lo_bodies))?;
         if undecided {
             // Certification had no truth to check against: no verdict here.
+            if search.undecided(n) {
+                record.steps.push(Step::undecided(n));
+                continue;
+            }
             record.undecided = Some(n);
             return Ok(());
         }
@@ -584,7 +653,10 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         }
         search.record(n, step.spans);
     }
-    let hi = search.hi.expect("the search ends on a spanning system");
+    let Some(hi) = search.hi else {
+        record.undecided = search.waiting();
+        return Ok(());
+    };
     record.rigid_critical = Some(hi);
     record.fresh = Some(if setup.kind == Kind::Truth {
         // Truth carries nothing from step to step: the last spanning step is fresh.
@@ -611,22 +683,80 @@ pub fn fixed(setup: &Setup, seq: &mut Sequence, grid: &[usize], record: &mut Rec
         let step = match setup.kind {
             Kind::Contact => {
                 let spans = n >= n_c;
-                Step {
-                    n,
-                    spans,
-                    runs_spanning: usize::from(spans),
-                }
+                Step::new(n, spans, usize::from(spans))
             }
             // Rigid spanning needs contact spanning: no need to compress below it.
-            Kind::Rigid | Kind::Truth if n < n_c => Step {
-                n,
-                spans: false,
-                runs_spanning: 0,
-            },
+            Kind::Rigid | Kind::Truth if n < n_c => Step::new(n, false, 0),
             Kind::Rigid | Kind::Truth => compress(setup, seq, n, None)?.0,
         };
         record.fixed.push(step);
         record.contacts.push(seq.contact_point(n));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The nested loop of [`nested`] on a verdict per number of rods:
+    /// its steps, and the critical number or where it stayed undecided.
+    fn search(
+        n_c: usize,
+        verdict: impl Fn(usize) -> Option<bool>,
+    ) -> (Vec<Step>, std::result::Result<usize, Option<usize>>) {
+        let mut search = Bisection::new(n_c);
+        let mut steps = Vec::new();
+        while let Some(n) = search.next() {
+            match verdict(n) {
+                Some(spans) => {
+                    steps.push(Step::new(n, spans, usize::from(spans)));
+                    search.record(n, spans);
+                }
+                None if search.undecided(n) => steps.push(Step::undecided(n)),
+                None => return (steps, Err(Some(n))),
+            }
+        }
+        let end = search.hi.ok_or(search.waiting());
+        (steps, end)
+    }
+
+    #[test]
+    fn a_guess_without_verdict_becomes_a_ceiling() {
+        // Spans from 130 rods on; no verdict from 140 on. The guesses grow
+        // 100, 125, 157 (no verdict: the ceiling), then halve the gap below.
+        let (steps, end) = search(50, |n| (n < 140).then_some(n >= 130));
+        assert_eq!(end, Ok(130));
+        let rods: Vec<(usize, bool)> = steps.iter().map(|s| (s.n, s.undecided)).collect();
+        assert_eq!(
+            rods[..5],
+            [
+                (100, false),
+                (125, false),
+                (157, true),
+                (141, true),
+                (133, false)
+            ]
+        );
+        assert_eq!(replay(50, &steps), Ok(130));
+        // Without the verdict the search would not go on, so a record that
+        // claims one is refused.
+        let mut forged = steps.clone();
+        forged[2].undecided = false;
+        assert!(replay(50, &forged).is_err());
+    }
+
+    #[test]
+    fn nothing_spanning_below_the_ceiling_stays_undecided() {
+        // No verdict from 140 rods on, and nothing spans below.
+        let (steps, end) = search(50, |n| (n < 140).then_some(false));
+        let Err(Some(at)) = end else {
+            panic!("{end:?}")
+        };
+        assert_eq!(replay_until(50, &steps), Ok(Some(at)));
+        assert!(replay(50, &steps).is_err());
+        // Inside the bisection a missing verdict ends the search.
+        let (_, end) = search(50, |n| if n == 112 { None } else { Some(n >= 110) });
+        assert_eq!(end, Err(Some(112)));
+    }
 }

@@ -381,11 +381,7 @@ fn another_study_in_the_same_directory_is_refused() {
 #[test]
 fn order_effects_count_fresh_misses_and_non_monotone_steps() {
     use rgc::threshold::sequence::Step;
-    let s = |n, spans, runs_spanning| Step {
-        n,
-        spans,
-        runs_spanning,
-    };
+    let s = Step::new;
     let mut spec = spec(Kind::Rigid, Protocol::Fixed);
     spec.runs = 4;
     let r = Record {
