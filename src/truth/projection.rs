@@ -115,6 +115,15 @@ struct System<'a> {
     unknowns: usize,
 }
 
+/// A contact's unknowns: `s_a` at `at` (then `s_b`), the lines' `p` at
+/// `la` and `lb` (then `d`), and where the box puts `b`'s image from `a`.
+struct Unknowns {
+    at: usize,
+    la: usize,
+    lb: usize,
+    shift: V3<f64>,
+}
+
 fn v3(u: &[f64], at: usize) -> V3<f64> {
     [u[at], u[at + 1], u[at + 2]]
 }
@@ -145,9 +154,17 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Where rod `r` sees the other rod of edge `e` displaced by the box.
-    fn shift(&self, e: usize, r: u32) -> V3<f64> {
-        lattice(self.side, self.topo.seen(e as u32, r))
+    /// Every contact between active rods with its unknowns.
+    fn contacts(&self) -> impl Iterator<Item = Unknowns> + '_ {
+        let edges = self.topo.graph.edges().iter().enumerate();
+        edges.filter_map(|(e, &[a, b])| {
+            Some(Unknowns {
+                at: self.contact[e]?,
+                la: self.line[a as usize]?,
+                lb: self.line[b as usize]?,
+                shift: lattice(self.side, self.topo.seen(e as u32, a)),
+            })
+        })
     }
 
     fn eval(&self, u: &[f64], jacobian: bool) -> Eval {
@@ -160,16 +177,14 @@ impl<'a> System<'a> {
                 (0..3).flat_map(|k| [(at + k, d[k]), (at + 3 + k, p[k])]),
             );
         }
-        for (e, &[a, b]) in self.topo.graph.edges().iter().enumerate() {
-            let (Some(at), Some(la), Some(lb)) = (
-                self.contact[e],
-                self.line[a as usize],
-                self.line[b as usize],
-            ) else {
-                continue;
-            };
+        for Unknowns {
+            at,
+            la,
+            lb,
+            shift: t,
+        } in self.contacts()
+        {
             let (sa, sb) = (u[at], u[at + 1]);
-            let t = self.shift(e, a);
             for k in 0..3 {
                 let (da, db) = (u[la + 3 + k], u[lb + 3 + k]);
                 ev.row(
@@ -265,16 +280,9 @@ impl<'a> System<'a> {
             u[at..at + 3].copy_from_slice(&sub(p, scale(d, dot(p, d))));
             u[at + 3..at + 6].copy_from_slice(&d);
         }
-        for (e, &[a, b]) in self.topo.graph.edges().iter().enumerate() {
-            let (Some(at), Some(la), Some(lb)) = (
-                self.contact[e],
-                self.line[a as usize],
-                self.line[b as usize],
-            ) else {
-                continue;
-            };
+        for Unknowns { at, la, lb, shift } in self.contacts() {
             let (pa, da) = (v3(&u, la), v3(&u, la + 3));
-            let (pb, db) = (add(v3(&u, lb), self.shift(e, a)), v3(&u, lb + 3));
+            let (pb, db) = (add(v3(&u, lb), shift), v3(&u, lb + 3));
             let n = cross(da, db);
             let nn = dot(n, n);
             let w = sub(pb, pa);

@@ -131,21 +131,7 @@ fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
         let path = format!("graphs/maxwell-mindeg2-n{n}.g6");
         graphs.extend(read_graph6_file(Path::new(&path)).unwrap());
     }
-    // Planes {0,1,2} and {0,3,4} hinged on rod 0, locked by triangle {5,6,7}.
-    let hinge = [
-        [0, 1],
-        [1, 2],
-        [0, 2],
-        [0, 3],
-        [3, 4],
-        [0, 4],
-        [5, 6],
-        [6, 7],
-        [5, 7],
-        [5, 1],
-        [6, 3],
-    ];
-    graphs.push(ContactGraph::new(8, hinge.to_vec()).unwrap());
+    graphs.push(crate::truth::locked_hinge());
     for g in &graphs {
         let topo = Topology::finite(g);
         let exact = truth(&topo, TruthOptions::default());
