@@ -76,8 +76,8 @@ pub const SAFETY: f64 = 100.0;
 /// A test value above [`SAFETY`] times its error but at most this many
 /// times that is neither zero nor clearly not: the float clusters are then
 /// undecided. On the 853 connected graphs of 7 rods forced into floats and
-/// a periodic system of 1,320 columns, values that are zero stayed below
-/// 10 times their error and the others above `1e5` times it.
+/// five periodic systems of up to 1,320 columns, values that are zero
+/// stayed below 10 times their error and the others above `1e7` times it.
 pub const GREY: f64 = 100.0;
 
 /// The rigid clusters from a float kernel basis, as [`clusters`]; the lines

@@ -82,6 +82,23 @@ fn the_4_cube_is_rigid_as_the_motif_projection_says() {
     assert_eq!(forced.dof, 0);
     assert_eq!(t.dof, Some(0));
     assert_eq!(rods(&t), vec![(0..16).collect::<Vec<u32>>()]);
+
+    // The same cube in a fixed periodic box, each rod at some image (a
+    // contact sees the other rod's image shifted by the difference): still
+    // one rigid cluster, which now turns in the box (3 rotations are motions).
+    let g = cube(4);
+    let image = |r: u32| [r as i32 % 3 - 1, (r as i32 / 3) % 2, -(r as i32 % 2)];
+    let shifts: Vec<[i32; 3]> = g
+        .edges()
+        .iter()
+        .map(|&[a, b]| [0, 1, 2].map(|k| image(b)[k] - image(a)[k]))
+        .collect();
+    let topo = Topology::periodic(&g, &shifts).unwrap();
+    let p = truth(&topo, TruthOptions::default());
+    assert_eq!(p.method, Method::Float, "{:?}", p.reason);
+    assert_eq!(p.trivial_motions, 3);
+    assert_eq!(p.dof, Some(3));
+    assert_eq!(rods(&p), rods(&t));
 }
 
 /// Two 4-cubes sharing one rod: each is rigid, and they turn against each
@@ -122,8 +139,9 @@ fn float_clusters_keep_a_hinge_apart_and_a_second_shared_rod_locks_it() {
 /// Where a construction order exists truth stays exact, and the float path
 /// forced on the same graph finds the same degrees of freedom and the same
 /// clusters: every rods-only candidate with up to 7 rods, a graph with
-/// hinged planes, and a generated periodic system (318 columns; its
-/// realizations in the fixed box, with wrapping contacts).
+/// hinged planes, and two generated periodic systems (realized in the
+/// fixed box, with contacts across it; in the second a forced plane wraps
+/// the box along two directions).
 #[test]
 fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
     let mut graphs = Vec::new();
@@ -143,20 +161,29 @@ fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
         assert_eq!(float.clusters, exact.clusters, "{g6}");
     }
 
-    let system =
-        rgc::rods::RodSystem::generate(rgc::rods::RodParams::new(23.0, 3.0, 20.0).unwrap(), 1);
-    let contacts = rgc::contacts::detect(&system);
-    let graph = ContactGraph::from_contacts(system.len(), &contacts);
-    let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-    assert!(shifts.iter().any(|s| *s != [0; 3]));
-    let topo = Topology::periodic(&graph, &shifts).unwrap();
-    let exact = truth(&topo, TruthOptions::default());
-    let float = truth_in_floats(&topo, TruthOptions::default());
-    assert_eq!(exact.method, Method::Exact);
-    assert_eq!(float.method, Method::Float, "{:?}", float.reason);
-    assert_eq!(float.columns, 318);
-    assert_eq!(float.dof, exact.dof);
-    assert_eq!(float.clusters, exact.clusters);
+    // (gamma, box, density, seed, columns, most box directions a class wraps)
+    for (gamma, side, rho, seed, columns, wraps) in
+        [(23.0, 3.0, 20.0, 1, 318, 0), (10.0, 2.5, 18.5, 20, 468, 2)]
+    {
+        let params = rgc::rods::RodParams::new(gamma, side, rho).unwrap();
+        let system = rgc::rods::RodSystem::generate(params, seed);
+        let contacts = rgc::contacts::detect(&system);
+        let graph = ContactGraph::from_contacts(system.len(), &contacts);
+        let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+        assert!(shifts.iter().any(|s| *s != [0; 3]));
+        let topo = Topology::periodic(&graph, &shifts).unwrap();
+        let core = rgc::truth::prune::two_core(&graph);
+        let planes = rgc::truth::planes::forced(&topo, &core.active).unwrap();
+        let most = planes.classes.iter().map(|c| c.wraps.len()).max();
+        assert_eq!(most, Some(wraps));
+        let exact = truth(&topo, TruthOptions::default());
+        let float = truth_in_floats(&topo, TruthOptions::default());
+        assert_eq!(exact.method, Method::Exact);
+        assert_eq!(float.method, Method::Float, "{:?}", float.reason);
+        assert_eq!(float.columns, columns);
+        assert_eq!(float.dof, exact.dof);
+        assert_eq!(float.clusters, exact.clusters);
+    }
 }
 
 /// The same seed gives the same answer; another seed draws other
