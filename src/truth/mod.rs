@@ -123,11 +123,13 @@ pub enum Method {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TruthOptions {
     pub seed: u64,
-    /// Redraws of a realization that lands on a degenerate position.
+    /// Redraws of a realization that lands on a degenerate position (the
+    /// float fallback draws [`fallback::DRAWS_PER_ATTEMPT`] times as many).
     pub attempts: usize,
     /// Rank a second, independent realization too (the generic rank is the
     /// larger). One realization already proves what it finds rigid; the twin
-    /// guards the flexible answers against an unlucky draw.
+    /// guards the flexible answers against an unlucky draw. The float
+    /// fallback proves nothing from one realization and always ranks twins.
     pub twins: bool,
 }
 
