@@ -9,25 +9,47 @@ use super::matrix::Matrix;
 /// rgc's matrices are small and many, so they are parallel across patterns).
 /// `None` when the matrix has a non-finite entry or the SVD does not converge.
 pub fn singular_values(m: &Matrix<f64>) -> Option<Vec<f64>> {
+    svd(m, None).map(|s| descending(s.into_iter()))
+}
+
+/// The singular values of a float matrix, descending, and its right
+/// singular vectors: column `k` of the `cols x cols` matrix belongs to value
+/// `k`, and the columns past the numerical rank span the kernel (those past
+/// `min(rows, cols)` have no value and lie in it). `None` as for
+/// [`singular_values`].
+pub fn singular_vectors(m: &Matrix<f64>) -> Option<(Vec<f64>, faer::Mat<f64>)> {
+    let mut v = faer::Mat::<f64>::zeros(m.cols, m.cols);
+    let s = svd(m, Some(v.as_mut()))?;
+    Some((s, v))
+}
+
+/// faer's SVD on one thread, with the full right singular vectors in `v`
+/// when asked; the values come nonincreasing.
+fn svd(m: &Matrix<f64>, v: Option<faer::MatMut<'_, f64>>) -> Option<Vec<f64>> {
     use faer::dyn_stack::{MemBuffer, MemStack};
     use faer::linalg::svd::{self, ComputeSvdVectors};
     let a = to_faer(m)?;
     let mut s = faer::diag::Diag::<f64>::zeros(m.rows.min(m.cols));
     let no = ComputeSvdVectors::No;
-    let scratch = svd::svd_scratch::<f64>(m.rows, m.cols, no, no, faer::Par::Seq, default());
+    let want_v = if v.is_some() {
+        ComputeSvdVectors::Full
+    } else {
+        no
+    };
+    let scratch = svd::svd_scratch::<f64>(m.rows, m.cols, no, want_v, faer::Par::Seq, default());
     let mut mem = MemBuffer::new(scratch);
     let stack = MemStack::new(&mut mem);
     svd::svd(
         a.as_ref(),
         s.as_mut(),
         None,
-        None,
+        v,
         faer::Par::Seq,
         stack,
         default(),
     )
     .ok()?;
-    Some(descending(s.column_vector().iter().copied()))
+    Some(s.column_vector().iter().map(|x| x.abs()).collect())
 }
 
 /// The diagonal of `R` of a column-pivoted QR factorization (faer), in

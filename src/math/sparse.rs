@@ -19,8 +19,9 @@ use std::collections::BinaryHeap;
 
 use super::field::Fp;
 
-/// A sparse row: `(column, value)` with increasing columns and no zeros.
-pub type SparseRow = Vec<(u32, Fp)>;
+/// A sparse row: `(column, value)` with increasing columns and no zeros;
+/// over F_p unless said otherwise (the float fallback builds `f64` rows).
+pub type SparseRow<S = Fp> = Vec<(u32, S)>;
 
 /// The outcome of an elimination.
 #[derive(Clone, Debug)]

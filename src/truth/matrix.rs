@@ -18,9 +18,9 @@
 use super::Topology;
 use super::planes::{Offset, Planes};
 use super::realize::Realization;
-use crate::math::Fp;
+use crate::math::Scalar;
 use crate::math::sparse::SparseRow;
-use crate::math::vec3::{V3, add, sub};
+use crate::math::vec3::{V3, add, cross, dot, scale, sub};
 
 /// Columns per part.
 pub const WIDTH: usize = 6;
@@ -41,12 +41,12 @@ pub struct Parts {
 impl Parts {
     /// For an edge between two active rods: each rod's part with its offset,
     /// and the contact point (in the frame of the edge's first rod).
-    pub fn contact(
+    pub fn contact<S: Scalar>(
         &self,
-        real: &Realization,
+        real: &Realization<S>,
         e: usize,
         [a, b]: [u32; 2],
-    ) -> Option<(Owner, Owner, V3<Fp>)> {
+    ) -> Option<(Owner, Owner, V3<S>)> {
         Some((
             self.owner[a as usize]?,
             self.owner[b as usize]?,
@@ -81,8 +81,8 @@ pub fn parts(planes: &Planes, active: &[bool]) -> Parts {
 
 /// The coefficients of the three velocity components of a part at `y`:
 /// `v = t + omega x y` over columns `(omega, t)`.
-fn velocity(y: V3<Fp>) -> [[Fp; WIDTH]; 3] {
-    let (o, z) = (Fp::ONE, Fp::ZERO);
+fn velocity<S: Scalar>(y: V3<S>) -> [[S; WIDTH]; 3] {
+    let (o, z) = (S::one(), S::zero());
     [
         [z, y[2], -y[1], o, z, z],
         [-y[2], z, y[0], z, o, z],
@@ -91,31 +91,41 @@ fn velocity(y: V3<Fp>) -> [[Fp; WIDTH]; 3] {
 }
 
 /// Three rows: velocity of part `a` at `ya` minus that of part `b` at `yb`.
-fn equal_velocity(a: u32, ya: V3<Fp>, b: u32, yb: V3<Fp>, rows: &mut Vec<SparseRow>) {
+fn equal_velocity<S: Scalar>(a: u32, ya: V3<S>, b: u32, yb: V3<S>, rows: &mut Vec<SparseRow<S>>) {
     let (va, vb) = (velocity(ya), velocity(yb));
     for k in 0..3 {
-        let mut row: SparseRow = Vec::with_capacity(2 * WIDTH);
-        let mut push = |part: u32, coef: &[Fp; WIDTH], sign: Fp| {
+        let mut row: SparseRow<S> = Vec::with_capacity(2 * WIDTH);
+        let mut push = |part: u32, coef: &[S; WIDTH], sign: S| {
             for (j, &c) in coef.iter().enumerate() {
                 let v = c * sign;
-                if !v.is_zero() {
+                if !zero(v) {
                     row.push((part * WIDTH as u32 + j as u32, v));
                 }
             }
         };
         if a < b {
-            push(a, &va[k], Fp::ONE);
-            push(b, &vb[k], -Fp::ONE);
+            push(a, &va[k], S::one());
+            push(b, &vb[k], -S::one());
         } else {
-            push(b, &vb[k], -Fp::ONE);
-            push(a, &va[k], Fp::ONE);
+            push(b, &vb[k], -S::one());
+            push(a, &va[k], S::one());
         }
         rows.push(row);
     }
 }
 
-/// The rows of the rigidity matrix.
-pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization) -> Vec<SparseRow> {
+/// An exact zero: sparse rows keep every other entry, however small.
+fn zero<S: Scalar>(v: S) -> bool {
+    v.vanishes(0.0, 0.0)
+}
+
+/// The rows of the rigidity matrix, over F_p or in floats.
+pub fn rows<S: Scalar>(
+    topo: &Topology,
+    planes: &Planes,
+    parts: &Parts,
+    real: &Realization<S>,
+) -> Vec<SparseRow<S>> {
     let graph = topo.graph;
     let mut rows = Vec::new();
     for (e, &[a, b]) in graph.edges().iter().enumerate() {
@@ -141,7 +151,7 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
             let base = part * WIDTH as u32;
             rows.push(
                 (0..3)
-                    .filter(|&k| !line.d[k].is_zero())
+                    .filter(|&k| !zero(line.d[k]))
                     .map(|k| (base + k as u32, line.d[k]))
                     .collect(),
             );
@@ -158,7 +168,7 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
     for (c, class) in planes.classes.iter().enumerate() {
         let base = (c * WIDTH) as u32;
         for w in &class.wraps {
-            let w = w.map(|k| Fp::new(k as i64));
+            let w = w.map(|k| S::from_i64(k as i64));
             // omega x w, one row per component.
             let comps = [
                 [(1, w[2]), (2, -w[1])],
@@ -166,9 +176,9 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
                 [(0, w[1]), (1, -w[0])],
             ];
             for comp in comps {
-                let mut row: SparseRow = comp
+                let mut row: SparseRow<S> = comp
                     .iter()
-                    .filter(|(_, v)| !v.is_zero())
+                    .filter(|&&(_, v)| !zero(v))
                     .map(|&(k, v)| (base + k, v))
                     .collect();
                 row.sort_unstable_by_key(|&(k, _)| k);
@@ -181,12 +191,48 @@ pub fn rows(topo: &Topology, planes: &Planes, parts: &Parts, real: &Realization)
     rows
 }
 
+/// A rigid motion `v(y) = t + omega x y` of the whole framework in every
+/// part's columns (a kernel vector of every realization: the tests check
+/// it exactly, the float fallback measures its rounding by it): a class
+/// moves with `(omega, t)` itself; a rod part has the spin `alpha d` about
+/// its own axis taken out (`omega . d = 0`), and `t + alpha d x p` keeps its
+/// axis moving with the whole.
+pub fn rigid_motion<S: Scalar>(
+    parts: &Parts,
+    real: &Realization<S>,
+    omega: V3<S>,
+    t: V3<S>,
+) -> Vec<S> {
+    let mut x = Vec::with_capacity(parts.count * WIDTH);
+    for _ in 0..parts.classes {
+        x.extend(omega);
+        x.extend(t);
+    }
+    x.resize(parts.count * WIDTH, S::zero());
+    for (r, owner) in parts.owner.iter().enumerate() {
+        let (Some((part, _)), Some(line)) = (*owner, real.lines[r]) else {
+            continue;
+        };
+        if (part as usize) < parts.classes {
+            continue;
+        }
+        let Some(inv) = dot(line.d, line.d).recip() else {
+            continue;
+        };
+        let spin = scale(line.d, dot(omega, line.d) * inv);
+        let b = part as usize * WIDTH;
+        x[b..b + 3].copy_from_slice(&sub(omega, spin));
+        x[b + 3..b + 6].copy_from_slice(&add(t, cross(spin, line.p)));
+    }
+    x
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::graph::ContactGraph;
     use crate::graph::io::parse_graph6;
-    use crate::math::vec3::{cross, dot, scale};
+    use crate::math::Fp;
     use crate::truth::{order, planes, prune, realize};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
@@ -217,34 +263,6 @@ mod tests {
         })
     }
 
-    /// A rigid motion `v(y) = t + omega x y` of the whole framework in every
-    /// part's columns: a class moves with `(omega, t)` itself; a rod part
-    /// has the spin `alpha d` about its own axis taken out (`omega . d = 0`),
-    /// and `t + alpha d x p` keeps its axis moving with the whole.
-    fn motion(parts: &Parts, real: &Realization, omega: V3<Fp>, t: V3<Fp>) -> Vec<Fp> {
-        let mut x = Vec::with_capacity(parts.count * WIDTH);
-        for _ in 0..parts.classes {
-            x.extend(omega);
-            x.extend(t);
-        }
-        x.resize(parts.count * WIDTH, Fp::ZERO);
-        for (r, owner) in parts.owner.iter().enumerate() {
-            let Some((part, _)) = *owner else { continue };
-            if (part as usize) < parts.classes {
-                continue;
-            }
-            let line = real.lines[r].unwrap();
-            let spin = scale(
-                line.d,
-                dot(omega, line.d) * dot(line.d, line.d).inv().unwrap(),
-            );
-            let b = part as usize * WIDTH;
-            x[b..b + 3].copy_from_slice(&crate::math::vec3::sub(omega, spin));
-            x[b + 3..b + 6].copy_from_slice(&add(t, cross(spin, line.p)));
-        }
-        x
-    }
-
     #[test]
     fn rigid_motions_of_a_finite_framework_are_in_the_kernel() {
         // K_{3,4} (no planes), a prism (two planes) and a 7-rod graph mixing both.
@@ -256,15 +274,15 @@ mod tests {
             let mut r3 = || [0; 3].map(|_| Fp::random(&mut rng));
             let (w, t) = (r3(), r3());
             assert!(
-                residual(&rows, &motion(&parts, &real, [Fp::ZERO; 3], t)),
+                residual(&rows, &rigid_motion(&parts, &real, [Fp::ZERO; 3], t)),
                 "{g6}: translation"
             );
             assert!(
-                residual(&rows, &motion(&parts, &real, w, [Fp::ZERO; 3])),
+                residual(&rows, &rigid_motion(&parts, &real, w, [Fp::ZERO; 3])),
                 "{g6}: rotation"
             );
             // A motion that is no rigid motion violates some row.
-            let mut bent = motion(&parts, &real, w, t);
+            let mut bent = rigid_motion(&parts, &real, w, t);
             bent[0] = bent[0] + Fp::ONE;
             assert!(!residual(&rows, &bent), "{g6}: a bent motion passed");
         }
@@ -285,6 +303,9 @@ mod tests {
         let topo = Topology::periodic(&g, &shifts).unwrap();
         let (parts, real, rows) = build(&topo);
         let t = [Fp::new(3), Fp::new(-7), Fp::new(11)];
-        assert!(residual(&rows, &motion(&parts, &real, [Fp::ZERO; 3], t)));
+        assert!(residual(
+            &rows,
+            &rigid_motion(&parts, &real, [Fp::ZERO; 3], t)
+        ));
     }
 }

@@ -18,13 +18,18 @@
 //!
 //! Two independent realizations (twins) are ranked; the generic rank is the
 //! larger (Schwartz–Zippel), and they agree except with probability about
-//! `1/p`. Where no rational construction order exists, truth answers
-//! "undecided" and says why: never a guess.
+//! `1/p`. Where no rational construction order exists, [`fallback`] decides
+//! in floats: twin realizations by numerical projection ([`projection`]),
+//! the same matrix ranked by its singular values where they show a clear
+//! gap, clusters from the kernel basis ([`Method::Float`]). Where that is
+//! not clear either, truth answers "undecided" and says why: never a guess.
 
 pub mod clusters;
+pub mod fallback;
 pub mod matrix;
 pub mod order;
 pub mod planes;
+pub mod projection;
 pub mod prune;
 pub mod realize;
 
@@ -106,7 +111,11 @@ impl<'a> Topology<'a> {
 pub enum Method {
     /// Exact F_p rank at exact twin realizations.
     Exact,
-    /// No realization could be built; nothing is claimed.
+    /// No construction order exists: float rank with a clear singular-value
+    /// gap at twin float realizations that agree ([`fallback`]).
+    Float,
+    /// No realization could be built, or its float rank was unclear;
+    /// nothing is claimed.
     Undecided,
 }
 
@@ -114,11 +123,13 @@ pub enum Method {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TruthOptions {
     pub seed: u64,
-    /// Redraws of a realization that lands on a degenerate position.
+    /// Redraws of a realization that lands on a degenerate position (the
+    /// float fallback draws [`fallback::DRAWS_PER_ATTEMPT`] times as many).
     pub attempts: usize,
     /// Rank a second, independent realization too (the generic rank is the
     /// larger). One realization already proves what it finds rigid; the twin
-    /// guards the flexible answers against an unlucky draw.
+    /// guards the flexible answers against an unlucky draw. The float
+    /// fallback proves nothing from one realization and always ranks twins.
     pub twins: bool,
 }
 
@@ -136,7 +147,8 @@ impl Default for TruthOptions {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Truth {
     pub method: Method,
-    /// Why the answer is undecided, if it is.
+    /// Why the answer is undecided, if it is; for a float answer, why it
+    /// is in floats.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
     pub n_rods: usize,
@@ -160,6 +172,10 @@ pub struct Truth {
     pub dof: Option<usize>,
     /// Whether the twin realizations gave the same rank (`None` without twins).
     pub twins_agree: Option<bool>,
+    /// Float answers only: the smaller singular-value gap of the twins (the
+    /// smallest value counted over the largest one not).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap: Option<f64>,
     /// Rigid clusters of two or more rods, largest first.
     pub clusters: Vec<Cluster>,
     /// The largest dense front of the elimination, rows times columns: what
@@ -201,10 +217,36 @@ impl Truth {
     pub fn decided(&self) -> bool {
         self.method != Method::Undecided
     }
+
+    /// Records a decided rank of the matrix, the degrees of freedom it
+    /// leaves (its kernel, plus the `pruned` motions of what the 2-core
+    /// removed, less the trivial motions) and the rigid clusters.
+    fn decide(&mut self, method: Method, rank: usize, pruned: usize, clusters: Vec<Vec<u32>>) {
+        self.method = method;
+        self.rank = Some(rank);
+        let motions = self.columns - rank + pruned;
+        self.dof = Some(motions.saturating_sub(self.trivial_motions));
+        self.clusters = clusters
+            .into_iter()
+            .map(|rods| Cluster { rods, spans: None })
+            .collect();
+    }
 }
 
-/// The exact rigidity of the system `topo`.
+/// The exact rigidity of the system `topo` (in floats where no exact
+/// construction exists).
 pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
+    evaluate(topo, opts, false)
+}
+
+/// [`truth`] by the float fallback even where a construction order exists:
+/// for tests that compare the two paths.
+#[doc(hidden)]
+pub fn truth_in_floats(topo: &Topology, opts: TruthOptions) -> Truth {
+    evaluate(topo, opts, true)
+}
+
+fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     let start = Instant::now();
     let graph = topo.graph;
     let core = prune::two_core(graph);
@@ -224,6 +266,7 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
         trivial_motions: topo.trivial_motions(),
         dof: None,
         twins_agree: None,
+        gap: None,
         clusters: Vec::new(),
         largest_front: None,
         criterion: None,
@@ -251,19 +294,36 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
     };
     out.plane_classes = planes.classes.len();
     out.largest_plane_class = planes.largest();
-    let order = match order::order(topo, &planes, &core.active) {
-        Ok(o) => o,
-        Err(s) => {
-            out.reason = Some(format!(
-                "no rational construction order: {} rods are each held by more placed lines than a rational step can meet",
-                s.rods.len()
-            ));
-            return finish(out);
-        }
-    };
     let parts = matrix::parts(&planes, &core.active);
     out.parts = parts.count;
     out.columns = parts.count * matrix::WIDTH;
+    let order = if floats {
+        Err(None)
+    } else {
+        order::order(topo, &planes, &core.active).map_err(Some)
+    };
+    let order = match order {
+        Ok(o) => o,
+        Err(stuck) => {
+            let why = stuck.map_or("asked for floats".to_string(), |s| {
+                format!(
+                    "no rational construction order: {} rods are each held by more placed lines than a rational step can meet",
+                    s.rods.len()
+                )
+            });
+            match fallback::decide(topo, &planes, &core.active, &parts, opts) {
+                Ok(f) => {
+                    out.reason = Some(format!("{why}; decided in floats"));
+                    out.rows = f.rows;
+                    out.twins_agree = Some(true);
+                    out.gap = Some(f.gap);
+                    out.decide(Method::Float, f.rank, core.pruned_motions(), f.clusters);
+                }
+                Err(w) => out.reason = Some(format!("{why}; in floats undecided: {w}")),
+            }
+            return finish(out);
+        }
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
     let mut best: Option<(sparse::Elimination, realize::Realization)> = None;
     let mut ranks = Vec::with_capacity(2);
@@ -296,16 +356,10 @@ pub fn truth(topo: &Topology, opts: TruthOptions) -> Truth {
         }
     }
     let (elim, real) = best.expect("at least one realization was ranked");
-    out.method = Method::Exact;
-    out.rank = Some(elim.rank);
     out.largest_front = Some(elim.largest_front);
     out.twins_agree = opts.twins.then(|| ranks.iter().all(|&r| r == elim.rank));
-    let motions = out.columns - elim.rank + core.pruned_motions();
-    out.dof = Some(motions.saturating_sub(out.trivial_motions));
-    out.clusters = clusters::clusters(topo, &parts, &real, &elim.kernel)
-        .into_iter()
-        .map(|rods| Cluster { rods, spans: None })
-        .collect();
+    let clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
+    out.decide(Method::Exact, elim.rank, core.pruned_motions(), clusters);
     finish(out)
 }
 

@@ -57,6 +57,17 @@ impl Planes {
     pub fn largest(&self) -> usize {
         self.classes.iter().map(|c| c.rods.len()).max().unwrap_or(0)
     }
+
+    /// The class whose plane holds rod `a` and the image of rod `b` that `a`
+    /// sees at offset `seen`, if any (at most one: two classes sharing two
+    /// rods are one).
+    pub fn shared(&self, a: u32, b: u32, seen: Offset) -> Option<u32> {
+        self.of_rod[a as usize].iter().find_map(|&(id, oa)| {
+            let c = &self.classes[id as usize];
+            let ob = c.offset(b)?;
+            same(add(oa, seen), ob, &c.wraps).then_some(id)
+        })
+    }
 }
 
 /// A forced plane would have to contain three independent lattice
@@ -306,23 +317,18 @@ pub fn forced(topo: &Topology, active: &[bool]) -> Result<Planes, Unrealizable> 
             of_rod[r as usize].push((id as u32, o));
         }
     }
-    let inside = graph
+    let mut planes = Planes {
+        classes,
+        of_rod,
+        inside: Vec::new(),
+    };
+    planes.inside = graph
         .edges()
         .iter()
         .enumerate()
-        .map(|(e, &[a, b])| {
-            of_rod[a as usize].iter().find_map(|&(id, oa)| {
-                let c = &classes[id as usize];
-                let ob = c.offset(b)?;
-                same(add(oa, topo.seen(e as u32, a)), ob, &c.wraps).then_some(id)
-            })
-        })
+        .map(|(e, &[a, b])| planes.shared(a, b, topo.seen(e as u32, a)))
         .collect();
-    Ok(Planes {
-        classes,
-        of_rod,
-        inside,
-    })
+    Ok(planes)
 }
 
 #[cfg(test)]

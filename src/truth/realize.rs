@@ -12,14 +12,14 @@ use rand::Rng;
 use super::Topology;
 use super::order::preplaced;
 use super::planes::{Offset, Planes};
-use crate::math::Fp;
 use crate::math::vec3::{V3, add, cross, dot, is_null, scale, sub};
+use crate::math::{Fp, Scalar};
 
 /// A line `p + s d`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Line {
-    pub p: V3<Fp>,
-    pub d: V3<Fp>,
+pub struct Line<S = Fp> {
+    pub p: V3<S>,
+    pub d: V3<S>,
 }
 
 /// A plane through `q` with normal `n`.
@@ -29,27 +29,29 @@ struct Plane {
     n: V3<Fp>,
 }
 
-/// One exact realization of the active rods.
+/// One realization of the active rods: exact over F_p, or in floats where
+/// no construction order exists ([`super::projection`]).
 #[derive(Clone, Debug)]
-pub struct Realization {
-    /// The box side over F_p: the image at offset `o` is shifted by `side * o`.
-    pub side: Fp,
+pub struct Realization<S = Fp> {
+    /// The box side: the image at offset `o` is shifted by `side * o`.
+    pub side: S,
     /// Per rod, its line (active rods only).
-    pub lines: Vec<Option<Line>>,
+    pub lines: Vec<Option<Line<S>>>,
     /// Per edge, the contact point in the frame of the edge's first rod
     /// (edges between active rods only).
-    pub points: Vec<Option<V3<Fp>>>,
+    pub points: Vec<Option<V3<S>>>,
 }
 
-impl Realization {
+impl<S: Scalar> Realization<S> {
     /// The lattice translation of an image offset.
-    pub fn lattice(&self, o: Offset) -> V3<Fp> {
+    pub fn lattice(&self, o: Offset) -> V3<S> {
         lattice(self.side, o)
     }
 }
 
-fn lattice(side: Fp, o: Offset) -> V3<Fp> {
-    o.map(|k| side * Fp::new(k as i64))
+/// The translation by `side` times the image offset `o`.
+pub fn lattice<S: Scalar>(side: S, o: Offset) -> V3<S> {
+    o.map(|k| side * S::from_i64(k as i64))
 }
 
 fn random_v3(rng: &mut impl Rng) -> V3<Fp> {

@@ -1053,6 +1053,12 @@ fn truth_json_has_the_contract_fields() {
     assert_eq!(v["rank"], 35);
     assert_eq!(v["clusters"].as_array().unwrap().len(), 0);
     assert!(v["spanning"].is_null(), "a graph has no box to span");
+    // K_{4,4}: no construction order, decided in floats with its gap.
+    let v = json(&["truth", "--graph6", "G?~vf_", "--json"]);
+    assert_eq!(v["method"], "float");
+    assert_eq!(v["dof"], 1);
+    assert!(v["gap"].as_f64().unwrap() >= 1e6);
+    assert!(v["reason"].as_str().unwrap().contains("decided in floats"));
     // A generated system: the box is fixed, clusters say how they span.
     let v = json(&[
         "truth",

@@ -7,6 +7,7 @@ mod contacts;
 mod defects;
 mod engine;
 mod enumerate;
+mod fallback;
 mod float;
 mod fss;
 mod graphio;

@@ -192,14 +192,9 @@ fn truth_is_the_same_for_one_and_two_threads() {
     assert_eq!(one, run(2));
 }
 
-/// Truth finds rigidity 3D-RGC misses: two rod triangles hinged on a
-/// shared rod, locked by a third triangle touching each of them once, are
-/// one rigid cluster that the sound rules leave as two bodies.
-#[test]
-fn truth_finds_a_locked_hinge_the_engine_misses() {
-    use rgc::engine::{Engine, RuleSet};
-    // Planes {0,1,2} and {0,3,4} share rod 0; triangle {5,6,7} touches rod
-    // 1 (from 5) and rod 3 (from 6): a bar across the hinge.
+/// Planes {0,1,2} and {0,3,4} share rod 0; triangle {5,6,7} touches rod 1
+/// (from 5) and rod 3 (from 6): a bar across the hinge.
+pub fn locked_hinge() -> rgc::graph::ContactGraph {
     let edges = vec![
         [0, 1],
         [1, 2],
@@ -213,7 +208,16 @@ fn truth_finds_a_locked_hinge_the_engine_misses() {
         [5, 1],
         [6, 3],
     ];
-    let g = rgc::graph::ContactGraph::new(8, edges).unwrap();
+    rgc::graph::ContactGraph::new(8, edges).unwrap()
+}
+
+/// Truth finds rigidity 3D-RGC misses: two rod triangles hinged on a
+/// shared rod, locked by a third triangle touching each of them once, are
+/// one rigid cluster that the sound rules leave as two bodies.
+#[test]
+fn truth_finds_a_locked_hinge_the_engine_misses() {
+    use rgc::engine::{Engine, RuleSet};
+    let g = locked_hinge();
     let t = truth(&Topology::finite(&g), TruthOptions::default());
     assert_eq!(t.clusters[0].rods, vec![0, 1, 2, 3, 4]);
     let runs = Engine::base(RuleSet::Sound).runs(&g, 1, 32);

@@ -9,7 +9,7 @@ use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
 use rgc::rods::{RodParams, RodSystem};
 use rgc::spanning::Criterion;
-use rgc::truth::{self, Topology, Truth, TruthOptions};
+use rgc::truth::{self, Method, Topology, Truth, TruthOptions};
 use rgc::{Error, Result};
 
 #[derive(Args)]
@@ -130,12 +130,17 @@ fn summary(t: &Truth, out: &mut String) {
     if let (Some(c), Some(s)) = (t.criterion, t.spanning) {
         say!(out, "spanning ({c:?}): {s}");
     }
-    match &t.reason {
-        Some(r) => say!(out, "method: undecided: {r}"),
-        None => say!(
+    let reason = t.reason.as_deref().unwrap_or_default();
+    match t.method {
+        Method::Undecided => say!(out, "method: undecided: {reason}"),
+        Method::Float => say!(
             out,
-            "method: {:?}, twins agree: {}",
-            t.method,
+            "method: Float, twins agree: true, singular-value gap {:.1e} ({reason})",
+            t.gap.unwrap_or(f64::NAN)
+        ),
+        Method::Exact => say!(
+            out,
+            "method: Exact, twins agree: {}",
             t.twins_agree == Some(true)
         ),
     }
