@@ -24,7 +24,8 @@ use crate::truth::{self, Topology, TruthOptions};
 
 /// Keeps the bodies of `run` (a `sound` compression of `topo`'s graph) that
 /// truth confirms and splits the others along the true clusters. When truth
-/// is undecided nothing is certified: every body is dropped.
+/// is undecided, or decided only in floats (whose gap is evidence, not
+/// proof), nothing is certified: every body is dropped.
 pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression {
     let graph = topo.graph;
     // One realization proves what it finds rigid, and certification only
@@ -37,7 +38,7 @@ pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression 
     let t = truth::truth(topo, opts);
     let mut bodies: Vec<Body> = Vec::with_capacity(run.bodies.len());
     let mut refuted = 0;
-    if t.decided() {
+    if t.method == truth::Method::Exact {
         let mut clusters_of: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
         for (k, c) in t.clusters.iter().enumerate() {
             for &r in &c.rods {

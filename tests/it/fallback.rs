@@ -223,3 +223,21 @@ fn the_fallback_refuses_more_columns_than_it_ranks_densely() {
     assert!(why.contains("no rational construction order"), "{why}");
     assert!(why.contains("1500"), "{why}");
 }
+
+/// Certification accepts only exact answers: on `K_{4,4}` (no construction
+/// order, so truth decides in floats) `sound` compresses the graph to one
+/// body, and `certified` keeps none and says it could not certify.
+#[test]
+fn certification_does_not_trust_a_float_answer() {
+    use rgc::engine::{Engine, RuleSet};
+    let g = rgc::graph::io::parse_graph6("G?~vf_").unwrap();
+    let t = truth(&Topology::finite(&g), TruthOptions::default());
+    assert_eq!((t.method, t.dof), (Method::Float, Some(1)));
+    let sound = Engine::base(RuleSet::Sound);
+    let certified = Engine::base(RuleSet::Certified);
+    let seed = (0..64)
+        .find(|&s| sound.compress(&g, &[], s).unwrap().components == 1)
+        .expect("sound compresses K_{4,4} in some order");
+    let run = certified.compress(&g, &[], seed).unwrap();
+    assert!(run.bodies.is_empty() && run.undecided, "{run:?}");
+}

@@ -120,13 +120,17 @@ fn summary(t: &Truth, out: &mut String) {
         .take(8)
         .map(|c| c.rods.len().to_string())
         .collect();
-    say!(
-        out,
-        "clusters: {} of two or more rods; largest {}{}",
-        t.clusters.len(),
-        sizes.join(", "),
-        if t.clusters.len() > 8 { ", ..." } else { "" }
-    );
+    if t.clusters.is_empty() {
+        say!(out, "clusters: none of two or more rods");
+    } else {
+        say!(
+            out,
+            "clusters: {} of two or more rods; largest {}{}",
+            t.clusters.len(),
+            sizes.join(", "),
+            if t.clusters.len() > 8 { ", ..." } else { "" }
+        );
+    }
     if let (Some(c), Some(s)) = (t.criterion, t.spanning) {
         say!(out, "spanning ({c:?}): {s}");
     }
