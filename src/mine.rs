@@ -10,17 +10,24 @@
 //! * truth of the whole system; a rigid cluster holding two or more whole
 //!   quotient nodes is rigidity the engine missed;
 //! * per such cluster, up to [`Search::pairs`] seed pairs `(x, y)` of
-//!   adjacent whole nodes per started ten whole nodes of it, drawn by a
-//!   shuffle seeded by the system seed and the cluster's index. For each, the quotient ball around `{x, y}`, over
-//!   the nodes in or touching the cluster (a lock can stay outside it), grows
-//!   one layer at a time (radius 0 first, at most [`Search::max_radius`]
-//!   layers and [`Search::max_ball_rods`] rods: beyond, the pair counts as
-//!   *not local*) until truth on it puts `x` and `y` in one cluster. The ball
-//!   is then shrunk, farthest nodes first: halves, quarters ... of the other
-//!   nodes are dropped while `x` and `y` stay in one cluster, then single
+//!   adjacent whole nodes per started ten whole nodes of it (so that the
+//!   spanning cluster is sampled in proportion), drawn by a shuffle seeded
+//!   by the system seed and the cluster's index;
+//! * for each pair, the quotient ball around `{x, y}`, over the nodes in or
+//!   touching the cluster (a lock can stay outside it), grows one layer at
+//!   a time from radius 0, at most [`Search::max_radius`] layers and
+//!   [`Search::max_ball_rods`] rods (beyond, or when those nodes run out,
+//!   the pair is *not local*). At each radius where truth puts `x` and `y`
+//!   in one cluster, the nodes that cluster holds whole are restricted to
+//!   themselves until truth holds all of them in one cluster; if the pair
+//!   survives, they shrink to a *whole* minimal set. If no radius gives one,
+//!   the first ball that held the pair shrinks to a minimal set that only
+//!   keeps the pair together (*not whole*, see below);
+//! * shrinking drops the nodes other than the pair, farthest from it first:
+//!   halves, quarters ... while the set keeps what it must, then single
 //!   nodes, pass after pass until no node can go (rigidity is not monotone
-//!   under forced planes, so one pass is not enough). The result is a
-//!   *minimal missed rigid set*.
+//!   under forced planes, so one pass is not enough). No node of the result
+//!   can be removed: it is a *minimal missed rigid set*.
 //!
 //! Truth on a set is that of the rods of its nodes with every contact among
 //! them, in the system's own periodic box (a finite framework for a graph
@@ -40,9 +47,16 @@
 //!
 //! A minimal set need not be one rigid cluster: a body touching the rest at
 //! two points (a locking bar) holds `x` and `y` together while itself
-//! turning about the line through its two contacts. Such a set is recorded
-//! (not *whole*); its pattern is flexible, and no rule can merge it, since
-//! a rule merges all of its nodes.
+//! turning about the line through its two contacts; two touching rods held
+//! at one further point each by one body are a rigid pair that turns about
+//! the line through those points. Such a set is recorded (not *whole*);
+//! its pattern is flexible, and no rule can merge it, since a rule merges
+//! all of its nodes.
+//!
+//! A pattern also forgets the contacts inside a body, and a planar body's
+//! inner contacts can force another rod into its plane (a rod touching two
+//! rods of a plane lies in it): a whole set can then be rigid under truth
+//! while its pattern is only component-dependent, and is no rule either.
 
 use std::path::Path;
 use std::time::Instant;
@@ -84,9 +98,9 @@ pub struct Search {
 impl Default for Search {
     fn default() -> Self {
         Search {
-            pairs: 2,
+            pairs: 3,
             max_radius: 3,
-            max_ball_rods: 1500,
+            max_ball_rods: 800,
         }
     }
 }
@@ -843,6 +857,9 @@ pub struct MinedMotif {
     /// 1 for the most frequent.
     pub rank: usize,
     pub canonical: String,
+    /// The canonical pattern (not in the JSON: [`MinedMotif::canonical`]
+    /// spells it, kinds then contacts `a.i-b.j`, and the rule file holds the rules').
+    #[serde(skip, default = "no_pattern")]
     pub pattern: Pattern,
     pub nodes: usize,
     pub rod_nodes: usize,
@@ -871,14 +888,59 @@ pub struct MinedMotif {
     pub example: Example,
 }
 
-/// Where a pattern was first found: the system, the rods of the set, and
-/// those the pair's cluster holds (all of them when the set is whole).
+fn no_pattern() -> Pattern {
+    Pattern {
+        kinds: Vec::new(),
+        contacts: Vec::new(),
+    }
+}
+
+/// Where a pattern was first found: the system, the rods of the set, and,
+/// when the set is not whole, those the pair's cluster holds. Rods are
+/// written as one space-separated string, which keeps the JSON short.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Example {
     pub density: f64,
     pub seed: u64,
+    #[serde(with = "spaced")]
     pub rods: Vec<u32>,
-    pub held_rods: Vec<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "spaced_opt")]
+    pub held_rods: Option<Vec<u32>>,
+}
+
+/// Rod lists as one space-separated string.
+mod spaced {
+    use serde::{Deserialize, Deserializer, Serializer, de::Error};
+
+    pub fn serialize<S: Serializer>(rods: &[u32], s: S) -> Result<S::Ok, S::Error> {
+        let words: Vec<String> = rods.iter().map(u32::to_string).collect();
+        s.serialize_str(&words.join(" "))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u32>, D::Error> {
+        String::deserialize(d)?
+            .split_whitespace()
+            .map(|w| w.parse().map_err(D::Error::custom))
+            .collect()
+    }
+}
+
+/// [`spaced`] for an optional list.
+mod spaced_opt {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(rods: &Option<Vec<u32>>, s: S) -> Result<S::Ok, S::Error> {
+        match rods {
+            Some(r) => super::spaced::serialize(r, s),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Vec<u32>>, D::Error> {
+        #[derive(Deserialize)]
+        struct Wrap(#[serde(with = "super::spaced")] Vec<u32>);
+        Ok(Option::<Wrap>::deserialize(d)?.map(|Wrap(r)| r))
+    }
 }
 
 /// One density summarized.
@@ -1070,7 +1132,7 @@ fn new_motif(
             density: system.density,
             seed: system.seed,
             rods: set.rods.clone(),
-            held_rods: set.held_rods.clone(),
+            held_rods: (!set.whole).then(|| set.held_rods.clone()),
         },
     }
 }
@@ -1261,10 +1323,11 @@ pub fn csv(report: &Report) -> Vec<u8> {
     )
 }
 
-/// Patterns listed in the Markdown table.
+/// Patterns listed in each Markdown table.
 const MARKDOWN_MOTIFS: usize = 30;
 
-/// The per-density summary and the most frequent patterns as Markdown.
+/// The per-density summary, the most frequent patterns and the most
+/// frequent rule candidates as Markdown.
 pub fn markdown(report: &Report) -> String {
     let p = &report.parameters;
     let mut md = format!(
@@ -1273,11 +1336,11 @@ pub fn markdown(report: &Report) -> String {
         report.command,
         p.enumeration()
     );
-    md += "| density | systems | truth spans | sound spans | quotient nodes | missed clusters | rods in them | seed pairs | minimal sets (found) | not local | too large | not whole | patterns | rule candidates |\n";
-    md += "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md += "| density | systems | truth spans | sound spans | quotient nodes | missed clusters | rods in them | seed pairs | minimal sets (found) | not local | too large | not whole | nodes per set (mean, max) | patterns | rule candidates |\n";
+    md += "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for d in &report.densities {
         md += &format!(
-            "| {} | {} | {} | {} | {:.1} | {} | {:.1} | {} | {} ({}) | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {:.1} | {} | {:.1} | {} | {} ({}) | {} | {} | {} | {:.1}, {} | {} | {} |\n",
             d.density,
             d.systems,
             d.truth_spans,
@@ -1291,29 +1354,55 @@ pub fn markdown(report: &Report) -> String {
             d.not_local,
             d.too_large,
             d.not_whole,
+            d.mean_set_nodes,
+            d.max_set_nodes,
             d.patterns,
             d.candidates
         );
     }
-    md += "\nQuotient nodes and rods in missed clusters are means per system; \
-           the other counts are sums over the systems of a density.\n\n";
-    let candidates = report.motifs.iter().filter(|m| m.candidate).count();
     md += &format!(
-        "## The {} most frequent of {} patterns ({} rigid on every component and missed by sound)\n\n",
-        MARKDOWN_MOTIFS.min(report.motifs.len()),
-        report.motifs.len(),
-        candidates
+        "\nQuotient nodes (the `sound` run's bodies and free rods) and rods in missed clusters \
+         (true clusters holding two or more whole nodes) are means per system; the other counts \
+         are sums over the systems of a density. *Minimal sets*: distinct sets the seed pairs \
+         gave (*found*: pairs that gave one). *Not local*: pairs not rigid together within \
+         radius {} and {} rods of the quotient ball, or before the nodes in or touching their \
+         cluster ran out. *Too large*: sets beyond a pattern's {MAX_PATTERN_NODES} nodes or 96 \
+         contacts. *Not whole*: sets in which some node only holds the others together while \
+         turning itself (a lock); their patterns cannot be rigid, and no rule can express them.\n\n",
+        p.search.max_radius, p.search.max_ball_rods
     );
-    let heads: Vec<String> = p.densities.iter().map(|rho| format!("rho {rho}")).collect();
     md += &format!(
-        "| rank | rule | nodes (rod/planar/spatial) | contacts | exact verdict | sound compresses | extended compresses | whole | {} | example (density, seed) | canonical form |\n",
+        "## The {} most frequent of {} patterns\n\n",
+        MARKDOWN_MOTIFS.min(report.motifs.len()),
+        report.motifs.len()
+    );
+    md += &motif_table(p, report.motifs.iter().take(MARKDOWN_MOTIFS));
+    let candidates: Vec<&MinedMotif> = report.motifs.iter().filter(|m| m.candidate).collect();
+    md += &format!(
+        "\n## The {} most frequent of {} rule candidates (rigid on every component, missed by sound)\n\n",
+        MARKDOWN_MOTIFS.min(candidates.len()),
+        candidates.len()
+    );
+    md += &motif_table(p, candidates.into_iter().take(MARKDOWN_MOTIFS));
+    md += "\nPer density: occurrences (distinct minimal sets) and, in parentheses, the systems \
+           holding one. *Whole*: occurrences that truth holds in one cluster, of all. \
+           *Extended*: whether sound with the extended rule files compresses it.\n";
+    md
+}
+
+/// A Markdown table of patterns.
+fn motif_table<'a>(p: &Parameters, motifs: impl Iterator<Item = &'a MinedMotif>) -> String {
+    let heads: Vec<String> = p.densities.iter().map(|rho| format!("rho {rho}")).collect();
+    let mut md = format!(
+        "| rank | rule | nodes (rod/planar/spatial) | contacts | exact verdict | sound compresses | extended | whole | {} | example (density, seed) | canonical form |\n",
         heads.join(" | ")
     );
     md += &format!(
         "|---:|---|---|---:|---|---|---|---:|{}---|---|\n",
         "---:|".repeat(heads.len())
     );
-    for m in report.motifs.iter().take(MARKDOWN_MOTIFS) {
+    let yes = |b: bool| if b { "yes" } else { "no" };
+    for m in motifs {
         let cells: Vec<String> = m
             .per_density
             .iter()
@@ -1330,9 +1419,8 @@ pub fn markdown(report: &Report) -> String {
             m.contacts,
             m.class,
             m.dof.map_or(String::new(), |d| format!(", {d} DOF")),
-            if m.sound_compresses { "yes" } else { "no" },
-            m.extended_compresses
-                .map_or("", |c| if c { "yes" } else { "no" }),
+            yes(m.sound_compresses),
+            m.extended_compresses.map_or("", yes),
             m.whole,
             m.occurrences,
             cells.join(" | "),
@@ -1341,8 +1429,6 @@ pub fn markdown(report: &Report) -> String {
             m.canonical
         );
     }
-    md += "\nPer density: occurrences (distinct minimal sets) and, in parentheses, systems holding one. \
-           *Whole*: occurrences in which truth puts the whole set in one cluster.\n";
     md
 }
 
