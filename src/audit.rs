@@ -312,6 +312,7 @@ fn irreducible(
                 ),
                 command: Some(opts.command()),
                 version: Some(env!("CARGO_PKG_VERSION").into()),
+                frequency: Vec::new(),
             };
             Rule::new(format!("{id}-{k}"), p.clone(), provenance)
         })

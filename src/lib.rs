@@ -23,6 +23,7 @@
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC);
 //! * [`sample`] — one Monte Carlo system from rods to rigid bodies;
 //! * [`audit`] — which rigid motifs the engine misses; extended rule sets;
+//! * [`mine`] — the motifs the engine misses in generated systems, found by truth;
 //! * [`stability`] — where float ranks fail against the exact verdict;
 //! * [`threshold`] — rod sequences, studies, finite-size scaling, variants;
 //! * [`plot`] — charts of what the layers above computed;
@@ -52,6 +53,7 @@ pub mod engine;
 pub mod sample;
 
 pub mod audit;
+pub mod mine;
 pub mod stability;
 pub mod threshold;
 

@@ -9,9 +9,10 @@ use crate::pattern::{NodeKind, Pattern};
 use crate::{Error, Result};
 
 /// How a rule was found, for the people who will trust it.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {
-    /// `base` (a published motif), `audit` (missed by the engine) or `user`.
+    /// `base` (a published motif), `audit` (missed by the engine), `mined`
+    /// (missed in generated systems, `rgc mine`) or `user`.
     pub source: String,
     /// The enumeration that produced it, e.g. `rods n=6, min degree 2, Maxwell`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -25,6 +26,21 @@ pub struct Provenance {
     /// The rgc version that wrote it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub version: Option<String>,
+    /// How often a mined rule occurred, per density (`rgc mine`); absent
+    /// elsewhere, so older rule files read and write unchanged.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub frequency: Vec<Frequency>,
+}
+
+/// How often a mined pattern occurred at one density.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Frequency {
+    pub density: f64,
+    /// Distinct minimal sets with the pattern.
+    pub occurrences: u64,
+    /// Systems holding at least one, of `of_systems` mined.
+    pub systems: u64,
+    pub of_systems: u64,
 }
 
 /// The exact-rank verdict stored with a rule.
@@ -38,7 +54,7 @@ pub struct RuleVerdict {
 }
 
 /// A motif rule: a typed pattern proven rigid on every realization component.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Rule {
     pub id: String,
     pub pattern: Pattern,
@@ -49,7 +65,7 @@ pub struct Rule {
 }
 
 /// A rule file: a list of rules.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RuleFile {
     /// Always [`RULE_FORMAT`].
     pub format: String,

@@ -194,6 +194,7 @@ pub fn base_rules() -> Result<(Vec<Rule>, Vec<Refuted>)> {
                     audited_against: Some("exact rank on every planar/spatial assignment".into()),
                     command: Some("rgc rules --base".into()),
                     version: Some(env!("CARGO_PKG_VERSION").into()),
+                    frequency: Vec::new(),
                 };
                 let id = format!("base-{name}-{}-{mask:b}", rules.len());
                 rules.push(Rule::new(id, q.clone(), provenance)?);

@@ -12,6 +12,7 @@ mod float;
 mod fss;
 mod graphio;
 mod layers;
+mod mine;
 mod planes;
 mod projection;
 mod rank;

@@ -257,6 +257,7 @@ fn committed_rule_files_are_verified_on_load() {
         ("rods-6.json", 1),
         ("rods-8.json", 13),
         ("mixed-4.json", 124),
+        ("mined.json", 20),
     ];
     for (file, count) in counts {
         let rules = load_rules(&[committed(file)]).unwrap();
@@ -275,7 +276,7 @@ fn committed_rule_files_are_verified_on_load() {
     }
     // The whole directory, in name order.
     let all = load_rules(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs")]).unwrap();
-    assert_eq!(all.len(), 59 + 1 + 13 + 124);
+    assert_eq!(all.len(), 59 + 1 + 13 + 124 + 20);
     let (base, _) = rgc::engine::shapes::base_rules().unwrap();
     assert_eq!(load_rules(&[committed("base.json")]).unwrap(), base);
     // Verification happens on load: one committed rule turned into the prism

@@ -64,6 +64,8 @@ enum Command {
     AspectRatios(cmd::aspect_ratios::AspectArgs),
     /// Where forced planes percolate (and force the line model flat), per aspect ratio, against the committed thresholds.
     Planes(cmd::planes::PlanesArgs),
+    /// The rigidity 3D-RGC misses in generated systems (found by truth), as minimal patterns counted per density; the rigid ones as a rule file.
+    Mine(cmd::mine::MineArgs),
 }
 
 fn main() -> ExitCode {
@@ -104,5 +106,6 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Truth(a) => cmd::truth::run(a, out),
         Command::Bias(a) => cmd::bias::run(a, out),
         Command::Planes(a) => cmd::planes::run(a, out),
+        Command::Mine(a) => cmd::mine::run(a, out),
     }
 }

@@ -22,6 +22,7 @@ pub mod compare;
 pub mod compress;
 pub mod enumerate;
 pub mod merge;
+pub mod mine;
 pub mod planes;
 pub mod rules;
 pub mod sample;
