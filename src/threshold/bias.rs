@@ -24,8 +24,10 @@ use crate::{Error, Result};
 
 /// Truth first, then every variant it measures, each paired with truth:
 /// the paper's and the sound base motifs, certified compression, 10 and
-/// 40 runs per system, and the sound base motifs with `extended` rule files.
-pub fn truth_design(sequences: u64, extended: &[PathBuf]) -> Design {
+/// 40 runs per system, the sound base motifs with the `extended` rule files
+/// (enumerated), and with the `mined` ones (found in real systems, where
+/// truth saw rigidity the engine missed).
+pub fn truth_design(sequences: u64, extended: &[PathBuf], mined: &[PathBuf]) -> Design {
     let v = |label: &str, family: &str| Variant::sound_base(label, family, sequences);
     Design {
         variants: vec![
@@ -53,6 +55,10 @@ pub fn truth_design(sequences: u64, extended: &[PathBuf]) -> Design {
             Variant {
                 motifs: extended.to_vec(),
                 ..v("sound + extended", "motifs")
+            },
+            Variant {
+                motifs: mined.to_vec(),
+                ..v("sound + mined", "motifs")
             },
         ],
         pairing: Pairing::First,

@@ -1,6 +1,8 @@
 //! `rgc bias`: every 3D-RGC variant against the exact truth on the same
 //! sequences; writes `truth-vs-rgc.{json,md,csv,svg,png}`.
 
+use std::path::PathBuf;
+
 use clap::Args;
 use serde_json::json;
 
@@ -19,6 +21,9 @@ pub struct BiasArgs {
     common: VariantArgs,
     #[command(flatten)]
     extended: ExtendedArgs,
+    /// Rule files of motifs mined from real systems (`rgc mine`).
+    #[arg(long, value_delimiter = ',', default_value = "motifs/mined.json")]
+    mined: Vec<PathBuf>,
     /// Also evaluate truth at every number of rods around the critical
     /// number of this many sequences per scanned box (is it monotone?);
     /// writes `truth-monotone.{json,csv}`.
@@ -71,7 +76,10 @@ fn check_replace(path: &std::path::Path, made: &serde_json::Value) -> Result<()>
 pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
     let c = &a.common;
     let template = c.study.spec();
-    let design = variants::checked_design(|r| bias::truth_design(r, &a.extended.files), &template)?;
+    let design = variants::checked_design(
+        |r| bias::truth_design(r, &a.extended.files, &a.mined),
+        &template,
+    )?;
     bias::check_design(&design)?;
     fss::check_bootstrap(c.study.bootstrap)?;
     if a.scan_sequences > 0 {
