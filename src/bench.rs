@@ -253,10 +253,7 @@ pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRo
             &found,
             &graph,
             Criterion::Wrap,
-            TruthOptions {
-                seed,
-                ..TruthOptions::default()
-            },
+            TruthOptions::seeded(seed),
         );
         let seconds = start.elapsed().as_secs_f64();
         let cpu_seconds = thread_cpu_seconds().zip(cpu_before).map(|(b, a)| b - a);

@@ -292,9 +292,8 @@ impl<'a> Probe<'a> {
             topo,
             q,
             opts: TruthOptions {
-                seed,
                 twins: false,
-                ..TruthOptions::default()
+                ..TruthOptions::seeded(seed)
             },
             local: vec![u32::MAX; topo.graph.n_nodes()],
             calls: 0,
@@ -784,13 +783,7 @@ fn pattern_of(graph: &ContactGraph, q: &Quotient, nodes: &[u32]) -> Result<Patte
 pub fn mine_graph(graph: &ContactGraph, seed: u64, search: &Search) -> Mined {
     let topo = Topology::finite(graph);
     let run = Engine::base(RuleSet::Sound).runs(graph, seed, 1).remove(0);
-    let t = truth::truth(
-        &topo,
-        TruthOptions {
-            seed,
-            ..TruthOptions::default()
-        },
-    );
+    let t = truth::truth(&topo, TruthOptions::seeded(seed));
     mine(&topo, &run, &t, seed, search)
 }
 
@@ -825,10 +818,7 @@ pub fn mine_system(
         &found,
         &graph,
         Criterion::Wrap,
-        TruthOptions {
-            seed,
-            ..TruthOptions::default()
-        },
+        TruthOptions::seeded(seed),
     );
     let shifts: Vec<Offset> = found.iter().map(|c| c.shift).collect();
     let topo = Topology::periodic(&graph, &shifts)?;

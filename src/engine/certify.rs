@@ -31,9 +31,8 @@ pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression 
     // One realization proves what it finds rigid, and certification only
     // needs that.
     let opts = TruthOptions {
-        seed,
         twins: false,
-        ..TruthOptions::default()
+        ..TruthOptions::seeded(seed)
     };
     let t = truth::truth(topo, opts);
     let mut bodies: Vec<Body> = Vec::with_capacity(run.bodies.len());

@@ -468,10 +468,7 @@ fn compress(
 /// The exact truth of the first `n` rods, its realizations seeded by the
 /// sequence and `n`.
 fn truth_of(setup: &Setup, seq: &Sequence, n: usize) -> truth::Truth {
-    let opts = TruthOptions {
-        seed: run_seed(seq.seed, n as u64),
-        ..TruthOptions::default()
-    };
+    let opts = TruthOptions::seeded(run_seed(seq.seed, n as u64));
     truth::of_system(
         &seq.system,
         seq.contacts_of(n),

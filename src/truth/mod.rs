@@ -133,6 +133,16 @@ pub struct TruthOptions {
     pub twins: bool,
 }
 
+impl TruthOptions {
+    /// The default options with realizations drawn from `seed`.
+    pub fn seeded(seed: u64) -> Self {
+        TruthOptions {
+            seed,
+            ..TruthOptions::default()
+        }
+    }
+}
+
 impl Default for TruthOptions {
     fn default() -> Self {
         TruthOptions {

@@ -5,7 +5,7 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn rgc(args: &[&str]) -> Output {
+pub fn rgc(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rgc"))
         .args(args)
         .output()
@@ -17,7 +17,7 @@ fn json(args: &[&str]) -> Value {
 }
 
 /// Runs a command that must fail with exit code 2 and a message containing `needle`.
-fn fails(args: &[&str], needle: &str) {
+pub fn fails(args: &[&str], needle: &str) {
     let out = rgc(args);
     assert_eq!(out.status.code(), Some(2), "{args:?} should exit with 2");
     let err = String::from_utf8_lossy(&out.stderr);

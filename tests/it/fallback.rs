@@ -193,13 +193,7 @@ fn the_float_fallback_is_deterministic_in_its_seed() {
     let g = complete_bipartite(4, 4);
     let topo = Topology::finite(&g);
     let run = |seed| {
-        let mut t = truth(
-            &topo,
-            TruthOptions {
-                seed,
-                ..TruthOptions::default()
-            },
-        );
+        let mut t = truth(&topo, TruthOptions::seeded(seed));
         t.seconds = 0.0;
         t
     };

@@ -3,7 +3,8 @@
 
 use std::collections::HashSet;
 use std::path::Path;
-use std::process::{Command, Output};
+
+use crate::cli::{fails, rgc};
 use std::sync::OnceLock;
 
 use rgc::audit::compresses;
@@ -130,20 +131,7 @@ fn assert_minimal(
 /// triangle is a plane turning about it): not whole either.
 #[test]
 fn a_locked_hinge_is_mined_with_its_turning_lock() {
-    let edges = vec![
-        [0, 1],
-        [1, 2],
-        [0, 2],
-        [0, 3],
-        [3, 4],
-        [0, 4],
-        [5, 6],
-        [6, 7],
-        [5, 7],
-        [5, 1],
-        [6, 3],
-    ];
-    let g = ContactGraph::new(8, edges).unwrap();
+    let g = crate::truth::locked_hinge();
     assert_eq!(rgc::graph::io::to_graph6(&g), "G{d?gK");
     let mined = mine::mine_graph(&g, 1, &Search::default());
     assert_eq!(mined.counts.missed_clusters, 1);
@@ -319,22 +307,6 @@ fn the_rule_file_round_trips_and_the_engine_compresses_with_it() {
         assert!(compresses(&with, &rule.pattern, 32).unwrap(), "{}", rule.id);
     }
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-fn rgc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rgc"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-/// Runs a command that must fail with exit code 2 and a one-line message containing `needle`.
-fn fails(args: &[&str], needle: &str) {
-    let out = rgc(args);
-    assert_eq!(out.status.code(), Some(2), "{args:?} should exit with 2");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
-    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
 }
 
 #[test]

@@ -48,10 +48,7 @@ pub struct TruthArgs {
 }
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
-    let opts = TruthOptions {
-        seed: a.seed,
-        ..TruthOptions::default()
-    };
+    let opts = TruthOptions::seeded(a.seed);
     let t = match (&a.input.graph6, &a.input.edges, a.input.gamma) {
         (Some(s), _, _) => finite(&graphio::parse_graph6(s)?, opts),
         (_, Some(path), _) => finite(&graphio::read_edge_list(path)?, opts),
