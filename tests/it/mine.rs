@@ -455,3 +455,68 @@ fn mine_writes_its_files_and_guards_them() {
     assert!(run(args("3", true)).status.success());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Mined rules are rigid on every component as patterns, yet no more sound
+/// on whole systems than the base motifs: on one committed sequence (gamma
+/// 23, L = 3, found where `sound + mined` first spans below truth in the
+/// `rgc bias` study), the mined rules make a spanning body (100 of the
+/// system's 829 rods) in every motif order, which lies in no true rigid
+/// cluster (at most 65 of its rods share one); `sound` alone
+/// does not span there, truth does not, and certifying against the box
+/// removes the span.
+#[test]
+fn mined_rules_can_span_falsely_where_certification_does_not() {
+    use rgc::engine::run_seed;
+    use rgc::spanning::{Criterion, SpanChecker};
+    use rgc::threshold::sequence::Sequence;
+    let rules: Vec<CompiledRule> =
+        load_rules(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs/mined.json")])
+            .unwrap()
+            .iter()
+            .map(CompiledRule::new)
+            .collect();
+    let (seed, n) = (3454578912086077735, 829);
+    let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
+    let (graph, contacts) = (seq.graph(n), seq.contacts_of(n));
+    let t = rgc::truth::of_system(
+        &seq.system,
+        contacts,
+        &graph,
+        Criterion::Wrap,
+        TruthOptions::default(),
+    );
+    assert_eq!(t.spanning, Some(false));
+    let mut checker = SpanChecker::new();
+    let mut spans =
+        |rods: &[u32]| checker.spans(&seq.system, contacts, &graph, rods, Criterion::Wrap);
+    let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+    let topo = Topology::periodic(&graph, &shifts).unwrap();
+    let seed_n = run_seed(seed, n as u64);
+    let sound = Engine::base(RuleSet::Sound).runs(&graph, seed_n, 8);
+    assert!(
+        sound
+            .iter()
+            .all(|r| r.bodies.iter().all(|b| !spans(&b.rods)))
+    );
+    let mined = Engine::with_rules(RuleSet::Sound, &rules).runs(&graph, seed_n, 8);
+    for (k, run) in mined.into_iter().enumerate() {
+        assert!(run.motifs.rules > 0, "run {k} applied no mined rule");
+        let false_body = run
+            .bodies
+            .iter()
+            .find(|b| spans(&b.rods))
+            .expect("a spanning body");
+        assert!(
+            !t.clusters.iter().any(|c| false_body
+                .rods
+                .iter()
+                .all(|r| c.rods.binary_search(r).is_ok())),
+            "run {k}: the spanning body lies in a true cluster"
+        );
+        let run = rgc::engine::certify::certify(&topo, run, run_seed(seed_n, k as u64));
+        assert!(
+            run.bodies.iter().all(|b| !spans(&b.rods)),
+            "certified run {k} spans"
+        );
+    }
+}
