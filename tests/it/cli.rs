@@ -1114,3 +1114,130 @@ fn certified_compression_splits_what_truth_refutes() {
         assert_eq!(v["components"], nodes, "{rules}");
     }
 }
+
+/// Spawns `args` and SIGKILLs it once the record files of `dir` hold
+/// `target` complete lines; returns how many they hold after the kill.
+fn kill_after(args: &[&str], dir: &std::path::Path, target: usize) -> usize {
+    let lines = || -> usize {
+        std::fs::read_dir(dir).map_or(0, |entries| {
+            entries
+                .flatten()
+                .filter(|e| {
+                    let name = e.file_name().to_string_lossy().into_owned();
+                    name.starts_with("records") && name.ends_with(".jsonl")
+                })
+                .map(|e| std::fs::read_to_string(e.path()).map_or(0, |t| t.matches('\n').count()))
+                .sum()
+        })
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while lines() < target {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before {target} records"
+        );
+        assert!(started.elapsed().as_secs() < 120, "no records appear");
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    child.kill().unwrap();
+    assert!(
+        !child.wait().unwrap().success(),
+        "it finished before the kill"
+    );
+    lines()
+}
+
+/// A gamma 98 study killed three times at seeded random points resumes to
+/// the byte-identical `summary.json` of an uninterrupted run, and so do two
+/// shards merged after one of them was killed and rerun.
+#[test]
+fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_summary() {
+    use rand::{RngExt, SeedableRng};
+    let base = crate::scratch("cli-kill-98");
+    let at = |d: &str| base.join(d);
+    let args = |out: &std::path::Path, extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "threshold",
+            "--quiet",
+            "--gamma",
+            "98",
+            "--boxes",
+            "2.1,2.3,2.5",
+            "--sequences",
+            "16",
+            "--bootstrap",
+            "30",
+            "--out",
+        ]
+        .map(String::from)
+        .to_vec();
+        a.push(out.to_str().unwrap().into());
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let run = |a: &[String]| {
+        let out = rgc(&a.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    let summary = |d: &std::path::Path| std::fs::read_to_string(d.join("summary.json")).unwrap();
+    let whole = at("whole");
+    run(&args(&whole, &[]));
+
+    let killed = at("killed");
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(98);
+    let mut done = 0;
+    for _ in 0..3 {
+        let target = done + rng.random_range(1..=10);
+        let a = args(&killed, &[]);
+        let now = kill_after(
+            &a.iter().map(String::as_str).collect::<Vec<_>>(),
+            &killed,
+            target,
+        );
+        assert!(
+            now >= target && now < 48,
+            "{now} records after a kill aiming at {target}"
+        );
+        done = now;
+    }
+    assert!(!killed.join("summary.json").exists());
+    run(&args(&killed, &[]));
+    assert_eq!(summary(&whole), summary(&killed));
+
+    let shards = at("shards");
+    run(&args(&shards, &["--shard", "0/2"]));
+    let a = args(&shards, &["--shard", "1/2"]);
+    let now = kill_after(
+        &a.iter().map(String::as_str).collect::<Vec<_>>(),
+        &shards,
+        20,
+    );
+    // Shard 0 holds 24 records; shard 1 is killed before its own 24.
+    assert!(now < 48, "{now}");
+    run(&a);
+    let merged = at("merged");
+    let out = rgc(&[
+        "merge",
+        shards.to_str().unwrap(),
+        "--bootstrap",
+        "30",
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(summary(&whole), summary(&merged));
+    std::fs::remove_dir_all(&base).unwrap();
+}
