@@ -11,6 +11,7 @@ use crate::contacts;
 use crate::engine::{self, RuleSet};
 use crate::graph::ContactGraph;
 use crate::math::stats::{least_squares, median};
+pub use crate::memory::{peak_rss_mib, reset_peak_rss};
 use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::Criterion;
@@ -41,25 +42,6 @@ pub struct BenchRow {
     pub peak_rss_mib: f64,
     pub components: usize,
     pub largest_body_rods: usize,
-}
-
-/// Peak resident set size of this process (Linux `VmHWM`), MiB; 0 where unknown.
-pub fn peak_rss_mib() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map_or(0.0, |kib| kib / 1024.0)
-}
-
-/// Lowers the peak resident set size to the current one (Linux 4.0 and
-/// later, `clear_refs` mode 5), so that the next peak belongs to what runs
-/// next and not to an earlier, larger system. False where it cannot.
-pub fn reset_peak_rss() -> bool {
-    std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
 /// CPU time of the calling thread, user plus system, from Linux

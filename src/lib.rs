@@ -8,6 +8,7 @@
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
 //! * [`output`] — files written atomically, writable paths checked up front, CSV;
 //! * [`progress`] — how long computations report progress to their caller;
+//! * [`memory`] — the process's peak resident memory (Linux);
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
 //! * [`contacts`] — which rods touch (cell list, robust segment distance);
 //! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
@@ -31,6 +32,7 @@
 
 pub mod error;
 pub mod math;
+pub mod memory;
 pub mod output;
 pub mod progress;
 

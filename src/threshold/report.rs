@@ -228,6 +228,10 @@ pub struct Timing {
     /// Summed time of the sequences on their threads (CPU seconds).
     pub cpu_seconds: f64,
     pub per_box: Vec<(f64, f64)>,
+    /// The largest peak resident memory of the processes that wrote the
+    /// records (MiB; 0 where none was recorded).
+    #[serde(default)]
+    pub peak_rss_mib: f64,
 }
 
 pub fn timing(spec: &StudySpec, records: &[Record]) -> Timing {
@@ -245,6 +249,7 @@ pub fn timing(spec: &StudySpec, records: &[Record]) -> Timing {
                 (l, s)
             })
             .collect(),
+        peak_rss_mib: records.iter().map(|r| r.peak_rss_mib).fold(0.0, f64::max),
     }
 }
 

@@ -203,6 +203,11 @@ pub struct Record {
     /// of the results: records are compared without it.
     #[serde(default)]
     pub seconds: f64,
+    /// Peak resident memory of the process that wrote it, MiB, when it was
+    /// written (0 where unknown, and in records older than the field).
+    /// Not part of the results either.
+    #[serde(default)]
+    pub peak_rss_mib: f64,
 }
 
 impl Record {

@@ -315,6 +315,7 @@ fn run_sequence(
         contacts: Vec::new(),
         undecided: None,
         seconds: 0.0,
+        peak_rss_mib: 0.0,
     };
     match method {
         Protocol::Nested => sequence::nested(setup, &mut seq, &mut record)?,
@@ -324,6 +325,7 @@ fn run_sequence(
         }
     }
     record.seconds = t.elapsed().as_secs_f64();
+    record.peak_rss_mib = crate::memory::peak_rss_mib();
     Ok(record)
 }
 
@@ -628,13 +630,12 @@ fn read_grid(dir: &Path) -> Result<Option<Grid>> {
 
 /// Equal results (timing aside).
 fn same_record(a: &Record, b: &Record) -> bool {
-    Record {
+    let plain = |r: &Record| Record {
         seconds: 0.0,
-        ..a.clone()
-    } == Record {
-        seconds: 0.0,
-        ..b.clone()
-    }
+        peak_rss_mib: 0.0,
+        ..r.clone()
+    };
+    plain(a) == plain(b)
 }
 
 /// Combines the records of `dirs` (shards of one study) into `out`: the

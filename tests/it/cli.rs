@@ -1191,6 +1191,11 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     let summary = |d: &std::path::Path| std::fs::read_to_string(d.join("summary.json")).unwrap();
     let whole = at("whole");
     run(&args(&whole, &[]));
+    // The study's peak memory goes beside its times (Linux reports it).
+    let timing: Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("timing.json")).unwrap()).unwrap();
+    let peak = timing["peak_rss_mib"].as_f64().unwrap();
+    assert!(peak > 1.0 && peak < 4096.0, "peak {peak} MiB");
 
     let killed = at("killed");
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(98);

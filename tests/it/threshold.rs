@@ -49,7 +49,11 @@ fn run_in(spec: &StudySpec, dir: &Path, shard: Shard, threads: usize) -> study::
 fn results(spec: &StudySpec, dir: &Path) -> Vec<Record> {
     study::in_study_order(spec, study::read_records(dir, spec).unwrap())
         .into_iter()
-        .map(|r| Record { seconds: 0.0, ..r })
+        .map(|r| Record {
+            seconds: 0.0,
+            peak_rss_mib: 0.0,
+            ..r
+        })
         .collect()
 }
 
@@ -83,6 +87,7 @@ fn empty_record() -> Record {
         contacts: vec![],
         undecided: None,
         seconds: 0.0,
+        peak_rss_mib: 0.0,
     }
 }
 
