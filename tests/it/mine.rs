@@ -467,8 +467,6 @@ fn mine_writes_its_files_and_guards_them() {
 #[test]
 fn mined_rules_can_span_falsely_where_certification_does_not() {
     use rgc::engine::run_seed;
-    use rgc::spanning::{Criterion, SpanChecker};
-    use rgc::threshold::sequence::Sequence;
     let rules: Vec<CompiledRule> =
         load_rules(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs/mined.json")])
             .unwrap()
@@ -476,46 +474,30 @@ fn mined_rules_can_span_falsely_where_certification_does_not() {
             .map(CompiledRule::new)
             .collect();
     let (seed, n) = (3454578912086077735, 829);
-    let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
-    let (graph, contacts) = (seq.graph(n), seq.contacts_of(n));
-    let t = rgc::truth::of_system(
-        &seq.system,
-        contacts,
-        &graph,
-        Criterion::Wrap,
-        TruthOptions::default(),
-    );
-    assert_eq!(t.spanning, Some(false));
-    let mut checker = SpanChecker::new();
-    let mut spans =
-        |rods: &[u32]| checker.spans(&seq.system, contacts, &graph, rods, Criterion::Wrap);
-    let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-    let topo = Topology::periodic(&graph, &shifts).unwrap();
+    let p = crate::truth::Prefix::new(seed, n);
+    assert_eq!(p.truth.spanning, Some(false));
     let seed_n = run_seed(seed, n as u64);
-    let sound = Engine::base(RuleSet::Sound).runs(&graph, seed_n, 8);
+    let sound = Engine::base(RuleSet::Sound).runs(&p.graph, seed_n, 8);
     assert!(
         sound
             .iter()
-            .all(|r| r.bodies.iter().all(|b| !spans(&b.rods)))
+            .all(|r| r.bodies.iter().all(|b| !p.spans(&b.rods)))
     );
-    let mined = Engine::with_rules(RuleSet::Sound, &rules).runs(&graph, seed_n, 8);
+    let mined = Engine::with_rules(RuleSet::Sound, &rules).runs(&p.graph, seed_n, 8);
     for (k, run) in mined.into_iter().enumerate() {
         assert!(run.motifs.rules > 0, "run {k} applied no mined rule");
         let false_body = run
             .bodies
             .iter()
-            .find(|b| spans(&b.rods))
+            .find(|b| p.spans(&b.rods))
             .expect("a spanning body");
         assert!(
-            !t.clusters.iter().any(|c| false_body
-                .rods
-                .iter()
-                .all(|r| c.rods.binary_search(r).is_ok())),
+            !p.in_true_cluster(&false_body.rods),
             "run {k}: the spanning body lies in a true cluster"
         );
-        let run = rgc::engine::certify::certify(&topo, run, run_seed(seed_n, k as u64));
+        let run = rgc::engine::certify::certify(&p.topology(), run, run_seed(seed_n, k as u64));
         assert!(
-            run.bodies.iter().all(|b| !spans(&b.rods)),
+            run.bodies.iter().all(|b| !p.spans(&b.rods)),
             "certified run {k} spans"
         );
     }

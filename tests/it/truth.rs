@@ -235,64 +235,95 @@ fn truth_finds_a_locked_hinge_the_engine_misses() {
 #[test]
 fn sound_with_40_runs_spans_falsely_where_truth_and_certified_do_not() {
     use rgc::engine::{Engine, RuleSet, run_seed};
-    use rgc::spanning::{Criterion, SpanChecker};
-    use rgc::threshold::sequence::Sequence;
     let (seed, n) = (13354648569331998775, 828);
-    let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
-    let graph = seq.graph(n);
-    let contacts = seq.contacts_of(n);
-    let t = rgc::truth::of_system(
-        &seq.system,
-        contacts,
-        &graph,
-        Criterion::Wrap,
-        TruthOptions::default(),
-    );
-    assert_eq!(t.spanning, Some(false));
-    let mut checker = SpanChecker::new();
-    let mut spans =
-        |rods: &[u32]| checker.spans(&seq.system, contacts, &graph, rods, Criterion::Wrap);
-    let spanning_bodies = |rules| -> Vec<Vec<u32>> {
-        Engine::base(rules)
-            .runs(&graph, run_seed(seed, n as u64), 40)
-            .into_iter()
-            .flat_map(|r| r.bodies)
-            .map(|b| b.rods)
-            .collect()
-    };
-    let sound: Vec<Vec<u32>> = spanning_bodies(RuleSet::Sound)
-        .into_iter()
-        .filter(|b| spans(b))
+    let p = Prefix::new(seed, n);
+    assert_eq!(p.truth.spanning, Some(false));
+    let seed_n = run_seed(seed, n as u64);
+    let runs = Engine::base(RuleSet::Sound).runs(&p.graph, seed_n, 40);
+    let sound: Vec<&Vec<u32>> = runs
+        .iter()
+        .flat_map(|r| &r.bodies)
+        .map(|b| &b.rods)
+        .filter(|b| p.spans(b))
         .collect();
     assert!(
         !sound.is_empty(),
         "sound no longer spans here: update this test"
     );
     for b in &sound {
-        let inside = t
-            .clusters
-            .iter()
-            .any(|c| b.iter().all(|r| c.rods.binary_search(r).is_ok()));
         assert!(
-            !inside,
+            !p.in_true_cluster(b),
             "a spanning sound body of {} rods lies in a true cluster",
             b.len()
         );
     }
     // Certified against the truth of the box: no spanning body.
-    let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-    let topo = Topology::periodic(&graph, &shifts).unwrap();
-    let seed_n = run_seed(seed, n as u64);
-    let runs = Engine::base(RuleSet::Sound).runs(&graph, seed_n, 40);
     for (k, run) in runs.into_iter().enumerate() {
-        let run = rgc::engine::certify::certify(&topo, run, run_seed(seed_n, k as u64));
+        let run = rgc::engine::certify::certify(&p.topology(), run, run_seed(seed_n, k as u64));
         assert!(
-            run.bodies.iter().all(|b| !spans(&b.rods)),
+            run.bodies.iter().all(|b| !p.spans(&b.rods)),
             "certified run {k} spans"
         );
     }
     // The bare graph as a finite framework closes the loops through the box
     // on themselves and lets a cluster span: not the truth of the box.
-    let bare = truth(&Topology::finite(&graph), TruthOptions::default());
-    assert!(bare.clusters.iter().any(|c| spans(&c.rods)));
+    let bare = truth(&Topology::finite(&p.graph), TruthOptions::default());
+    assert!(bare.clusters.iter().any(|c| p.spans(&c.rods)));
+}
+
+/// The first `n` rods of a committed sequence (gamma 23, L = 3), with the
+/// truth of its box: where engine variants are caught spanning falsely.
+pub struct Prefix {
+    pub seq: rgc::threshold::sequence::Sequence,
+    pub n: usize,
+    pub graph: rgc::graph::ContactGraph,
+    shifts: Vec<[i32; 3]>,
+    pub truth: rgc::truth::Truth,
+}
+
+impl Prefix {
+    pub fn new(seed: u64, n: usize) -> Self {
+        let seq = rgc::threshold::sequence::Sequence::new(23.0, 3.0, n, seed).unwrap();
+        let graph = seq.graph(n);
+        let contacts = seq.contacts_of(n);
+        let shifts = contacts.iter().map(|c| c.shift).collect();
+        let truth = rgc::truth::of_system(
+            &seq.system,
+            contacts,
+            &graph,
+            rgc::spanning::Criterion::Wrap,
+            TruthOptions::default(),
+        );
+        Prefix {
+            seq,
+            n,
+            graph,
+            shifts,
+            truth,
+        }
+    }
+
+    /// The periodic topology truth and certification take.
+    pub fn topology(&self) -> Topology<'_> {
+        Topology::periodic(&self.graph, &self.shifts).unwrap()
+    }
+
+    /// Whether `rods` span the box (`wrap`).
+    pub fn spans(&self, rods: &[u32]) -> bool {
+        rgc::spanning::SpanChecker::new().spans(
+            &self.seq.system,
+            self.seq.contacts_of(self.n),
+            &self.graph,
+            rods,
+            rgc::spanning::Criterion::Wrap,
+        )
+    }
+
+    /// Whether `rods` lie inside one true rigid cluster.
+    pub fn in_true_cluster(&self, rods: &[u32]) -> bool {
+        self.truth
+            .clusters
+            .iter()
+            .any(|c| rods.iter().all(|r| c.rods.binary_search(r).is_ok()))
+    }
 }
