@@ -130,29 +130,37 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
     let contacts = contacts::detect(&system);
     let graph = ContactGraph::from_contacts(system.len(), &contacts);
     let seconds_contacts = start.elapsed().as_secs_f64();
+    // The statistics and contact spanning take the second core while the
+    // (single-threaded) compression runs.
+    let measure = || {
+        let stats = graph::stats(&graph);
+        let spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
+        (stats, spanning)
+    };
+    let compress = || {
+        let t = Instant::now();
+        let runs: Vec<Compression> = if opts.rules == RuleSet::Certified {
+            // Certified against the truth of this box, not of the bare graph.
+            let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+            let topo = Topology::periodic(&graph, &shifts).expect("one shift per contact");
+            engine::Engine::with_rules(RuleSet::Sound, extra)
+                .runs(&graph, opts.seed, opts.runs)
+                .into_iter()
+                .enumerate()
+                .map(|(k, run)| certify::certify(&topo, run, engine::run_seed(opts.seed, k as u64)))
+                .collect()
+        } else {
+            engine::Engine::with_rules(opts.rules, extra).runs(&graph, opts.seed, opts.runs)
+        };
+        (runs, t.elapsed().as_secs_f64())
+    };
+    let ((stats, contact_spanning), (runs, seconds_compression)) = rayon::join(measure, compress);
     let ContactStats {
         c0,
         c1,
         c2,
         clustering,
-    } = graph::stats(&graph);
-    let contact_spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
-
-    let t = Instant::now();
-    let runs = if opts.rules == RuleSet::Certified {
-        // Certified against the truth of this box, not of the bare graph.
-        let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-        let topo = Topology::periodic(&graph, &shifts).expect("one shift per contact");
-        engine::Engine::with_rules(RuleSet::Sound, extra)
-            .runs(&graph, opts.seed, opts.runs)
-            .into_iter()
-            .enumerate()
-            .map(|(k, run)| certify::certify(&topo, run, engine::run_seed(opts.seed, k as u64)))
-            .collect()
-    } else {
-        engine::Engine::with_rules(opts.rules, extra).runs(&graph, opts.seed, opts.runs)
-    };
-    let seconds_compression = t.elapsed().as_secs_f64();
+    } = stats;
     let mut checker = SpanChecker::new();
     let spans: Vec<bool> = runs
         .iter()

@@ -1,12 +1,16 @@
 //! `rgc bench`: speed and memory on the reference systems, rank
 //! throughput, or the cost of truth.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Instant;
 
 use clap::Args;
 use rgc::bench::{PowerLaw, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow};
+use rgc::engine::CompiledRule;
+use rgc::math::stats::median;
 use rgc::{Error, Result, bench, output};
+use serde::Serialize;
 
 use crate::progress::Reporter;
 
@@ -18,6 +22,21 @@ pub struct BenchArgs {
     /// Only the systems up to this many rods.
     #[arg(long, default_value_t = 200_000)]
     max_rods: usize,
+    /// Where the rule sets timed against the base engine are: `extended`
+    /// (rods-6, rods-8 and mixed-4 .json) and `mined` (mined.json).
+    #[arg(long, default_value = "motifs")]
+    motifs: PathBuf,
+    /// Time no rule sets.
+    #[arg(long)]
+    no_rules: bool,
+    /// Also set the whole `rgc sample` process against networkx's first RGC
+    /// step (3-clique communities merged into bodies) on the same gamma 23,
+    /// L = 10 system, interleaved; needs python3 with networkx.
+    #[arg(long)]
+    networkx: bool,
+    /// The Python interpreter of --networkx.
+    #[arg(long, default_value = "python3", requires = "networkx")]
+    python: PathBuf,
     /// Also write the figures as JSON here.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -77,17 +96,53 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         return truth(a, out);
     }
     bench::check_max_rods(a.max_rods)?;
-    let rows = bench::run(a.repeat as usize, a.max_rods);
+    let sets = if a.no_rules {
+        Vec::new()
+    } else {
+        rule_sets(&a.motifs)?
+    };
+    if a.networkx {
+        networkx_version(&a.python)?;
+    }
+    let named: Vec<bench::RuleSetBench> = sets
+        .iter()
+        .map(|(name, rules)| bench::RuleSetBench {
+            name: name.to_string(),
+            rules,
+        })
+        .collect();
+    let report = bench::run(a.repeat as usize, a.max_rods, &named);
+    let networkx = if a.networkx {
+        Some(against_networkx(&a.python, a.repeat as usize)?)
+    } else {
+        None
+    };
+    let all = Foundation { report, networkx };
     if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&rows).expect("bench rows serialize");
-        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))?;
+        let text = serde_json::to_string_pretty(&all).expect("bench figures serialize");
+        output::write_atomic(path, text + "\n")?;
     }
     if a.json {
-        return super::print_json(&rows, out);
+        return super::print_json(&all, out);
     }
+    foundation_table(&all, out);
+    Ok(())
+}
+
+/// The foundation benchmark's figures, with the networkx comparison when asked.
+#[derive(Serialize)]
+struct Foundation {
+    #[serde(flatten)]
+    report: bench::BenchReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    networkx: Option<Networkx>,
+}
+
+fn foundation_table(all: &Foundation, out: &mut String) {
+    let report = &all.report;
     say!(
         out,
-        "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10} {:>10} {:>11} {:>10} {:>9}",
         "gamma",
         "rho",
         "L",
@@ -95,13 +150,14 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         "contacts",
         "detect s",
         "compress s",
+        "detect/rod",
         "ns/rod",
         "peak MiB"
     );
-    for r in &rows {
+    for r in &report.systems {
         say!(
             out,
-            "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10.4} {:>10.4} {:>10.0} {:>9.1}",
+            "{:>6} {:>6} {:>6} {:>8} {:>10} {:>10.4} {:>10.4} {:>11.0} {:>10.0} {:>9.1}",
             r.gamma,
             r.density,
             r.box_len,
@@ -109,11 +165,186 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
             r.n_contacts,
             r.seconds_detect,
             r.seconds_compress,
+            r.detect_ns_per_rod,
             r.ns_per_rod,
             r.peak_rss_mib
         );
     }
-    Ok(())
+    if let Some(ratio) = report.detect_ratio_98_to_23 {
+        say!(
+            out,
+            "detection per rod, gamma 98 over gamma 23 (L = 10): {ratio:.2}x"
+        );
+    }
+    let (gamma, density, l) = report.rules_system;
+    for r in &report.rules {
+        say!(
+            out,
+            "{} ({} rules) at gamma {gamma}, rho {density}, L {l}: compression {:.3} s, {:.2}x the base engine",
+            r.name,
+            r.n_rules,
+            r.seconds_compress,
+            r.ratio_to_base
+        );
+    }
+    if let Some(n) = &all.networkx {
+        say!(
+            out,
+            "whole `rgc sample` process {:.3} s against networkx {} first RGC step {:.3} s: {:.1}x faster",
+            n.rgc_sample_seconds,
+            n.networkx_version,
+            n.networkx_seconds,
+            n.ratio
+        );
+    }
+}
+
+/// The rule sets in `dir` that the benchmark times: every file must exist.
+fn rule_sets(dir: &Path) -> Result<Vec<(&'static str, Vec<CompiledRule>)>> {
+    let sets: [(&str, &[&str]); 2] = [
+        ("extended", &["rods-6.json", "rods-8.json", "mixed-4.json"]),
+        ("mined", &["mined.json"]),
+    ];
+    sets.iter()
+        .map(|(name, files)| {
+            let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
+            if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
+                return Err(Error::Parameter(format!(
+                    "rule file {} not found (--motifs names the directory of the project's rule files; --no-rules times none)",
+                    missing.display()
+                )));
+            }
+            Ok((*name, super::load(&paths)?))
+        })
+        .collect()
+}
+
+/// The whole `rgc sample` process against networkx, interleaved, medians.
+#[derive(Serialize)]
+struct Networkx {
+    networkx_version: String,
+    /// Wall time of the whole `rgc sample` process (generation, contacts,
+    /// statistics, compression, JSON), median.
+    rgc_sample_seconds: f64,
+    /// networkx's first step on the saved contact graph, median: 3-clique
+    /// communities, communities sharing a rod merged, and the quotient graph.
+    networkx_seconds: f64,
+    ratio: f64,
+    repeat: usize,
+}
+
+/// networkx's first RGC step, timed inside Python (reading the graph and
+/// importing networkx are not counted): the edge list is argv[1].
+const NETWORKX_STEP: &str = r#"
+import sys, time
+import networkx as nx
+from networkx.algorithms.community import k_clique_communities
+lines = open(sys.argv[1]).read().splitlines()
+n = int(lines[0].split()[2])
+G = nx.Graph()
+G.add_nodes_from(range(n))
+G.add_edges_from(tuple(map(int, l.split())) for l in lines[1:] if l and not l.startswith('#'))
+t = time.perf_counter()
+parent = list(range(n))
+def find(x):
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+for c in k_clique_communities(G, 3):
+    c = list(c)
+    for v in c[1:]:
+        a, b = find(c[0]), find(v)
+        if a != b:
+            parent[a] = b
+H = nx.Graph()
+H.add_nodes_from(find(v) for v in range(n))
+H.add_edges_from((find(a), find(b)) for a, b in G.edges() if find(a) != find(b))
+print(time.perf_counter() - t)
+"#;
+
+fn networkx_version(python: &Path) -> Result<String> {
+    let child = Command::new(python)
+        .args(["-c", "import networkx; print(networkx.__version__)"])
+        .output();
+    let why = match &child {
+        Ok(c) if c.status.success() => None,
+        Ok(c) => Some(String::from_utf8_lossy(&c.stderr).trim().to_string()),
+        Err(e) => Some(e.to_string()),
+    };
+    if let Some(why) = why {
+        return Err(Error::Parameter(format!(
+            "--networkx needs {} with networkx (pip install networkx): {why}",
+            python.display()
+        )));
+    }
+    let child = child.map_err(|e| Error::io(python, e))?;
+    Ok(String::from_utf8_lossy(&child.stdout).trim().to_string())
+}
+
+fn against_networkx(python: &Path, repeat: usize) -> Result<Networkx> {
+    let networkx_version = networkx_version(python)?;
+    let exe = std::env::current_exe().map_err(|e| Error::io("rgc", e))?;
+    let dir = std::env::temp_dir().join(format!("rgc-bench-networkx-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let graph = dir.join("contacts.txt");
+    let (gamma, density, l) = bench::RULES_SYSTEM;
+    let sample = [
+        "sample".to_string(),
+        format!("--gamma={gamma}"),
+        format!("--box={l}"),
+        format!("--density={density}"),
+        "--json".to_string(),
+    ];
+    let failed = |what: &str, child: &std::process::Output| {
+        Error::io(
+            what,
+            std::io::Error::other(String::from_utf8_lossy(&child.stderr).trim().to_string()),
+        )
+    };
+    let child = Command::new(&exe)
+        .args(&sample)
+        .arg("--save-contacts")
+        .arg(&graph)
+        .output()
+        .map_err(|e| Error::io(&exe, e))?;
+    if !child.status.success() {
+        return Err(failed("rgc sample", &child));
+    }
+    let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        let child = Command::new(&exe)
+            .args(&sample)
+            .output()
+            .map_err(|e| Error::io(&exe, e))?;
+        ours.push(t.elapsed().as_secs_f64());
+        if !child.status.success() {
+            return Err(failed("rgc sample", &child));
+        }
+        let child = Command::new(python)
+            .args(["-c", NETWORKX_STEP])
+            .arg(&graph)
+            .output()
+            .map_err(|e| Error::io(python, e))?;
+        if !child.status.success() {
+            return Err(failed("python3 (networkx)", &child));
+        }
+        let seconds: f64 = String::from_utf8_lossy(&child.stdout)
+            .trim()
+            .parse()
+            .map_err(|_| failed("python3 (networkx): no time printed", &child))?;
+        theirs.push(seconds);
+    }
+    std::fs::remove_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let mut ratios: Vec<f64> = theirs.iter().zip(&ours).map(|(t, o)| t / o).collect();
+    Ok(Networkx {
+        networkx_version,
+        rgc_sample_seconds: median(&mut ours),
+        networkx_seconds: median(&mut theirs),
+        ratio: median(&mut ratios),
+        repeat: repeat.max(1),
+    })
 }
 
 fn truth(a: BenchArgs, out: &mut String) -> Result<()> {

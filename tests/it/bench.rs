@@ -1,0 +1,124 @@
+//! The foundation benchmark: rows for the systems it was allowed, rule sets
+//! timed against the base engine on the same graph, and its refusals. No
+//! timing is asserted beyond being positive.
+
+use std::process::Command;
+
+use rgc::bench::{self, RULES_SYSTEM, RuleSetBench};
+use rgc::contacts;
+use rgc::engine::{self, CompiledRule, RuleSet};
+use rgc::graph::ContactGraph;
+use rgc::rods::{RodParams, RodSystem};
+use rgc::rule_file;
+
+fn rgc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap()
+}
+
+fn mined() -> Vec<CompiledRule> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs/mined.json");
+    rule_file::load_rules(&[path])
+        .unwrap()
+        .iter()
+        .map(CompiledRule::new)
+        .collect()
+}
+
+#[test]
+fn rows_match_the_systems_they_time_and_rules_are_set_against_the_base_engine() {
+    let rules = mined();
+    let sets = [RuleSetBench {
+        name: "mined".into(),
+        rules: &rules,
+    }];
+    let report = bench::run(2, 5000, &sets);
+    // Only gamma 23 at L = 5 has no more than 5,000 rods.
+    assert_eq!(report.systems.len(), 1);
+    let row = &report.systems[0];
+    assert_eq!((row.gamma, row.box_len, row.n_rods), (23.0, 5.0, 5000));
+    // The row describes the last repetition's system (seed 1) as the engine sees it.
+    let system = RodSystem::generate(RodParams::new(23.0, 5.0, 40.0).unwrap(), 1);
+    let found = contacts::detect(&system);
+    let graph = ContactGraph::from_contacts(system.len(), &found);
+    let run = engine::compress(&graph, RuleSet::Sound, 1);
+    assert_eq!(row.n_contacts, found.len());
+    assert_eq!(row.components, run.components);
+    assert_eq!(row.largest_body_rods, run.largest_rods());
+    assert!(row.seconds_detect > 0.0 && row.seconds_compress > 0.0);
+    let per_rod = row.seconds_detect * 1e9 / 5000.0;
+    assert!((row.detect_ns_per_rod - per_rod).abs() <= 1e-9 * per_rod);
+    // Without gamma 98 there is no detection ratio.
+    assert_eq!(report.detect_ratio_98_to_23, None);
+    assert_eq!(report.rules_system, RULES_SYSTEM);
+    assert_eq!(report.rules.len(), 1);
+    let r = &report.rules[0];
+    assert_eq!((r.name.as_str(), r.n_rules), ("mined", 20));
+    assert!(r.seconds_compress > 0.0 && r.ratio_to_base > 0.0, "{r:?}");
+}
+
+#[test]
+fn the_cli_writes_the_figures_it_prints_and_refuses_what_it_cannot_run() {
+    let dir = crate::scratch("bench-cli");
+    let path = dir.join("bench.json");
+    let out = rgc(&[
+        "bench",
+        "--max-rods",
+        "5000",
+        "--repeat",
+        "1",
+        "--no-rules",
+        "--json",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(printed, written);
+    assert_eq!(printed["systems"].as_array().unwrap().len(), 1);
+    assert_eq!(printed["rules"], serde_json::json!([]));
+    assert!(printed.get("networkx").is_none());
+
+    let fails = |args: &[&str], needle: &str| {
+        let out = rgc(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(needle), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    };
+    let missing = dir.join("nowhere");
+    fails(
+        &[
+            "bench",
+            "--max-rods",
+            "5000",
+            "--motifs",
+            missing.to_str().unwrap(),
+        ],
+        &format!(
+            "rule file {} not found",
+            missing.join("rods-6.json").display()
+        ),
+    );
+    fails(
+        &[
+            "bench",
+            "--max-rods",
+            "5000",
+            "--no-rules",
+            "--networkx",
+            "--python",
+            "/nonexistent/python3",
+        ],
+        "--networkx needs /nonexistent/python3 with networkx",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
