@@ -11,11 +11,12 @@ use crate::contacts;
 use crate::engine::{self, CompiledRule, Engine, RuleSet};
 use crate::graph::ContactGraph;
 use crate::math::stats::{least_squares, median};
-pub use crate::memory::{peak_rss_mib, reset_peak_rss};
 use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::Criterion;
 use crate::truth::{self, TruthOptions};
+use crate::usage::thread_cpu_seconds;
+pub use crate::usage::{peak_rss_mib, reset_peak_rss};
 
 /// The reference systems: (gamma, density, box side).
 pub const SYSTEMS: [(f64, f64, f64); 4] = [
@@ -45,18 +46,6 @@ pub struct BenchRow {
     pub peak_rss_mib: f64,
     pub components: usize,
     pub largest_body_rods: usize,
-}
-
-/// CPU time of the calling thread, user plus system, from Linux
-/// `/proc/thread-self/stat` (in the kernel's fixed 100 ticks per second);
-/// `None` where unknown.
-fn thread_cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
-    // The fields after the command name, which may hold spaces, start at
-    // the third (state); user and system time are the 14th and 15th.
-    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
-    let ticks = |i: usize| fields.get(i)?.parse::<f64>().ok();
-    Some((ticks(11)? + ticks(12)?) / 100.0)
 }
 
 /// Runs `f` on a pool of one thread: the figures are per core, whatever the

@@ -8,7 +8,7 @@
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
 //! * [`output`] — files written atomically, writable paths checked up front, CSV;
 //! * [`progress`] — how long computations report progress to their caller;
-//! * [`memory`] — the process's peak resident memory (Linux);
+//! * [`usage`] — what the process used: peak resident memory and CPU time (Linux);
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
 //! * [`contacts`] — which rods touch (cell list, robust segment distance);
 //! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
@@ -32,9 +32,9 @@
 
 pub mod error;
 pub mod math;
-pub mod memory;
 pub mod output;
 pub mod progress;
+pub mod usage;
 
 pub mod rods;
 

@@ -225,8 +225,14 @@ fn records_csv(records: &[Record]) -> Vec<u8> {
 /// depend on the machine).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Timing {
-    /// Summed time of the sequences on their threads (CPU seconds).
+    /// CPU seconds the study cost: the process CPU time its records carry,
+    /// and for records older than that field their wall time on their
+    /// thread (the same on a machine that was not shared).
     pub cpu_seconds: f64,
+    /// Summed wall time of the sequences on their threads.
+    #[serde(default)]
+    pub sequence_seconds: f64,
+    /// Summed wall time of the sequences of each box.
     pub per_box: Vec<(f64, f64)>,
     /// The largest peak resident memory of the processes that wrote the
     /// records (MiB; 0 where none was recorded).
@@ -236,7 +242,11 @@ pub struct Timing {
 
 pub fn timing(spec: &StudySpec, records: &[Record]) -> Timing {
     Timing {
-        cpu_seconds: records.iter().map(|r| r.seconds).sum(),
+        cpu_seconds: records
+            .iter()
+            .map(|r| r.cpu_seconds.unwrap_or(r.seconds))
+            .sum(),
+        sequence_seconds: records.iter().map(|r| r.seconds).sum(),
         per_box: spec
             .boxes
             .iter()

@@ -198,16 +198,22 @@ pub struct Record {
     /// analysis.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub undecided: Option<usize>,
-    /// Time it took on its thread, in seconds (its CPU time: the runs of a
-    /// sequence run one after another, sequences in parallel). Not part
-    /// of the results: records are compared without it.
-    #[serde(default)]
+    /// Wall time it took on its thread, in seconds (the runs of a sequence
+    /// run one after another, sequences in parallel). Not part of the
+    /// results: records are compared without it.
     pub seconds: f64,
     /// Peak resident memory of the process that wrote it, MiB, when it was
     /// written (0 where unknown, and in records older than the field).
     /// Not part of the results either.
     #[serde(default)]
     pub peak_rss_mib: f64,
+    /// CPU time of the whole process that wrote it, all threads, since that
+    /// process wrote its previous record (or started): summed over the
+    /// records, the CPU the study cost, true on a shared machine where wall
+    /// times are not. `None` in records older than the field, and where the
+    /// system does not tell. Not part of the results.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cpu_seconds: Option<f64>,
 }
 
 impl Record {
@@ -240,6 +246,9 @@ impl Record {
         }
         if !(self.seconds.is_finite() && self.seconds >= 0.0) {
             return Err(format!("seconds {} is not a duration", self.seconds));
+        }
+        if let Some(c) = self.cpu_seconds.filter(|c| !(c.is_finite() && *c >= 0.0)) {
+            return Err(format!("cpu_seconds {c} is not a duration"));
         }
         for s in self.steps.iter().chain(&self.fixed).chain(&self.fresh) {
             if s.runs_spanning > runs || s.spans != (s.runs_spanning > 0) {

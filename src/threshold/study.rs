@@ -21,6 +21,7 @@ use crate::progress::Progress;
 use crate::rods::{RodParams, excluded_volume};
 use crate::rule_file::Rule;
 use crate::spanning::Criterion;
+use crate::usage;
 use crate::{Error, Result};
 
 /// Version of the study files; a change that alters records bumps it.
@@ -316,6 +317,7 @@ fn run_sequence(
         undecided: None,
         seconds: 0.0,
         peak_rss_mib: 0.0,
+        cpu_seconds: None,
     };
     match method {
         Protocol::Nested => sequence::nested(setup, &mut seq, &mut record)?,
@@ -325,7 +327,7 @@ fn run_sequence(
         }
     }
     record.seconds = t.elapsed().as_secs_f64();
-    record.peak_rss_mib = crate::memory::peak_rss_mib();
+    record.peak_rss_mib = crate::usage::peak_rss_mib();
     Ok(record)
 }
 
@@ -408,15 +410,24 @@ pub fn run(
     } else {
         Some(open_for_append(&path)?)
     });
+    // The process's CPU time when it last wrote a record: each record
+    // carries what the process spent since.
+    let cpu_before = Mutex::new(usage::process_cpu_seconds());
     todo.par_iter()
         .map(|&(l, i)| {
             let grid_box = grid
                 .as_ref()
                 .and_then(|g| g.boxes.iter().find(|b| b.box_len == l));
-            let record = run_sequence(spec, &setup, l, i, spec.method, grid_box)?;
+            let mut record = run_sequence(spec, &setup, l, i, spec.method, grid_box)?;
+            let mut w = writer.lock().expect("no writer panicked");
+            let mut before = cpu_before.lock().expect("no writer panicked");
+            let now = usage::process_cpu_seconds();
+            record.cpu_seconds = now
+                .zip(*before)
+                .map(|(now, before)| (now - before).max(0.0));
+            *before = now;
             let mut line = serde_json::to_string(&record).expect("records serialize");
             line.push('\n');
-            let mut w = writer.lock().expect("no writer panicked");
             let w = w.as_mut().expect("opened when there is work");
             w.write_all(line.as_bytes())
                 .and_then(|_| w.flush())
@@ -633,6 +644,7 @@ fn same_record(a: &Record, b: &Record) -> bool {
     let plain = |r: &Record| Record {
         seconds: 0.0,
         peak_rss_mib: 0.0,
+        cpu_seconds: None,
         ..r.clone()
     };
     plain(a) == plain(b)

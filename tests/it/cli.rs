@@ -1196,6 +1196,21 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
         serde_json::from_str(&std::fs::read_to_string(whole.join("timing.json")).unwrap()).unwrap();
     let peak = timing["peak_rss_mib"].as_f64().unwrap();
     assert!(peak > 1.0 && peak < 4096.0, "peak {peak} MiB");
+    // Every record carries the process CPU spent since the one before, and
+    // the study's CPU time is their sum.
+    let records = std::fs::read_to_string(whole.join("records.jsonl")).unwrap();
+    let cpu: Vec<f64> = records
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<Value>(l).unwrap()["cpu_seconds"]
+                .as_f64()
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(cpu.len(), 48);
+    let total: f64 = cpu.iter().sum();
+    assert!(total > 0.0 && cpu.iter().all(|&c| c >= 0.0), "{cpu:?}");
+    assert!((timing["cpu_seconds"].as_f64().unwrap() - total).abs() < 1e-6 * total.max(1.0));
 
     let killed = at("killed");
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(98);

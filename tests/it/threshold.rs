@@ -52,6 +52,7 @@ fn results(spec: &StudySpec, dir: &Path) -> Vec<Record> {
         .map(|r| Record {
             seconds: 0.0,
             peak_rss_mib: 0.0,
+            cpu_seconds: None,
             ..r
         })
         .collect()
@@ -88,6 +89,7 @@ fn empty_record() -> Record {
         undecided: None,
         seconds: 0.0,
         peak_rss_mib: 0.0,
+        cpu_seconds: None,
     }
 }
 
