@@ -496,6 +496,52 @@ fn detect_matches_all_pairs_for_near_parallel_bundles_across_faces() {
     assert!(across > 50, "only {across} contacts cross a face");
 }
 
+#[test]
+fn detect_finds_contacts_at_cell_corners_along_cell_diagonals() {
+    // Thin rods crossing just inside a corner of the lattice of step 1/12
+    // (which holds the corners of the grid's cells, of side 1/3 here), the
+    // first along the diagonal through the corner: its contact lies as far
+    // along it from the cell's center as a cell allows, where a bound on
+    // the piece of a rod near a cell is tightest.
+    let (gamma, l) = (1000.0, 4.0f64);
+    let two_r = 1.0 / gamma;
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    let mut rods = Vec::new();
+    for _ in 0..400 {
+        let corner = V::new(
+            rng.random_range(0..48) as f64 / 12.0,
+            rng.random_range(0..48) as f64 / 12.0,
+            rng.random_range(0..48) as f64 / 12.0,
+        );
+        for signs in 0..8 {
+            let sign = |bit: i32| if signs >> bit & 1 == 0 { 1.0 } else { -1.0 };
+            let d = V::new(sign(0), sign(1), sign(2)).normalize();
+            let e = random_perpendicular(&mut rng, &d);
+            let n = d.cross(&e);
+            let p = corner - d * (2.0 * two_r);
+            rods.push(Rod {
+                center: p + d * (0.8 * rng.random::<f64>() - 0.4),
+                axis: d,
+            });
+            rods.push(Rod {
+                center: p + n * (0.5 * two_r) + e * (0.8 * rng.random::<f64>() - 0.4),
+                axis: e,
+            });
+        }
+    }
+    let built = rods.len() / 2;
+    let density = rods.len() as f64 / l.powi(3);
+    let sys = RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods);
+    let fast = detect(&sys);
+    let pairs = fast
+        .iter()
+        .filter(|c| c.rods[1] == c.rods[0] + 1 && c.rods[0] % 2 == 0)
+        .count();
+    assert_eq!(pairs, built, "a crossing built to touch was missed");
+    assert_eq!(fast, detect_all_pairs(&sys));
+    check_contacts(&sys, &fast);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
