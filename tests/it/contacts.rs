@@ -2,6 +2,7 @@
 //! shifts, Philipse's law, and contact statistics.
 
 use nalgebra::Vector3;
+use proptest::prelude::*;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rgc::contacts::{Contact, closest_points, detect, detect_all_pairs};
@@ -298,8 +299,7 @@ fn check_contacts(system: &RodSystem, contacts: &[Contact]) {
 
 #[test]
 fn detect_matches_all_pairs_on_random_systems() {
-    // (gamma, L, rho): the first two use the all-pairs fallback (m < 3), the
-    // others cell lists with m = 3, 4, 5 cells per side.
+    // (gamma, L, rho): boxes from little more than two rod lengths up.
     let cases = [
         (5.0, 2.5, 20.0),
         (23.0, 3.0, 60.0),
@@ -326,9 +326,16 @@ fn detect_matches_all_pairs_on_random_systems() {
 
 #[test]
 fn detect_matches_all_pairs_with_rods_at_faces_and_corners() {
-    for (k, &(gamma, l)) in [(5.0, 3.7), (23.0, 3.2), (23.0, 4.5), (10.0, 5.0)]
-        .iter()
-        .enumerate()
+    for (k, &(gamma, l)) in [
+        (5.0, 3.7),
+        (23.0, 3.2),
+        (23.0, 4.5),
+        (10.0, 5.0),
+        (98.0, 2.1),
+        (98.0, 3.0),
+    ]
+    .iter()
+    .enumerate()
     {
         let sys = boundary_system(gamma, l, 300, 700, k as u64);
         let fast = detect(&sys);
@@ -342,6 +349,243 @@ fn detect_matches_all_pairs_with_rods_at_faces_and_corners() {
             "only {through_images} contacts cross the boundary"
         );
         check_contacts(&sys, &fast);
+    }
+}
+
+#[test]
+fn detect_matches_all_pairs_at_gamma_98_and_thick_rods() {
+    // (gamma, L, rho, minimum contacts): gamma 98 at its working density in a
+    // small box and in the smallest box allowed (L > 2(l + 2r) = 2.041), and
+    // thick rods, whose radius exceeds the grid's cells (gamma 1: r = 1/2).
+    let cases = [
+        (98.0, 3.0, 190.0, 6_000),
+        (98.0, 2.05, 190.0, 2_000),
+        (5.0, 2.45, 10.0, 50),
+        (5.0, 6.0, 3.0, 500),
+        (1.0, 4.2, 2.0, 1_000),
+    ];
+    for &(gamma, l, rho, min_contacts) in &cases {
+        for seed in 0..2 {
+            let sys = system(gamma, l, rho, 50 + seed);
+            let fast = detect(&sys);
+            assert!(
+                fast.len() >= min_contacts,
+                "gamma {gamma} L {l}: only {} contacts",
+                fast.len()
+            );
+            assert_eq!(
+                fast,
+                detect_all_pairs(&sys),
+                "gamma {gamma} L {l} seed {seed}"
+            );
+            check_contacts(&sys, &fast);
+        }
+    }
+}
+
+#[test]
+fn detect_matches_all_pairs_in_a_sparse_large_box() {
+    // 2160 rods in a box of side 60: the grid coarsens to a few cells per
+    // rod, each far longer than a rod.
+    let sys = system(10.0, 60.0, 0.01, 4);
+    let mut crowded = sys.rods.clone();
+    // Clusters, so that there are contacts to find.
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    for k in 0..600 {
+        let base = sys.rods[k % 20].center;
+        crowded.push(Rod {
+            center: base + random_unit(&mut rng) * rng.random::<f64>(),
+            axis: random_unit(&mut rng),
+        });
+    }
+    let sys = RodSystem::from_rods(sys.params, crowded);
+    let fast = detect(&sys);
+    assert!(fast.len() > 300, "only {} contacts", fast.len());
+    assert_eq!(fast, detect_all_pairs(&sys));
+    check_contacts(&sys, &fast);
+}
+
+/// Rods exactly along the axes (some axis components exactly zero) with
+/// centers on a lattice of step 1/12, so that many rod ends, centers and
+/// sides lie exactly on cell faces (cells of side 1/3 in a box of side 4).
+fn axis_aligned_system(gamma: f64, n: usize, seed: u64) -> RodSystem {
+    let l: f64 = 4.0;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let dirs = [V::x(), V::y(), V::z(), -V::x(), -V::y(), -V::z()];
+    let two_r = 1.0 / gamma;
+    let mut rods = Vec::new();
+    for k in 0..n {
+        let lattice = |rng: &mut ChaCha8Rng| rng.random_range(0..48) as f64 / 12.0;
+        let mut center = V::new(lattice(&mut rng), lattice(&mut rng), lattice(&mut rng));
+        let axis = dirs[rng.random_range(0..6)];
+        if k % 3 == 1 {
+            // Beside the previous rod: exactly 2r away (not touching, as
+            // contact needs a distance below 2r), or just inside or outside.
+            let prev: &Rod = &rods[k - 1];
+            let side = [V::x(), V::y(), V::z()]
+                .into_iter()
+                .find(|d| d.dot(&prev.axis) == 0.0)
+                .unwrap();
+            let gap = two_r * [1.0, 1.0 - 1e-12, 1.0 + 1e-12, 0.5][k % 4];
+            center = prev.center + side * gap + prev.axis * (rng.random_range(-4..=4) as f64 / 8.0);
+        }
+        rods.push(Rod { center, axis });
+    }
+    let density = rods.len() as f64 / l.powi(3);
+    RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods)
+}
+
+#[test]
+fn detect_matches_all_pairs_for_axis_aligned_rods_on_cell_faces() {
+    for (gamma, n) in [(23.0, 1500), (98.0, 3000), (5.0, 600)] {
+        for seed in 0..2 {
+            let sys = axis_aligned_system(gamma, n, seed);
+            let fast = detect(&sys);
+            assert!(
+                fast.len() > n / 4,
+                "gamma {gamma}: only {} contacts",
+                fast.len()
+            );
+            assert_eq!(fast, detect_all_pairs(&sys), "gamma {gamma} seed {seed}");
+            check_contacts(&sys, &fast);
+        }
+    }
+}
+
+#[test]
+fn detect_matches_all_pairs_for_near_parallel_bundles_across_faces() {
+    // Bundles of rods at angles from exactly parallel to 1e-2 rad with the
+    // first, side by side at about 2r, staggered along the axis and across
+    // the periodic faces: such pairs share many cells, and must be kept once.
+    let l: f64 = 2.5;
+    let gamma = 98.0;
+    let two_r = 1.0 / gamma;
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut rods = Vec::new();
+    for _ in 0..60 {
+        let axis = random_unit(&mut rng);
+        let side = random_perpendicular(&mut rng, &axis);
+        // Near a face, so that the bundle wraps around the box.
+        let base = V::new(
+            rng.random::<f64>() * 0.2,
+            rng.random::<f64>() * l,
+            l - rng.random::<f64>() * 0.2,
+        );
+        rods.push(Rod { center: base, axis });
+        for angle in [0.0, 1e-12, 1e-9, 1e-6, 1e-4, 1e-3, 1e-2] {
+            let tilt = random_perpendicular(&mut rng, &axis);
+            let v = (axis * f64::cos(angle) + tilt * f64::sin(angle)).normalize();
+            let gap = two_r * (0.2 + 1.6 * rng.random::<f64>());
+            let along = 1.8 * rng.random::<f64>() - 0.9;
+            let v = if rng.random::<bool>() { v } else { -v };
+            rods.push(Rod {
+                center: base + side * gap + axis * along,
+                axis: v,
+            });
+        }
+    }
+    let sys = RodSystem::from_rods(
+        RodParams::new(gamma, l, 60.0 * 8.0 / l.powi(3)).unwrap(),
+        rods,
+    );
+    let fast = detect(&sys);
+    assert!(fast.len() > 400, "only {} contacts", fast.len());
+    assert_eq!(fast, detect_all_pairs(&sys));
+    check_contacts(&sys, &fast);
+    let across = fast.iter().filter(|c| c.shift != [0, 0, 0]).count();
+    assert!(across > 50, "only {across} contacts cross a face");
+}
+
+#[test]
+fn detect_finds_contacts_at_cell_corners_along_cell_diagonals() {
+    // Thin rods crossing just inside a corner of the lattice of step 1/12
+    // (which holds the corners of the grid's cells, of side 1/3 here), the
+    // first along the diagonal through the corner: its contact lies as far
+    // along it from the cell's center as a cell allows, where a bound on
+    // the piece of a rod near a cell is tightest.
+    let (gamma, l) = (1000.0, 4.0f64);
+    let two_r = 1.0 / gamma;
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    let mut rods = Vec::new();
+    for _ in 0..400 {
+        let corner = V::new(
+            rng.random_range(0..48) as f64 / 12.0,
+            rng.random_range(0..48) as f64 / 12.0,
+            rng.random_range(0..48) as f64 / 12.0,
+        );
+        for signs in 0..8 {
+            let sign = |bit: i32| if signs >> bit & 1 == 0 { 1.0 } else { -1.0 };
+            let d = V::new(sign(0), sign(1), sign(2)).normalize();
+            let e = random_perpendicular(&mut rng, &d);
+            let n = d.cross(&e);
+            let p = corner - d * (2.0 * two_r);
+            rods.push(Rod {
+                center: p + d * (0.8 * rng.random::<f64>() - 0.4),
+                axis: d,
+            });
+            rods.push(Rod {
+                center: p + n * (0.5 * two_r) + e * (0.8 * rng.random::<f64>() - 0.4),
+                axis: e,
+            });
+        }
+    }
+    let built = rods.len() / 2;
+    let density = rods.len() as f64 / l.powi(3);
+    let sys = RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods);
+    let fast = detect(&sys);
+    let pairs = fast
+        .iter()
+        .filter(|c| c.rods[1] == c.rods[0] + 1 && c.rods[0] % 2 == 0)
+        .count();
+    assert_eq!(pairs, built, "a crossing built to touch was missed");
+    assert_eq!(fast, detect_all_pairs(&sys));
+    check_contacts(&sys, &fast);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Random small systems, with clustered centers (some outside the box),
+    /// axis-aligned and near-parallel rods, at any allowed gamma and box.
+    #[test]
+    fn detect_equals_all_pairs_on_random_systems(
+        gamma in prop_oneof![Just(1.0), 1.0f64..10.0, 10.0f64..200.0],
+        extra in 1e-6f64..4.0,
+        n in 0usize..250,
+        seed in any::<u64>(),
+    ) {
+        let r = 0.5 / gamma;
+        let l = 2.0 * (1.0 + 2.0 * r) + extra;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let dirs = [V::x(), V::y(), V::z(), -V::z()];
+        let mut rods: Vec<Rod> = Vec::new();
+        for k in 0..n {
+            let center = if k > 0 && rng.random::<f64>() < 0.6 {
+                rods[rng.random_range(0..k)].center + random_unit(&mut rng) * rng.random::<f64>()
+            } else {
+                V::new(
+                    (2.0 * rng.random::<f64>() - 0.5) * l,
+                    (2.0 * rng.random::<f64>() - 0.5) * l,
+                    (2.0 * rng.random::<f64>() - 0.5) * l,
+                )
+            };
+            let axis = match rng.random_range(0..4) {
+                0 => dirs[rng.random_range(0..4)],
+                1 if k > 0 => {
+                    let prev = rods[k - 1].axis;
+                    let tilt = random_perpendicular(&mut rng, &prev);
+                    (prev + tilt * 10f64.powf(-12.0 * rng.random::<f64>())).normalize()
+                }
+                _ => random_unit(&mut rng),
+            };
+            rods.push(Rod { center, axis });
+        }
+        let density = (n.max(1)) as f64 / l.powi(3);
+        let sys = RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods);
+        // (`check_contacts` is not applied: for rods parallel to 1e-12 the
+        // closest parameters are not unique, and a recomputation from the
+        // stored centers may pick others.)
+        prop_assert_eq!(detect(&sys), detect_all_pairs(&sys));
     }
 }
 
@@ -438,6 +682,25 @@ fn same_seed_same_contacts_for_any_thread_count() {
             .build()
             .unwrap();
         assert_eq!(pool.install(|| detect(&sys)), a, "{threads} threads");
+    }
+}
+
+#[test]
+fn gamma_98_contacts_for_any_thread_count() {
+    let sys = system(98.0, 4.0, 190.0, 8);
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| detect(&sys));
+    assert!(one.len() > 15_000, "only {} contacts", one.len());
+    assert_eq!(one, detect_all_pairs(&sys));
+    for threads in [2, 3, 4] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        assert_eq!(pool.install(|| detect(&sys)), one, "{threads} threads");
     }
 }
 
