@@ -13,6 +13,7 @@
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
 
+use super::index::{Common, CommonNeeds, Needs, Profile};
 use super::state::{Link, NO_PLANE, State};
 use super::{Motif, RuleSet};
 use crate::body::BodyClass;
@@ -35,6 +36,13 @@ pub struct CompiledRule {
     /// rod touching a planar body twice): the merged body is then planar
     /// when its host bodies are.
     planar: bool,
+    /// What each pattern node's neighbours demand of its host's neighbours.
+    needs: Vec<Needs>,
+    /// Each pattern node's neighbours' degrees, largest first.
+    neighbour_degrees: Vec<Vec<u32>>,
+    /// What the pattern nodes touching both `a` and `b` demand of the
+    /// common neighbours of their hosts, for each pattern contact `a`, `b`.
+    common: Vec<Vec<CommonNeeds>>,
 }
 
 impl CompiledRule {
@@ -47,7 +55,7 @@ impl CompiledRule {
             between[a][b].push((c.rods[0], c.rods[1]));
             between[b][a].push((c.rods[1], c.rods[0]));
         }
-        let neighbours = (0..n)
+        let neighbours: Vec<Vec<usize>> = (0..n)
             .map(|a| (0..n).filter(|&b| !between[a][b].is_empty()).collect())
             .collect();
         let inc = Incidence::new(p);
@@ -67,6 +75,44 @@ impl CompiledRule {
         .into_iter()
         .find(|(name, _)| rule.id.starts_with(&format!("base-{name}-")))
         .map_or(Motif::Rule, |(_, m)| m);
+        let needs = (0..n)
+            .map(|a| {
+                let demands: Vec<(NodeKind, usize)> = neighbours[a]
+                    .iter()
+                    .map(|&b| (p.kinds[b], between[a][b].len()))
+                    .collect();
+                Needs::new(&demands)
+            })
+            .collect();
+        let neighbour_degrees = (0..n)
+            .map(|a| {
+                let mut d: Vec<u32> = neighbours[a]
+                    .iter()
+                    .map(|&b| neighbours[b].len() as u32)
+                    .collect();
+                d.sort_unstable_by(|x, y| y.cmp(x));
+                d
+            })
+            .collect();
+        let common = (0..n)
+            .map(|a| {
+                (0..n)
+                    .map(|b| {
+                        CommonNeeds::new(
+                            (0..n)
+                                .filter(|&c| {
+                                    c != a
+                                        && c != b
+                                        && !between[a][c].is_empty()
+                                        && !between[b][c].is_empty()
+                                })
+                                .map(|c| (p.kinds[c], between[a][c].len(), between[b][c].len()))
+                                .collect(),
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
         CompiledRule {
             id: rule.id.clone(),
             motif,
@@ -75,7 +121,33 @@ impl CompiledRule {
             neighbours,
             rods_only: p.kinds.iter().all(|k| *k == NodeKind::Rod),
             planar,
+            needs,
+            neighbour_degrees,
+            common,
         }
+    }
+
+    /// Whether a free rod can carry pattern node `v` of this rods-only
+    /// rule: its free neighbours, by their own free neighbours
+    /// (`free_degrees`, largest first), can carry `v`'s neighbours.
+    pub(super) fn rod_could_match(&self, v: usize, free_degrees: &[u32]) -> bool {
+        let want = &self.neighbour_degrees[v];
+        want.len() <= free_degrees.len() && want.iter().zip(free_degrees).all(|(w, f)| w <= f)
+    }
+
+    /// Whether hosts with profiles `x` and `y` and common neighbours
+    /// `common` can carry pattern contact `a`, `b`.
+    pub(super) fn pair_could_match(
+        &self,
+        a: usize,
+        b: usize,
+        x: &Profile,
+        y: &Profile,
+        common: &[Common],
+    ) -> bool {
+        x.admits(&self.needs[a])
+            && y.admits(&self.needs[b])
+            && self.common[a][b].admitted_by(common)
     }
 
     pub fn rods_only(&self) -> bool {
