@@ -1,5 +1,5 @@
-//! Cheap necessary conditions for a loaded rule to match, checked before the
-//! matcher backtracks.
+//! The index of loaded rules and host nodes that lets the matcher skip what
+//! cannot match.
 //!
 //! A match maps the pattern neighbours of a pattern node to distinct host
 //! neighbours of its host, each of a fitting class and sharing at least the
@@ -10,13 +10,16 @@
 //! contact; and, for the rods-only rules, a rod's free neighbours must have
 //! at least the free neighbours its pattern neighbours have.
 //!
-//! Each check only rejects attempts that could not have matched: the engine
-//! still tries the remaining attempts in the same order with the same random
-//! draws, so it finds exactly the motifs the plain matcher finds.
+//! Each check only rejects attempts, or partial matches, that could not
+//! have been completed: the engine still tries the remaining attempts in the
+//! same order with the same random draws, and the matcher still meets the
+//! complete matches in the same order, so it finds exactly the motifs the
+//! plain matcher finds.
 
 use crate::body::BodyClass;
 use crate::pattern::NodeKind;
 
+use super::matcher::CompiledRule;
 use super::state::State;
 
 /// Multiplicities are counted up to this; a larger demand is clamped to it,
@@ -24,7 +27,7 @@ use super::state::State;
 const CAP: usize = 4;
 
 /// The host classes as indices: rod, planar body, spatial body.
-fn class_index(c: Option<BodyClass>) -> usize {
+pub(super) fn class_index(c: Option<BodyClass>) -> u8 {
     match c {
         None => 0,
         Some(BodyClass::Planar) => 1,
@@ -33,7 +36,7 @@ fn class_index(c: Option<BodyClass>) -> usize {
 }
 
 /// Which host classes (by [`class_index`]) a pattern node of kind `k` accepts.
-fn accepts(k: NodeKind) -> [bool; 3] {
+pub(super) fn accepts(k: NodeKind) -> [bool; 3] {
     match k {
         NodeKind::Rod => [true, false, false],
         NodeKind::Planar => [false, true, true],
@@ -70,21 +73,29 @@ impl Profile {
 /// must number at least the set's size. A neighbour of class `c` fits when
 /// it shares at least `min[c]` contacts with the host (0: no demand of the
 /// set accepts class `c`).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 struct Hall {
     need: u32,
     min: [u8; 3],
 }
 
 /// The Hall conditions of one pattern node's neighbours on its host's [`Profile`].
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(super) struct Needs(Vec<Hall>);
+
+/// The sets of `t` demand types Hall's condition is checked on: every set
+/// while they are few, else each one and all of them.
+fn hall_sets(t: usize) -> Vec<u32> {
+    if t <= 6 {
+        (1..1u32 << t).collect()
+    } else {
+        (0..t).map(|i| 1 << i).chain([(1 << t) - 1]).collect()
+    }
+}
 
 impl Needs {
     /// Conditions for demands given as (kind, contacts) of each pattern neighbour.
     pub fn new(demands: &[(NodeKind, usize)]) -> Self {
-        // Identical demands form one type; Hall's condition over the sets of
-        // types (every set while few, else each type and all of them).
         let mut types: Vec<((NodeKind, usize), u32)> = Vec::new();
         for &(k, m) in demands {
             let key = (k, m.clamp(1, CAP));
@@ -93,13 +104,7 @@ impl Needs {
                 None => types.push((key, 1)),
             }
         }
-        let t = types.len();
-        let sets: Vec<u32> = if t <= 6 {
-            (1..1u32 << t).collect()
-        } else {
-            (0..t).map(|i| 1 << i).chain([(1 << t) - 1]).collect()
-        };
-        let halls = sets
+        let halls = hall_sets(types.len())
             .into_iter()
             .map(|set| {
                 let mut h = Hall {
@@ -129,7 +134,7 @@ pub(super) type Common = (u8, u32, u32);
 
 /// What the pattern nodes touching both ends of a pattern contact demand of
 /// the host pair's common neighbours: (kind, contacts with each end).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(super) struct CommonNeeds(Vec<(NodeKind, usize, usize)>);
 
 impl CommonNeeds {
@@ -149,15 +154,7 @@ impl CommonNeeds {
         let fits = |&(k, ma, mb): &(NodeKind, usize, usize), &(c, mx, my): &Common| {
             accepts(k)[c as usize] && mx as usize >= ma && my as usize >= mb
         };
-        let sets: Vec<u32> = if d.len() <= 6 {
-            (1..1u32 << d.len()).collect()
-        } else {
-            (0..d.len())
-                .map(|i| 1 << i)
-                .chain([(1 << d.len()) - 1])
-                .collect()
-        };
-        sets.into_iter().all(|set| {
+        hall_sets(d.len()).into_iter().all(|set| {
             let fitting = common
                 .iter()
                 .filter(|z| {
@@ -171,143 +168,324 @@ impl CommonNeeds {
     }
 }
 
-/// Host profiles, computed when first needed and dropped when a merge
-/// changes a node's neighbours, and the views of one task.
+/// The largest pattern eccentricity whose ball [`RodView`] measures.
+pub(super) const MAX_RADIUS: usize = 4;
+
+/// What a rods-only rule needs to know of a free rod `r`'s surroundings in
+/// the free rods: a match with `r` on a pattern node of eccentricity `k`
+/// lies in the ball of radius `k` around `r`, and the pattern's cycles are
+/// cycles there.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RodView {
+    /// The free neighbours' numbers of free neighbours, largest first.
+    pub free_degrees: Vec<u32>,
+    /// The cyclomatic number (contacts − rods + 1) of the free rods within
+    /// each distance of `r` (0 to [`MAX_RADIUS`]).
+    pub cycles: [i64; MAX_RADIUS + 1],
+}
+
+/// A neighbouring node as the index caches it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Neighbour {
+    pub node: u32,
+    /// [`class_index`] of the node.
+    pub class: u8,
+    /// Contacts shared with it.
+    pub mult: u32,
+}
+
+/// A pattern contact of a rule with bodies whose ends fit a class pair, and
+/// the numbers of its conditions in [`Index`]'s tables.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PairEntry {
+    pub a: usize,
+    pub b: usize,
+    /// Pattern contacts between `a` and `b`: the host pair needs as many.
+    pub mult: usize,
+    need_a: usize,
+    need_b: usize,
+    common: usize,
+}
+
+/// Host nodes' neighbour lists and profiles, computed when first needed and
+/// dropped when a merge changes a node's neighbours; the rules' pattern
+/// contacts by class pair; and the scratch of one task.
 pub(super) struct Index {
     /// Whether skipped attempts are matched anyway, to prove them impossible.
     pub audit: bool,
-    profile: Vec<Profile>,
     fresh: Vec<bool>,
-    /// Scratch: a rod's neighbouring nodes with their contact counts.
-    grouped: Vec<(u32, u32)>,
-    /// The free degrees of a rod task's free neighbours, largest first.
-    free_degrees: Vec<u32>,
+    profile: Vec<Profile>,
+    /// Each node's neighbours, in the matcher's candidate order: by node for
+    /// a rod, in the body's map order for a body.
+    adjacency: Vec<Vec<Neighbour>>,
+    /// By rule, by class pair (`3 * class x + class y`), the pattern
+    /// contacts in the order the plain matcher tries them.
+    entries: Vec<[Vec<PairEntry>; 9]>,
+    /// Distinct [`Needs`] and [`CommonNeeds`] of all entries.
+    needs: Vec<Needs>,
+    commons: Vec<CommonNeeds>,
+    /// Per pair task: what each distinct need says of `x`, of `y` and of
+    /// their common neighbours (0 unknown, 1 no, 2 yes).
+    said_x: Vec<u8>,
+    said_y: Vec<u8>,
+    said_common: Vec<u8>,
+    /// The largest ball a rod task measures.
+    radius: usize,
+    /// Per rod task: each rod's distance from the task's rod when `seen` is
+    /// the task's stamp, and the rods by distance.
+    distance: Vec<u8>,
+    seen: Vec<u32>,
+    stamp: u32,
+    ball: Vec<u32>,
     /// The common neighbours of a pair task.
     common: Vec<Common>,
+    /// The profiles of a pair task's ends.
+    pair: (Profile, Profile),
+}
+
+/// Finds `item` in `list`, appending it if new; its position.
+fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
+    list.iter().position(|x| x == item).unwrap_or_else(|| {
+        list.push(item.clone());
+        list.len() - 1
+    })
 }
 
 impl Index {
-    pub fn new(n_rods: usize, audit: bool) -> Self {
+    pub fn new(n_rods: usize, rules: &[CompiledRule], audit: bool) -> Self {
+        let (mut needs, mut commons) = (Vec::new(), Vec::new());
+        let entries = rules
+            .iter()
+            .map(|rule| {
+                let mut by_class: [Vec<PairEntry>; 9] = Default::default();
+                if rule.rods_only() {
+                    return by_class;
+                }
+                for a in 0..rule.n_nodes() {
+                    for &b in &rule.neighbours[a] {
+                        let entry = PairEntry {
+                            a,
+                            b,
+                            mult: rule.between[a][b].len(),
+                            need_a: intern(&mut needs, &rule.needs[a]),
+                            need_b: intern(&mut needs, &rule.needs[b]),
+                            common: intern(&mut commons, &rule.common[a][b]),
+                        };
+                        let (ka, kb) = (accepts(rule.kinds[a]), accepts(rule.kinds[b]));
+                        for cx in 0..3 {
+                            for cy in 0..3 {
+                                if ka[cx] && kb[cy] {
+                                    by_class[3 * cx + cy].push(entry);
+                                }
+                            }
+                        }
+                    }
+                }
+                by_class
+            })
+            .collect();
         Index {
             audit,
-            profile: vec![Profile::default(); n_rods],
             fresh: vec![false; n_rods],
-            grouped: Vec::new(),
-            free_degrees: Vec::new(),
+            profile: vec![Profile::default(); n_rods],
+            adjacency: vec![Vec::new(); n_rods],
+            entries,
+            said_x: vec![0; needs.len()],
+            said_y: vec![0; needs.len()],
+            said_common: vec![0; commons.len()],
+            needs,
+            commons,
+            radius: rules
+                .iter()
+                .filter(|r| r.rods_only())
+                .flat_map(|r| r.eccentricity.iter().copied())
+                .filter(|&e| e <= MAX_RADIUS)
+                .max()
+                .unwrap_or(0),
+            distance: vec![0; n_rods],
+            seen: vec![0; n_rods],
+            stamp: 0,
+            ball: Vec::new(),
             common: Vec::new(),
+            pair: (Profile::default(), Profile::default()),
         }
     }
 
-    /// For free rod `r`: its free neighbours' numbers of free neighbours, largest first.
-    pub fn rod_view(&mut self, state: &mut State, r: u32) -> &[u32] {
-        group_rod(state, r, &mut self.grouped);
-        let free: Vec<u32> = self
-            .grouped
-            .iter()
-            .filter(|&&(y, _)| state.class(y).is_none())
-            .map(|&(y, _)| y)
-            .collect();
-        self.free_degrees.clear();
-        for y in free {
-            let f = self.profile(state, y).free_rods();
-            self.free_degrees.push(f);
-        }
-        self.free_degrees.sort_unstable_by(|a, b| b.cmp(a));
-        &self.free_degrees
-    }
-
-    /// For a changed pair `x`, `y`: their profiles and common neighbours.
-    pub fn pair_view(
-        &mut self,
-        state: &mut State,
-        x: u32,
-        y: u32,
-    ) -> (Profile, Profile, &[Common]) {
-        let (px, py) = (self.profile(state, x), self.profile(state, y));
-        let mut common = std::mem::take(&mut self.common);
-        self.common_neighbours(state, x, y, &mut common);
-        self.common = common;
-        (px, py, &self.common)
-    }
-
-    /// Forgets node `x`'s profile: its neighbours or their classes changed.
+    /// Forgets what is cached of node `x`: its neighbours or their classes changed.
     pub fn invalidate(&mut self, x: u32) {
         self.fresh[x as usize] = false;
     }
 
-    /// The profile of node `x` (a current node).
-    fn profile(&mut self, state: &mut State, x: u32) -> Profile {
-        if !self.fresh[x as usize] {
-            let mut p = Profile::default();
-            let mut add = |c: Option<BodyClass>, m: usize| {
-                let row = &mut p.at_least[class_index(c)];
-                for slot in row.iter_mut().take(m.min(CAP)) {
-                    *slot += 1;
-                }
-            };
-            if state.class(x).is_some() {
-                for (&y, links) in &state.nodes[x as usize].adj {
-                    add(state.class(y), links.len());
-                }
-            } else {
-                group_rod(state, x, &mut self.grouped);
-                for &(y, m) in &self.grouped {
-                    add(state.class(y), m as usize);
+    /// Computes node `x`'s neighbour list and profile unless cached.
+    fn refresh(&mut self, state: &mut State, x: u32) {
+        if self.fresh[x as usize] {
+            return;
+        }
+        let mut list = std::mem::take(&mut self.adjacency[x as usize]);
+        list.clear();
+        if state.class(x).is_some() {
+            list.extend(
+                state.nodes[x as usize]
+                    .adj
+                    .iter()
+                    .map(|(&y, links)| Neighbour {
+                        node: y,
+                        class: class_index(state.class(y)),
+                        mult: links.len() as u32,
+                    }),
+            );
+        } else {
+            let g = state.g;
+            for &(nb, _) in g.neighbors(x) {
+                let y = state.find(nb);
+                match list.iter_mut().find(|n| n.node == y) {
+                    Some(n) => n.mult += 1,
+                    None => list.push(Neighbour {
+                        node: y,
+                        class: class_index(state.class(y)),
+                        mult: 1,
+                    }),
                 }
             }
-            self.profile[x as usize] = p;
-            self.fresh[x as usize] = true;
+            list.sort_unstable_by_key(|n| n.node);
         }
+        let mut p = Profile::default();
+        for n in &list {
+            let row = &mut p.at_least[n.class as usize];
+            for slot in row.iter_mut().take((n.mult as usize).min(CAP)) {
+                *slot += 1;
+            }
+        }
+        self.profile[x as usize] = p;
+        self.adjacency[x as usize] = list;
+        self.fresh[x as usize] = true;
+    }
+
+    /// The profile of node `x` (a current node).
+    pub fn profile(&mut self, state: &mut State, x: u32) -> Profile {
+        self.refresh(state, x);
         self.profile[x as usize]
     }
 
-    /// The common neighbours of nodes `x` and `y`, into `out`.
-    fn common_neighbours(&mut self, state: &mut State, x: u32, y: u32, out: &mut Vec<Common>) {
-        out.clear();
-        let (small, large, flip) = match (state.class(x), state.class(y)) {
-            (None, _) => (x, y, false),
-            (_, None) => (y, x, true),
-            _ if state.nodes[x as usize].adj.len() <= state.nodes[y as usize].adj.len() => {
+    /// The number of neighbours of node `x`, caching its list.
+    pub fn n_neighbours(&mut self, state: &mut State, x: u32) -> usize {
+        self.refresh(state, x);
+        self.adjacency[x as usize].len()
+    }
+
+    /// Neighbour `i` of node `x`, whose list [`Index::n_neighbours`] cached.
+    pub fn neighbour(&self, x: u32, i: usize) -> Neighbour {
+        self.adjacency[x as usize][i]
+    }
+
+    /// What the rods-only rules need to know of free rod `r`.
+    pub fn rod_view(&mut self, state: &mut State, r: u32) -> RodView {
+        let mut view = RodView::default();
+        self.refresh(state, r);
+        for i in 0..self.adjacency[r as usize].len() {
+            let n = self.adjacency[r as usize][i];
+            if n.class == 0 {
+                view.free_degrees
+                    .push(self.profile(state, n.node).free_rods());
+            }
+        }
+        view.free_degrees.sort_unstable_by(|a, b| b.cmp(a));
+        // Breadth first through free rods; a contact counts at the larger
+        // distance of its rods, once.
+        self.stamp += 1;
+        let stamp = self.stamp;
+        self.seen[r as usize] = stamp;
+        self.distance[r as usize] = 0;
+        let mut ball = std::mem::take(&mut self.ball);
+        ball.clear();
+        ball.push(r);
+        let (mut rods, mut contacts) = ([0i64; MAX_RADIUS + 1], [0i64; MAX_RADIUS + 1]);
+        let mut next = 0;
+        while next < ball.len() {
+            let u = ball[next];
+            next += 1;
+            let d = self.distance[u as usize] as usize;
+            rods[d] += 1;
+            self.refresh(state, u);
+            for i in 0..self.adjacency[u as usize].len() {
+                let w = self.adjacency[u as usize][i];
+                if w.class != 0 {
+                    continue;
+                }
+                let w = w.node as usize;
+                if self.seen[w] != stamp {
+                    if d < self.radius {
+                        self.seen[w] = stamp;
+                        self.distance[w] = d as u8 + 1;
+                        ball.push(w as u32);
+                    }
+                } else if (self.distance[w] as usize) < d
+                    || (self.distance[w] as usize == d && (w as u32) < u)
+                {
+                    contacts[d] += 1;
+                }
+            }
+        }
+        self.ball = ball;
+        let (mut n, mut e) = (0, 0);
+        for k in 0..=MAX_RADIUS {
+            n += rods[k];
+            e += contacts[k];
+            view.cycles[k] = e - n + 1;
+        }
+        view
+    }
+
+    /// Starts pair task `x`, `y`: their profiles and common neighbours.
+    pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32) {
+        let (px, py) = (self.profile(state, x), self.profile(state, y));
+        self.pair = (px, py);
+        let (small, large, flip) =
+            if self.adjacency[x as usize].len() <= self.adjacency[y as usize].len() {
                 (x, y, false)
+            } else {
+                (y, x, true)
+            };
+        self.common.clear();
+        for n in &self.adjacency[small as usize] {
+            if n.node == large {
+                continue;
             }
-            _ => (y, x, true),
-        };
-        let mut push = |state: &State, z: u32, m_small: u32| {
-            if z == large {
-                return;
-            }
-            let m_large = state.multiplicity(large, z) as u32;
+            let m_large = state.multiplicity(large, n.node) as u32;
             if m_large > 0 {
-                let c = class_index(state.class(z)) as u8;
-                out.push(if flip {
-                    (c, m_large, m_small)
+                self.common.push(if flip {
+                    (n.class, m_large, n.mult)
                 } else {
-                    (c, m_small, m_large)
+                    (n.class, n.mult, m_large)
                 });
             }
-        };
-        if state.class(small).is_some() {
-            for (&z, links) in &state.nodes[small as usize].adj {
-                push(state, z, links.len() as u32);
-            }
-        } else {
-            group_rod(state, small, &mut self.grouped);
-            for &(z, m) in &self.grouped {
-                push(state, z, m);
-            }
         }
+        self.said_x.fill(0);
+        self.said_y.fill(0);
+        self.said_common.fill(0);
     }
-}
 
-/// The nodes rod `x` touches, with the number of its contacts with each.
-fn group_rod(state: &mut State, x: u32, out: &mut Vec<(u32, u32)>) {
-    out.clear();
-    let g = state.g;
-    for &(nb, _) in g.neighbors(x) {
-        let y = state.find(nb);
-        match out.iter_mut().find(|(n, _)| *n == y) {
-            Some((_, m)) => *m += 1,
-            None => out.push((y, 1)),
-        }
+    /// The pattern contacts of rule `k` whose ends fit the classes of the
+    /// started pair, in the plain matcher's order.
+    pub fn entries(&self, k: usize, cx: Option<BodyClass>, cy: Option<BodyClass>) -> &[PairEntry] {
+        &self.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
+    }
+
+    /// Whether the started pair can carry `e` (given enough contacts between them).
+    pub fn pair_could_match(&mut self, e: &PairEntry) -> bool {
+        let (px, py) = self.pair;
+        let ask = |said: &mut [u8], k: usize, answer: &dyn Fn() -> bool| {
+            if said[k] == 0 {
+                said[k] = 1 + u8::from(answer());
+            }
+            said[k] == 2
+        };
+        ask(&mut self.said_x, e.need_a, &|| {
+            px.admits(&self.needs[e.need_a])
+        }) && ask(&mut self.said_y, e.need_b, &|| {
+            py.admits(&self.needs[e.need_b])
+        }) && ask(&mut self.said_common, e.common, &|| {
+            self.commons[e.common].admitted_by(&self.common)
+        })
     }
 }

@@ -13,7 +13,7 @@
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
 
-use super::index::{Common, CommonNeeds, Needs, Profile};
+use super::index::{CommonNeeds, Index, MAX_RADIUS, Needs, RodView, accepts};
 use super::state::{Link, NO_PLANE, State};
 use super::{Motif, RuleSet};
 use crate::body::BodyClass;
@@ -27,22 +27,26 @@ pub struct CompiledRule {
     pub id: String,
     /// The base motif a base rule writes out, else [`Motif::Rule`].
     pub motif: Motif,
-    kinds: Vec<NodeKind>,
+    pub(super) kinds: Vec<NodeKind>,
     /// Pattern contacts between each pair of nodes, as (label at the lower node, label at the higher).
-    between: Vec<Vec<Vec<(u8, u8)>>>,
-    neighbours: Vec<Vec<usize>>,
+    pub(super) between: Vec<Vec<Vec<(u8, u8)>>>,
+    pub(super) neighbours: Vec<Vec<usize>>,
     rods_only: bool,
     /// Whether every realization of the pattern is planar (a triangle, a
     /// rod touching a planar body twice): the merged body is then planar
     /// when its host bodies are.
     planar: bool,
     /// What each pattern node's neighbours demand of its host's neighbours.
-    needs: Vec<Needs>,
+    pub(super) needs: Vec<Needs>,
     /// Each pattern node's neighbours' degrees, largest first.
     neighbour_degrees: Vec<Vec<u32>>,
+    /// Each pattern node's largest distance to another.
+    pub(super) eccentricity: Vec<usize>,
+    /// Adjacent pairs of pattern nodes − nodes + 1: the independent cycles.
+    cycles: i64,
     /// What the pattern nodes touching both `a` and `b` demand of the
     /// common neighbours of their hosts, for each pattern contact `a`, `b`.
-    common: Vec<Vec<CommonNeeds>>,
+    pub(super) common: Vec<Vec<CommonNeeds>>,
 }
 
 impl CompiledRule {
@@ -113,6 +117,24 @@ impl CompiledRule {
                     .collect()
             })
             .collect();
+        let eccentricity = (0..n)
+            .map(|a| {
+                let mut dist = vec![usize::MAX; n];
+                dist[a] = 0;
+                let mut queue = std::collections::VecDeque::from([a]);
+                while let Some(u) = queue.pop_front() {
+                    for &w in &neighbours[u] {
+                        if dist[w] == usize::MAX {
+                            dist[w] = dist[u] + 1;
+                            queue.push_back(w);
+                        }
+                    }
+                }
+                dist.into_iter().max().unwrap_or(0)
+            })
+            .collect();
+        let pairs: usize = neighbours.iter().map(Vec::len).sum::<usize>() / 2;
+        let cycles = pairs as i64 - n as i64 + 1;
         CompiledRule {
             id: rule.id.clone(),
             motif,
@@ -123,31 +145,24 @@ impl CompiledRule {
             planar,
             needs,
             neighbour_degrees,
+            eccentricity,
+            cycles,
             common,
         }
     }
 
-    /// Whether a free rod can carry pattern node `v` of this rods-only
-    /// rule: its free neighbours, by their own free neighbours
-    /// (`free_degrees`, largest first), can carry `v`'s neighbours.
-    pub(super) fn rod_could_match(&self, v: usize, free_degrees: &[u32]) -> bool {
+    /// Whether a free rod seen as `view` can carry pattern node `v` of this
+    /// rods-only rule: its free neighbours, by their own free neighbours,
+    /// can carry `v`'s neighbours, and the free rods within `v`'s
+    /// eccentricity have at least the pattern's independent cycles (checked
+    /// up to [`MAX_RADIUS`]).
+    pub(super) fn rod_could_match(&self, v: usize, view: &RodView) -> bool {
         let want = &self.neighbour_degrees[v];
-        want.len() <= free_degrees.len() && want.iter().zip(free_degrees).all(|(w, f)| w <= f)
-    }
-
-    /// Whether hosts with profiles `x` and `y` and common neighbours
-    /// `common` can carry pattern contact `a`, `b`.
-    pub(super) fn pair_could_match(
-        &self,
-        a: usize,
-        b: usize,
-        x: &Profile,
-        y: &Profile,
-        common: &[Common],
-    ) -> bool {
-        x.admits(&self.needs[a])
-            && y.admits(&self.needs[b])
-            && self.common[a][b].admitted_by(common)
+        let f = &view.free_degrees;
+        let e = self.eccentricity[v];
+        want.len() <= f.len()
+            && want.iter().zip(f).all(|(w, f)| w <= f)
+            && (e > MAX_RADIUS || view.cycles[e] >= self.cycles)
     }
 
     pub fn rods_only(&self) -> bool {
@@ -269,6 +284,7 @@ impl State<'_> {
         x: u32,
         b: Option<(usize, u32)>,
         rules: RuleSet,
+        index: Option<&mut Index>,
     ) -> Option<(Vec<u32>, BodyClass)> {
         let n = rule.kinds.len();
         if !fits(rule.kinds[a], self.class(x)) {
@@ -289,7 +305,11 @@ impl State<'_> {
             }
             map[b] = Some(y);
         }
-        if !self.extend(rule, &mut map, rules) {
+        let found = match index {
+            Some(ix) => self.extend_indexed(ix, rule, &mut map, rules),
+            None => self.extend(rule, &mut map, rules),
+        };
+        if !found {
             return None;
         }
         let parts: Vec<u32> = map.iter().map(|m| m.expect("complete match")).collect();
@@ -358,12 +378,11 @@ impl State<'_> {
         true
     }
 
-    /// Maps the remaining pattern nodes by backtracking over host neighbours,
-    /// then assigns contacts.
-    fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: RuleSet) -> bool {
-        // Most constrained node next: the most mapped neighbours, then the
-        // most neighbours (a fixed order would explore far more partial maps).
-        let next = (0..map.len())
+    /// The pattern node to map next: the most mapped neighbours, then the
+    /// most neighbours (a fixed order would explore far more partial maps);
+    /// `None` when no unmapped node touches a mapped one.
+    fn next_node(rule: &CompiledRule, map: &[Option<u32>]) -> Option<usize> {
+        (0..map.len())
             .filter(|&v| map[v].is_none())
             .map(|v| {
                 let mapped = rule.neighbours[v]
@@ -374,8 +393,13 @@ impl State<'_> {
             })
             .filter(|t| t.0 > 0)
             .max()
-            .map(|t| t.2.0);
-        let Some(v) = next else {
+            .map(|t| t.2.0)
+    }
+
+    /// Maps the remaining pattern nodes by backtracking over host neighbours,
+    /// then assigns contacts.
+    fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: RuleSet) -> bool {
+        let Some(v) = Self::next_node(rule, map) else {
             return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
         };
         // Candidates come from the mapped neighbour with the fewest neighbours.
@@ -392,6 +416,55 @@ impl State<'_> {
                 }
                 map[v] = None;
             }
+        }
+        false
+    }
+
+    /// [`State::extend`] on the index's cached neighbour lists: the same
+    /// candidates in the same order, so the same complete maps in the same
+    /// order, except under a candidate whose neighbours cannot carry its
+    /// pattern node's (no complete map there).
+    fn extend_indexed(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        map: &mut Vec<Option<u32>>,
+        rules: RuleSet,
+    ) -> bool {
+        let Some(v) = Self::next_node(rule, map) else {
+            return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
+        };
+        // The anchor as `extend` picks it: the first mapped neighbour of least degree.
+        let w = *rule.neighbours[v]
+            .iter()
+            .filter(|&&w| map[w].is_some())
+            .min_by_key(|&&w| self.degree(map[w].expect("mapped")))
+            .expect("v touches a mapped node");
+        let anchor = map[w].expect("mapped");
+        let fits_v = accepts(rule.kinds[v]);
+        let (need, degree) = (rule.between[v][w].len(), rule.neighbours[v].len());
+        for i in 0..ix.n_neighbours(self, anchor) {
+            let y = ix.neighbour(anchor, i);
+            if !fits_v[y.class as usize] || (y.mult as usize) < need {
+                continue;
+            }
+            let y = y.node;
+            if self.degree(y) < degree
+                || map.contains(&Some(y))
+                || rule.neighbours[v].iter().any(|&u| {
+                    u != w
+                        && map[u]
+                            .is_some_and(|hu| self.multiplicity(y, hu) < rule.between[v][u].len())
+                })
+                || !ix.profile(self, y).admits(&rule.needs[v])
+            {
+                continue;
+            }
+            map[v] = Some(y);
+            if self.extend_indexed(ix, rule, map, rules) {
+                return true;
+            }
+            map[v] = None;
         }
         false
     }

@@ -314,7 +314,7 @@ fn compress_engine(
         tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
     let mut index = (matching != Matching::Unindexed && !engine.extra.is_empty())
-        .then(|| Index::new(graph.n_nodes(), matching == Matching::Audited));
+        .then(|| Index::new(graph.n_nodes(), engine.extra, matching == Matching::Audited));
     tasks.extend(
         (0..graph.n_nodes() as u32)
             .filter(|&r| graph.degree(r) >= 2)
@@ -377,9 +377,11 @@ fn compress_engine(
             sequence.push(motif);
             let (node, changed) = state.merge(&parts, class);
             if let Some(index) = index.as_mut() {
-                // Exactly these nodes' neighbours changed (`State::merge`).
-                index.invalidate(node);
-                changed.iter().for_each(|&y| index.invalidate(y));
+                // The parts (the merged node among them) and every node whose
+                // neighbours changed (`State::merge` reports them).
+                for &x in parts.iter().chain(&changed) {
+                    index.invalidate(x);
+                }
             }
             tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
         }
@@ -458,51 +460,61 @@ fn rod_rules(
     engine: &Engine,
     r: u32,
     rng: &mut ChaCha8Rng,
-    index: Option<&mut Index>,
+    mut index: Option<&mut Index>,
 ) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
         return None;
     }
     let start = rng.random_range(0..n);
-    let view = index.map(|ix| (ix.audit, ix.rod_view(state, r).to_vec()));
-    (0..n).find_map(|k| {
+    let audit = index.as_ref().is_some_and(|ix| ix.audit);
+    let view = index.as_deref_mut().map(|ix| ix.rod_view(state, r));
+    for k in 0..n {
         let rule = &engine.extra[(start + k) % n];
         if !rule.rods_only() {
-            return None;
+            continue;
         }
-        (0..rule.n_nodes()).find_map(|v| {
-            if let Some((audit, f)) = &view
-                && !rule.rod_could_match(v, f)
+        for v in 0..rule.n_nodes() {
+            if let Some(view) = &view
+                && !rule.rod_could_match(v, view)
             {
                 assert!(
-                    !audit || state.match_rule(rule, v, r, None, engine.rules).is_none(),
+                    !audit
+                        || state
+                            .match_rule(rule, v, r, None, engine.rules, None)
+                            .is_none(),
                     "the index skipped a match of rule {} at rod {r}",
                     rule.id
                 );
-                return None;
+                continue;
             }
-            state
-                .match_rule(rule, v, r, None, engine.rules)
-                .map(|(parts, class)| Found {
+            let found = state.match_rule(rule, v, r, None, engine.rules, index.as_deref_mut());
+            if audit {
+                let plain = state.match_rule(rule, v, r, None, engine.rules, None);
+                assert_eq!(found, plain, "rule {} at rod {r}", rule.id);
+            }
+            if let Some((parts, class)) = found {
+                return Some(Found {
                     motif: rule.motif,
                     parts,
                     class,
-                })
-        })
-    })
+                });
+            }
+        }
+    }
+    None
 }
 
 /// Tries the loaded rules with bodies on the changed pair `x`, `y` mapped
-/// onto each pattern contact, skipping the contacts `index` shows the pair
-/// cannot carry.
+/// onto each pattern contact, from a random rule on, skipping the contacts
+/// `index` shows the pair cannot carry.
 fn pair_rules(
     state: &mut State,
     engine: &Engine,
     x: u32,
     y: u32,
     rng: &mut ChaCha8Rng,
-    index: Option<&mut Index>,
+    mut index: Option<&mut Index>,
 ) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
@@ -511,39 +523,56 @@ fn pair_rules(
     let (cx, cy) = (state.class(x), state.class(y));
     let m = state.multiplicity(x, y);
     let start = rng.random_range(0..n);
-    let view = index.map(|ix| {
-        let audit = ix.audit;
-        let (px, py, common) = ix.pair_view(state, x, y);
-        (audit, px, py, common.to_vec())
-    });
-    (0..n).find_map(|k| {
+    if let Some(ix) = index.as_deref_mut() {
+        ix.start_pair(state, x, y);
+    }
+    let found = |rule: &CompiledRule, (parts, class)| Found {
+        motif: rule.motif,
+        parts,
+        class,
+    };
+    for k in 0..n {
         let rule = &engine.extra[(start + k) % n];
         if rule.rods_only() {
-            return None;
+            continue;
         }
-        rule.contact_pairs(cx, cy, m).find_map(|(a, b)| {
-            if let Some((audit, px, py, common)) = &view
-                && !rule.pair_could_match(a, b, px, py, common)
-            {
+        let Some(ix) = index.as_deref_mut() else {
+            let hit = rule
+                .contact_pairs(cx, cy, m)
+                .find_map(|(a, b)| state.match_rule(rule, a, x, Some((b, y)), engine.rules, None));
+            match hit {
+                Some(hit) => return Some(found(rule, hit)),
+                None => continue,
+            }
+        };
+        for j in 0..ix.entries((start + k) % n, cx, cy).len() {
+            let e = ix.entries((start + k) % n, cx, cy)[j];
+            let (a, b) = (e.a, e.b);
+            if e.mult > m {
+                continue;
+            }
+            if !ix.pair_could_match(&e) {
                 assert!(
-                    !audit
+                    !ix.audit
                         || state
-                            .match_rule(rule, a, x, Some((b, y)), engine.rules)
+                            .match_rule(rule, a, x, Some((b, y)), engine.rules, None)
                             .is_none(),
                     "the index skipped a match of rule {} at nodes {x}, {y}",
                     rule.id
                 );
-                return None;
+                continue;
             }
-            state
-                .match_rule(rule, a, x, Some((b, y)), engine.rules)
-                .map(|(parts, class)| Found {
-                    motif: rule.motif,
-                    parts,
-                    class,
-                })
-        })
-    })
+            let hit = state.match_rule(rule, a, x, Some((b, y)), engine.rules, Some(&mut *ix));
+            if ix.audit {
+                let plain = state.match_rule(rule, a, x, Some((b, y)), engine.rules, None);
+                assert_eq!(hit, plain, "rule {} at nodes {x}, {y}", rule.id);
+            }
+            if let Some(hit) = hit {
+                return Some(found(rule, hit));
+            }
+        }
+    }
+    None
 }
 
 /// Tries, in random order, every motif with bodies that contains both `x` and `y`.
