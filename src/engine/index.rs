@@ -184,6 +184,97 @@ pub(super) struct RodView {
     pub cycles: [i64; MAX_RADIUS + 1],
 }
 
+/// One step of a rods-only rule's search from a start node: the pattern
+/// node the plain matcher maps next, its mapped neighbours, its degree and
+/// its distance from the start.
+#[derive(Clone, Debug)]
+pub(super) struct Step {
+    pub node: usize,
+    pub back: Vec<usize>,
+    pub degree: u32,
+    pub distance: u8,
+}
+
+/// The free rods within the index's radius of a rod task's rod, sorted, with
+/// their contacts among them as bit rows: a match of a rods-only rule lies
+/// there, and bit operations list a pattern node's candidates in the plain
+/// matcher's order (by node).
+#[derive(Default)]
+struct Ball {
+    /// Whether the rows are those of the current rod task.
+    built: bool,
+    rods: Vec<u32>,
+    distance: Vec<u8>,
+    /// Neighbours within the ball.
+    degree: Vec<u32>,
+    words: usize,
+    rows: Vec<u64>,
+    root: usize,
+}
+
+/// Balls larger than this are not built; the matcher then searches the
+/// cached lists instead.
+const MAX_BALL: usize = 1024;
+
+impl Ball {
+    /// Calls `complete` on every complete map (host rods by pattern node)
+    /// of the plain matcher's search from pattern node `start` on the root,
+    /// in its order, until it returns true; whether it did.
+    fn search(
+        &self,
+        start: usize,
+        plan: &[Step],
+        n: usize,
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> bool {
+        let mut local = vec![usize::MAX; n];
+        local[start] = self.root;
+        let mut used = vec![0u64; self.words];
+        used[self.root / 64] |= 1 << (self.root % 64);
+        let mut map = vec![None; n];
+        map[start] = Some(self.rods[self.root]);
+        self.extend(plan, &mut local, &mut used, &mut map, complete)
+    }
+
+    fn extend(
+        &self,
+        plan: &[Step],
+        local: &mut [usize],
+        used: &mut [u64],
+        map: &mut [Option<u32>],
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> bool {
+        let Some((step, rest)) = plan.split_first() else {
+            return complete(map);
+        };
+        for k in 0..self.words {
+            let mut bits = !used[k];
+            for &w in &step.back {
+                bits &= self.rows[local[w] * self.words + k];
+            }
+            while bits != 0 {
+                let b = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let i = 64 * k + b;
+                // A complete map puts the node within its pattern distance
+                // of the root, with its neighbours in the ball.
+                if self.distance[i] > step.distance || self.degree[i] < step.degree {
+                    continue;
+                }
+                local[step.node] = i;
+                map[step.node] = Some(self.rods[i]);
+                used[k] |= 1 << b;
+                if self.extend(rest, local, used, map, complete) {
+                    return true;
+                }
+                used[k] &= !(1 << b);
+            }
+        }
+        map[step.node] = None;
+        false
+    }
+}
+
 /// A neighbouring node as the index caches it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Neighbour {
@@ -236,7 +327,9 @@ pub(super) struct Index {
     distance: Vec<u8>,
     seen: Vec<u32>,
     stamp: u32,
-    ball: Vec<u32>,
+    /// A rod task's rod, then the free rods around it in breadth-first order.
+    around: Vec<u32>,
+    ball: Ball,
     /// The common neighbours of a pair task.
     common: Vec<Common>,
     /// The profiles of a pair task's ends.
@@ -305,7 +398,8 @@ impl Index {
             distance: vec![0; n_rods],
             seen: vec![0; n_rods],
             stamp: 0,
-            ball: Vec::new(),
+            around: Vec::new(),
+            ball: Ball::default(),
             common: Vec::new(),
             pair: (Profile::default(), Profile::default()),
         }
@@ -396,7 +490,7 @@ impl Index {
         let stamp = self.stamp;
         self.seen[r as usize] = stamp;
         self.distance[r as usize] = 0;
-        let mut ball = std::mem::take(&mut self.ball);
+        let mut ball = std::mem::take(&mut self.around);
         ball.clear();
         ball.push(r);
         let (mut rods, mut contacts) = ([0i64; MAX_RADIUS + 1], [0i64; MAX_RADIUS + 1]);
@@ -426,7 +520,8 @@ impl Index {
                 }
             }
         }
-        self.ball = ball;
+        self.around = ball;
+        self.ball.built = false;
         let (mut n, mut e) = (0, 0);
         for k in 0..=MAX_RADIUS {
             n += rods[k];
@@ -434,6 +529,63 @@ impl Index {
             view.cycles[k] = e - n + 1;
         }
         view
+    }
+
+    /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
+    fn build_ball(&mut self) -> bool {
+        let ball = &mut self.ball;
+        if ball.built {
+            return true;
+        }
+        if self.around.len() > MAX_BALL {
+            return false;
+        }
+        ball.rods.clear();
+        ball.rods.extend_from_slice(&self.around);
+        ball.rods.sort_unstable();
+        let n = ball.rods.len();
+        ball.words = n.div_ceil(64);
+        ball.rows.clear();
+        ball.rows.resize(n * ball.words, 0);
+        ball.distance.clear();
+        ball.distance
+            .extend(ball.rods.iter().map(|&u| self.distance[u as usize]));
+        ball.degree.clear();
+        let position = |rods: &[u32], w: u32| rods.binary_search(&w).ok();
+        for (i, &u) in ball.rods.iter().enumerate() {
+            let mut degree = 0;
+            for nb in &self.adjacency[u as usize] {
+                if nb.class != 0 || self.seen[nb.node as usize] != self.stamp {
+                    continue;
+                }
+                if let Some(j) = position(&ball.rods, nb.node) {
+                    ball.rows[i * ball.words + j / 64] |= 1 << (j % 64);
+                    degree += 1;
+                }
+            }
+            ball.degree.push(degree);
+        }
+        ball.root = position(&ball.rods, self.around[0]).expect("the root is in its ball");
+        ball.built = true;
+        true
+    }
+
+    /// Searches the rod task's ball as the plain matcher would search from
+    /// pattern node `start` on the task's rod (`plan`), calling `complete`
+    /// on each complete map until it returns true. `None` when the ball is
+    /// too large to build or narrower than the pattern.
+    pub fn search_ball(
+        &mut self,
+        start: usize,
+        eccentricity: usize,
+        plan: &[Step],
+        n: usize,
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> Option<bool> {
+        if eccentricity > self.radius || !self.build_ball() {
+            return None;
+        }
+        Some(self.ball.search(start, plan, n, complete))
     }
 
     /// Starts pair task `x`, `y`: their profiles and common neighbours.

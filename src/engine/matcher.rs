@@ -13,7 +13,7 @@
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
 
-use super::index::{CommonNeeds, Index, MAX_RADIUS, Needs, RodView, accepts};
+use super::index::{CommonNeeds, Index, MAX_RADIUS, Needs, RodView, Step, accepts};
 use super::state::{Link, NO_PLANE, State};
 use super::{Motif, RuleSet};
 use crate::body::BodyClass;
@@ -44,6 +44,9 @@ pub struct CompiledRule {
     pub(super) eccentricity: Vec<usize>,
     /// Adjacent pairs of pattern nodes − nodes + 1: the independent cycles.
     cycles: i64,
+    /// Rods-only rules: the plain matcher's search from each pattern node,
+    /// if it reaches every node.
+    plans: Vec<Option<Vec<Step>>>,
     /// What the pattern nodes touching both `a` and `b` demand of the
     /// common neighbours of their hosts, for each pattern contact `a`, `b`.
     pub(super) common: Vec<Vec<CommonNeeds>>,
@@ -135,7 +138,7 @@ impl CompiledRule {
             .collect();
         let pairs: usize = neighbours.iter().map(Vec::len).sum::<usize>() / 2;
         let cycles = pairs as i64 - n as i64 + 1;
-        CompiledRule {
+        let mut compiled = CompiledRule {
             id: rule.id.clone(),
             motif,
             kinds: p.kinds.clone(),
@@ -147,8 +150,69 @@ impl CompiledRule {
             neighbour_degrees,
             eccentricity,
             cycles,
+            plans: Vec::new(),
             common,
+        };
+        if compiled.rods_only {
+            compiled.plans = (0..n).map(|v| compiled.plan(v)).collect();
         }
+        compiled
+    }
+
+    /// The pattern node to map next: the most mapped neighbours, then the
+    /// most neighbours (a fixed order would explore far more partial maps);
+    /// `None` when no unmapped node touches a mapped one.
+    fn next_node(&self, mapped: impl Fn(usize) -> bool) -> Option<usize> {
+        (0..self.kinds.len())
+            .filter(|&v| !mapped(v))
+            .map(|v| {
+                let m = self.neighbours[v].iter().filter(|&&w| mapped(w)).count();
+                (m, self.neighbours[v].len(), std::cmp::Reverse(v))
+            })
+            .filter(|t| t.0 > 0)
+            .max()
+            .map(|t| t.2.0)
+    }
+
+    /// The steps of the plain matcher's search from pattern node `start`
+    /// (the order depends on the pattern alone), if it reaches every node.
+    fn plan(&self, start: usize) -> Option<Vec<Step>> {
+        let n = self.kinds.len();
+        let mut mapped = vec![false; n];
+        mapped[start] = true;
+        let mut steps = Vec::new();
+        while let Some(v) = self.next_node(|w| mapped[w]) {
+            steps.push(Step {
+                node: v,
+                back: self.neighbours[v]
+                    .iter()
+                    .copied()
+                    .filter(|&w| mapped[w])
+                    .collect(),
+                degree: self.neighbours[v].len() as u32,
+                distance: 0,
+            });
+            mapped[v] = true;
+        }
+        if mapped.contains(&false) {
+            return None;
+        }
+        // Pattern distances from the start, by breadth first.
+        let mut dist = vec![u8::MAX; n];
+        dist[start] = 0;
+        let mut queue = std::collections::VecDeque::from([start]);
+        while let Some(u) = queue.pop_front() {
+            for &w in &self.neighbours[u] {
+                if dist[w] == u8::MAX {
+                    dist[w] = dist[u] + 1;
+                    queue.push_back(w);
+                }
+            }
+        }
+        for step in &mut steps {
+            step.distance = dist[step.node];
+        }
+        Some(steps)
     }
 
     /// Whether a free rod seen as `view` can carry pattern node `v` of this
@@ -313,18 +377,55 @@ impl State<'_> {
             return None;
         }
         let parts: Vec<u32> = map.iter().map(|m| m.expect("complete match")).collect();
+        Some(self.matched(rule, parts))
+    }
+
+    /// [`State::match_rule`] for rods-only `rule` with pattern node `v` on
+    /// the rod of the index's rod task, searched in the task's ball: the
+    /// same complete maps in the same order, so the same match. `None` when
+    /// the ball cannot be used.
+    pub(super) fn match_in_ball(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        v: usize,
+        rules: RuleSet,
+    ) -> Option<Option<(Vec<u32>, BodyClass)>> {
+        let Some(plan) = &rule.plans[v] else {
+            return Some(None);
+        };
+        let mut found = None;
+        let searched = ix.search_ball(
+            v,
+            rule.eccentricity[v],
+            plan,
+            rule.kinds.len(),
+            &mut |map| {
+                let done = self.complete(rule, map, rules);
+                if done {
+                    found = Some(map.iter().map(|m| m.expect("complete map")).collect());
+                }
+                done
+            },
+        )?;
+        debug_assert_eq!(searched, found.is_some());
+        Some(found.map(|parts| self.matched(rule, parts)))
+    }
+
+    /// A complete match's parts and the class of the body they form.
+    fn matched(&self, rule: &CompiledRule, parts: Vec<u32>) -> (Vec<u32>, BodyClass) {
         let planar = rule.planar
             && parts
                 .iter()
                 .all(|&p| self.class(p) != Some(BodyClass::Spatial));
-        Some((
+        (
             parts,
             if planar {
                 BodyClass::Planar
             } else {
                 BodyClass::Spatial
             },
-        ))
+        )
     }
 
     /// Whether `rule` matches exactly the host nodes `parts`, in some order.
@@ -378,28 +479,10 @@ impl State<'_> {
         true
     }
 
-    /// The pattern node to map next: the most mapped neighbours, then the
-    /// most neighbours (a fixed order would explore far more partial maps);
-    /// `None` when no unmapped node touches a mapped one.
-    fn next_node(rule: &CompiledRule, map: &[Option<u32>]) -> Option<usize> {
-        (0..map.len())
-            .filter(|&v| map[v].is_none())
-            .map(|v| {
-                let mapped = rule.neighbours[v]
-                    .iter()
-                    .filter(|&&w| map[w].is_some())
-                    .count();
-                (mapped, rule.neighbours[v].len(), std::cmp::Reverse(v))
-            })
-            .filter(|t| t.0 > 0)
-            .max()
-            .map(|t| t.2.0)
-    }
-
     /// Maps the remaining pattern nodes by backtracking over host neighbours,
     /// then assigns contacts.
     fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: RuleSet) -> bool {
-        let Some(v) = Self::next_node(rule, map) else {
+        let Some(v) = rule.next_node(|v| map[v].is_some()) else {
             return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
         };
         // Candidates come from the mapped neighbour with the fewest neighbours.
@@ -431,7 +514,7 @@ impl State<'_> {
         map: &mut Vec<Option<u32>>,
         rules: RuleSet,
     ) -> bool {
-        let Some(v) = Self::next_node(rule, map) else {
+        let Some(v) = rule.next_node(|v| map[v].is_some()) else {
             return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
         };
         // The anchor as `extend` picks it: the first mapped neighbour of least degree.

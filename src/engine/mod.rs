@@ -488,7 +488,12 @@ fn rod_rules(
                 );
                 continue;
             }
-            let found = state.match_rule(rule, v, r, None, engine.rules, index.as_deref_mut());
+            let found = match index.as_deref_mut() {
+                Some(ix) => state
+                    .match_in_ball(ix, rule, v, engine.rules)
+                    .unwrap_or_else(|| state.match_rule(rule, v, r, None, engine.rules, Some(ix))),
+                None => state.match_rule(rule, v, r, None, engine.rules, None),
+            };
             if audit {
                 let plain = state.match_rule(rule, v, r, None, engine.rules, None);
                 assert_eq!(found, plain, "rule {} at rod {r}", rule.id);
