@@ -298,6 +298,19 @@ pub(super) struct PairEntry {
     common: usize,
 }
 
+/// The pattern contacts of all rules that share their conditions, for one
+/// class pair: the rules that have one, as bits. A class pair's list is
+/// sorted by contacts between the ends, then by the conditions on `x`, then
+/// on `y`, and `skip_a`, `skip_b` are where the run of the same contacts
+/// and condition on `x` (and on `y`) ends, so a failed condition skips its run.
+#[derive(Clone, Debug)]
+struct Shared {
+    entry: PairEntry,
+    rules: Vec<u64>,
+    skip_a: usize,
+    skip_b: usize,
+}
+
 /// Host nodes' neighbour lists and profiles, computed when first needed and
 /// dropped when a merge changes a node's neighbours; the rules' pattern
 /// contacts by class pair; and the scratch of one task.
@@ -312,6 +325,10 @@ pub(super) struct Index {
     /// By rule, by class pair (`3 * class x + class y`), the pattern
     /// contacts in the order the plain matcher tries them.
     entries: Vec<[Vec<PairEntry>; 9]>,
+    /// By class pair, the distinct conditions of the entries.
+    shared: [Vec<Shared>; 9],
+    /// Per pair task: the rules some entry of which passes the conditions, as bits.
+    candidates: Vec<u64>,
     /// Distinct [`Needs`] and [`CommonNeeds`] of all entries.
     needs: Vec<Needs>,
     commons: Vec<CommonNeeds>,
@@ -376,13 +393,57 @@ impl Index {
                 }
                 by_class
             })
-            .collect();
+            .collect::<Vec<_>>();
+        let words = rules.len().div_ceil(64);
+        let mut shared: [Vec<Shared>; 9] = Default::default();
+        for (k, by_class) in entries.iter().enumerate() {
+            for (c, list) in by_class.iter().enumerate() {
+                for e in list {
+                    let same = |s: &Shared| {
+                        let f = &s.entry;
+                        (f.mult, f.need_a, f.need_b, f.common)
+                            == (e.mult, e.need_a, e.need_b, e.common)
+                    };
+                    let at = match shared[c].iter().position(same) {
+                        Some(at) => at,
+                        None => {
+                            shared[c].push(Shared {
+                                entry: *e,
+                                rules: vec![0; words],
+                                skip_a: 0,
+                                skip_b: 0,
+                            });
+                            shared[c].len() - 1
+                        }
+                    };
+                    shared[c][at].rules[k / 64] |= 1 << (k % 64);
+                }
+            }
+        }
+        for list in &mut shared {
+            let key = |s: &Shared| (s.entry.mult, s.entry.need_a, s.entry.need_b, s.entry.common);
+            list.sort_by_key(key);
+            for i in (0..list.len()).rev() {
+                let (m, a, b, _) = key(&list[i]);
+                let next = list.get(i + 1).map(key);
+                list[i].skip_a = match next {
+                    Some((m2, a2, _, _)) if (m2, a2) == (m, a) => list[i + 1].skip_a,
+                    _ => i + 1,
+                };
+                list[i].skip_b = match next {
+                    Some((m2, a2, b2, _)) if (m2, a2, b2) == (m, a, b) => list[i + 1].skip_b,
+                    _ => i + 1,
+                };
+            }
+        }
         Index {
             audit,
             fresh: vec![false; n_rods],
             profile: vec![Profile::default(); n_rods],
             adjacency: vec![Vec::new(); n_rods],
             entries,
+            shared,
+            candidates: vec![0; words],
             said_x: vec![0; needs.len()],
             said_y: vec![0; needs.len()],
             said_common: vec![0; commons.len()],
@@ -588,8 +649,9 @@ impl Index {
         Some(self.ball.search(start, plan, n, complete))
     }
 
-    /// Starts pair task `x`, `y`: their profiles and common neighbours.
-    pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32) {
+    /// Starts pair task `x`, `y`, with `m` contacts between them: their
+    /// profiles, common neighbours and candidate rules.
+    pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32, m: usize) {
         let (px, py) = (self.profile(state, x), self.profile(state, y));
         self.pair = (px, py);
         let (small, large, flip) =
@@ -615,6 +677,54 @@ impl Index {
         self.said_x.fill(0);
         self.said_y.fill(0);
         self.said_common.fill(0);
+        self.candidates.fill(0);
+        let c = 3 * class_index(state.class(x)) as usize + class_index(state.class(y)) as usize;
+        let shared = std::mem::take(&mut self.shared[c]);
+        let (px, py) = self.pair;
+        let mut i = 0;
+        while let Some(s) = shared.get(i).filter(|s| s.entry.mult <= m) {
+            let e = &s.entry;
+            if !ask(&mut self.said_x, e.need_a, || {
+                px.admits(&self.needs[e.need_a])
+            }) {
+                i = s.skip_a;
+            } else if !ask(&mut self.said_y, e.need_b, || {
+                py.admits(&self.needs[e.need_b])
+            }) {
+                i = s.skip_b;
+            } else {
+                if ask(&mut self.said_common, e.common, || {
+                    self.commons[e.common].admitted_by(&self.common)
+                }) {
+                    for (w, bits) in self.candidates.iter_mut().zip(&s.rules) {
+                        *w |= bits;
+                    }
+                }
+                i += 1;
+            }
+        }
+        self.shared[c] = shared;
+    }
+
+    /// The rules some pattern contact of which passes the started pair's
+    /// conditions, from rule `start` on, cyclically.
+    pub fn candidates(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
+        let bits = |from: usize, to: usize| {
+            (from / 64..to.div_ceil(64))
+                .flat_map(move |w| {
+                    let mut word = self.candidates[w];
+                    std::iter::from_fn(move || {
+                        (word != 0).then(|| {
+                            let b = word.trailing_zeros() as usize;
+                            word &= word - 1;
+                            64 * w + b
+                        })
+                    })
+                })
+                .filter(move |&k| (from..to).contains(&k))
+        };
+        let n = self.entries.len();
+        bits(start, n).chain(bits(0, start))
     }
 
     /// The pattern contacts of rule `k` whose ends fit the classes of the
@@ -626,18 +736,21 @@ impl Index {
     /// Whether the started pair can carry `e` (given enough contacts between them).
     pub fn pair_could_match(&mut self, e: &PairEntry) -> bool {
         let (px, py) = self.pair;
-        let ask = |said: &mut [u8], k: usize, answer: &dyn Fn() -> bool| {
-            if said[k] == 0 {
-                said[k] = 1 + u8::from(answer());
-            }
-            said[k] == 2
-        };
-        ask(&mut self.said_x, e.need_a, &|| {
+        ask(&mut self.said_x, e.need_a, || {
             px.admits(&self.needs[e.need_a])
-        }) && ask(&mut self.said_y, e.need_b, &|| {
+        }) && ask(&mut self.said_y, e.need_b, || {
             py.admits(&self.needs[e.need_b])
-        }) && ask(&mut self.said_common, e.common, &|| {
+        }) && ask(&mut self.said_common, e.common, || {
             self.commons[e.common].admitted_by(&self.common)
         })
     }
+}
+
+/// Condition `k`'s answer for the current task, asking `answer` once
+/// (`said`: 0 not asked, 1 no, 2 yes).
+fn ask(said: &mut [u8], k: usize, answer: impl FnOnce() -> bool) -> bool {
+    if said[k] == 0 {
+        said[k] = 1 + u8::from(answer());
+    }
+    said[k] == 2
 }

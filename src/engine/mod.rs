@@ -529,29 +529,38 @@ fn pair_rules(
     let m = state.multiplicity(x, y);
     let start = rng.random_range(0..n);
     if let Some(ix) = index.as_deref_mut() {
-        ix.start_pair(state, x, y);
+        ix.start_pair(state, x, y, m);
     }
     let found = |rule: &CompiledRule, (parts, class)| Found {
         motif: rule.motif,
         parts,
         class,
     };
-    for k in 0..n {
-        let rule = &engine.extra[(start + k) % n];
-        if rule.rods_only() {
-            continue;
-        }
-        let Some(ix) = index.as_deref_mut() else {
+    let Some(ix) = index else {
+        for k in 0..n {
+            let rule = &engine.extra[(start + k) % n];
+            if rule.rods_only() {
+                continue;
+            }
             let hit = rule
                 .contact_pairs(cx, cy, m)
                 .find_map(|(a, b)| state.match_rule(rule, a, x, Some((b, y)), engine.rules, None));
-            match hit {
-                Some(hit) => return Some(found(rule, hit)),
-                None => continue,
+            if let Some(hit) = hit {
+                return Some(found(rule, hit));
             }
-        };
-        for j in 0..ix.entries((start + k) % n, cx, cy).len() {
-            let e = ix.entries((start + k) % n, cx, cy)[j];
+        }
+        return None;
+    };
+    // The audit walks every rule, to match each skipped attempt anyway.
+    let rules: Vec<usize> = if ix.audit {
+        (0..n).map(|k| (start + k) % n).collect()
+    } else {
+        ix.candidates(start).collect()
+    };
+    for k in rules {
+        let rule = &engine.extra[k];
+        for j in 0..ix.entries(k, cx, cy).len() {
+            let e = ix.entries(k, cx, cy)[j];
             let (a, b) = (e.a, e.b);
             if e.mult > m {
                 continue;
