@@ -13,6 +13,7 @@
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
 
+use super::index::{CommonNeeds, Index, MAX_RADIUS, Needs, RodView, Step, accepts};
 use super::state::{Link, NO_PLANE, State};
 use super::{Motif, RuleSet};
 use crate::body::BodyClass;
@@ -26,15 +27,29 @@ pub struct CompiledRule {
     pub id: String,
     /// The base motif a base rule writes out, else [`Motif::Rule`].
     pub motif: Motif,
-    kinds: Vec<NodeKind>,
+    pub(super) kinds: Vec<NodeKind>,
     /// Pattern contacts between each pair of nodes, as (label at the lower node, label at the higher).
-    between: Vec<Vec<Vec<(u8, u8)>>>,
-    neighbours: Vec<Vec<usize>>,
+    pub(super) between: Vec<Vec<Vec<(u8, u8)>>>,
+    pub(super) neighbours: Vec<Vec<usize>>,
     rods_only: bool,
     /// Whether every realization of the pattern is planar (a triangle, a
     /// rod touching a planar body twice): the merged body is then planar
     /// when its host bodies are.
     planar: bool,
+    /// What each pattern node's neighbours demand of its host's neighbours.
+    pub(super) needs: Vec<Needs>,
+    /// Each pattern node's neighbours' degrees, largest first.
+    neighbour_degrees: Vec<Vec<u32>>,
+    /// Each pattern node's largest distance to another.
+    pub(super) eccentricity: Vec<usize>,
+    /// Adjacent pairs of pattern nodes − nodes + 1: the independent cycles.
+    cycles: i64,
+    /// Rods-only rules: the plain matcher's search from each pattern node,
+    /// if it reaches every node.
+    plans: Vec<Option<Vec<Step>>>,
+    /// What the pattern nodes touching both `a` and `b` demand of the
+    /// common neighbours of their hosts, for each pattern contact `a`, `b`.
+    pub(super) common: Vec<Vec<CommonNeeds>>,
 }
 
 impl CompiledRule {
@@ -47,7 +62,7 @@ impl CompiledRule {
             between[a][b].push((c.rods[0], c.rods[1]));
             between[b][a].push((c.rods[1], c.rods[0]));
         }
-        let neighbours = (0..n)
+        let neighbours: Vec<Vec<usize>> = (0..n)
             .map(|a| (0..n).filter(|&b| !between[a][b].is_empty()).collect())
             .collect();
         let inc = Incidence::new(p);
@@ -67,7 +82,63 @@ impl CompiledRule {
         .into_iter()
         .find(|(name, _)| rule.id.starts_with(&format!("base-{name}-")))
         .map_or(Motif::Rule, |(_, m)| m);
-        CompiledRule {
+        let needs = (0..n)
+            .map(|a| {
+                let demands: Vec<(NodeKind, usize)> = neighbours[a]
+                    .iter()
+                    .map(|&b| (p.kinds[b], between[a][b].len()))
+                    .collect();
+                Needs::new(&demands)
+            })
+            .collect();
+        let neighbour_degrees = (0..n)
+            .map(|a| {
+                let mut d: Vec<u32> = neighbours[a]
+                    .iter()
+                    .map(|&b| neighbours[b].len() as u32)
+                    .collect();
+                d.sort_unstable_by(|x, y| y.cmp(x));
+                d
+            })
+            .collect();
+        let common = (0..n)
+            .map(|a| {
+                (0..n)
+                    .map(|b| {
+                        CommonNeeds::new(
+                            (0..n)
+                                .filter(|&c| {
+                                    c != a
+                                        && c != b
+                                        && !between[a][c].is_empty()
+                                        && !between[b][c].is_empty()
+                                })
+                                .map(|c| (p.kinds[c], between[a][c].len(), between[b][c].len()))
+                                .collect(),
+                        )
+                    })
+                    .collect()
+            })
+            .collect();
+        let eccentricity = (0..n)
+            .map(|a| {
+                let mut dist = vec![usize::MAX; n];
+                dist[a] = 0;
+                let mut queue = std::collections::VecDeque::from([a]);
+                while let Some(u) = queue.pop_front() {
+                    for &w in &neighbours[u] {
+                        if dist[w] == usize::MAX {
+                            dist[w] = dist[u] + 1;
+                            queue.push_back(w);
+                        }
+                    }
+                }
+                dist.into_iter().max().unwrap_or(0)
+            })
+            .collect();
+        let pairs: usize = neighbours.iter().map(Vec::len).sum::<usize>() / 2;
+        let cycles = pairs as i64 - n as i64 + 1;
+        let mut compiled = CompiledRule {
             id: rule.id.clone(),
             motif,
             kinds: p.kinds.clone(),
@@ -75,7 +146,87 @@ impl CompiledRule {
             neighbours,
             rods_only: p.kinds.iter().all(|k| *k == NodeKind::Rod),
             planar,
+            needs,
+            neighbour_degrees,
+            eccentricity,
+            cycles,
+            plans: Vec::new(),
+            common,
+        };
+        if compiled.rods_only {
+            compiled.plans = (0..n).map(|v| compiled.plan(v)).collect();
         }
+        compiled
+    }
+
+    /// The pattern node to map next: the most mapped neighbours, then the
+    /// most neighbours (a fixed order would explore far more partial maps);
+    /// `None` when no unmapped node touches a mapped one.
+    fn next_node(&self, mapped: impl Fn(usize) -> bool) -> Option<usize> {
+        (0..self.kinds.len())
+            .filter(|&v| !mapped(v))
+            .map(|v| {
+                let m = self.neighbours[v].iter().filter(|&&w| mapped(w)).count();
+                (m, self.neighbours[v].len(), std::cmp::Reverse(v))
+            })
+            .filter(|t| t.0 > 0)
+            .max()
+            .map(|t| t.2.0)
+    }
+
+    /// The steps of the plain matcher's search from pattern node `start`
+    /// (the order depends on the pattern alone), if it reaches every node.
+    fn plan(&self, start: usize) -> Option<Vec<Step>> {
+        let n = self.kinds.len();
+        let mut mapped = vec![false; n];
+        mapped[start] = true;
+        let mut steps = Vec::new();
+        while let Some(v) = self.next_node(|w| mapped[w]) {
+            steps.push(Step {
+                node: v,
+                back: self.neighbours[v]
+                    .iter()
+                    .copied()
+                    .filter(|&w| mapped[w])
+                    .collect(),
+                degree: self.neighbours[v].len() as u32,
+                distance: 0,
+            });
+            mapped[v] = true;
+        }
+        if mapped.contains(&false) {
+            return None;
+        }
+        // Pattern distances from the start, by breadth first.
+        let mut dist = vec![u8::MAX; n];
+        dist[start] = 0;
+        let mut queue = std::collections::VecDeque::from([start]);
+        while let Some(u) = queue.pop_front() {
+            for &w in &self.neighbours[u] {
+                if dist[w] == u8::MAX {
+                    dist[w] = dist[u] + 1;
+                    queue.push_back(w);
+                }
+            }
+        }
+        for step in &mut steps {
+            step.distance = dist[step.node];
+        }
+        Some(steps)
+    }
+
+    /// Whether a free rod seen as `view` can carry pattern node `v` of this
+    /// rods-only rule: its free neighbours, by their own free neighbours,
+    /// can carry `v`'s neighbours, and the free rods within `v`'s
+    /// eccentricity have at least the pattern's independent cycles (checked
+    /// up to [`MAX_RADIUS`]).
+    pub(super) fn rod_could_match(&self, v: usize, view: &RodView) -> bool {
+        let want = &self.neighbour_degrees[v];
+        let f = &view.free_degrees;
+        let e = self.eccentricity[v];
+        want.len() <= f.len()
+            && want.iter().zip(f).all(|(w, f)| w <= f)
+            && (e > MAX_RADIUS || view.cycles[e] >= self.cycles)
     }
 
     pub fn rods_only(&self) -> bool {
@@ -197,6 +348,7 @@ impl State<'_> {
         x: u32,
         b: Option<(usize, u32)>,
         rules: RuleSet,
+        index: Option<&mut Index>,
     ) -> Option<(Vec<u32>, BodyClass)> {
         let n = rule.kinds.len();
         if !fits(rule.kinds[a], self.class(x)) {
@@ -217,22 +369,63 @@ impl State<'_> {
             }
             map[b] = Some(y);
         }
-        if !self.extend(rule, &mut map, rules) {
+        let found = match index {
+            Some(ix) => self.extend_indexed(ix, rule, &mut map, rules),
+            None => self.extend(rule, &mut map, rules),
+        };
+        if !found {
             return None;
         }
         let parts: Vec<u32> = map.iter().map(|m| m.expect("complete match")).collect();
+        Some(self.matched(rule, parts))
+    }
+
+    /// [`State::match_rule`] for rods-only `rule` with pattern node `v` on
+    /// the rod of the index's rod task, searched in the task's ball: the
+    /// same complete maps in the same order, so the same match. `None` when
+    /// the ball cannot be used.
+    pub(super) fn match_in_ball(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        v: usize,
+        rules: RuleSet,
+    ) -> Option<Option<(Vec<u32>, BodyClass)>> {
+        let Some(plan) = &rule.plans[v] else {
+            return Some(None);
+        };
+        let mut found = None;
+        let searched = ix.search_ball(
+            v,
+            rule.eccentricity[v],
+            plan,
+            rule.kinds.len(),
+            &mut |map| {
+                let done = self.complete(rule, map, rules);
+                if done {
+                    found = Some(map.iter().map(|m| m.expect("complete map")).collect());
+                }
+                done
+            },
+        )?;
+        debug_assert_eq!(searched, found.is_some());
+        Some(found.map(|parts| self.matched(rule, parts)))
+    }
+
+    /// A complete match's parts and the class of the body they form.
+    fn matched(&self, rule: &CompiledRule, parts: Vec<u32>) -> (Vec<u32>, BodyClass) {
         let planar = rule.planar
             && parts
                 .iter()
                 .all(|&p| self.class(p) != Some(BodyClass::Spatial));
-        Some((
+        (
             parts,
             if planar {
                 BodyClass::Planar
             } else {
                 BodyClass::Spatial
             },
-        ))
+        )
     }
 
     /// Whether `rule` matches exactly the host nodes `parts`, in some order.
@@ -289,21 +482,7 @@ impl State<'_> {
     /// Maps the remaining pattern nodes by backtracking over host neighbours,
     /// then assigns contacts.
     fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: RuleSet) -> bool {
-        // Most constrained node next: the most mapped neighbours, then the
-        // most neighbours (a fixed order would explore far more partial maps).
-        let next = (0..map.len())
-            .filter(|&v| map[v].is_none())
-            .map(|v| {
-                let mapped = rule.neighbours[v]
-                    .iter()
-                    .filter(|&&w| map[w].is_some())
-                    .count();
-                (mapped, rule.neighbours[v].len(), std::cmp::Reverse(v))
-            })
-            .filter(|t| t.0 > 0)
-            .max()
-            .map(|t| t.2.0);
-        let Some(v) = next else {
+        let Some(v) = rule.next_node(|v| map[v].is_some()) else {
             return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
         };
         // Candidates come from the mapped neighbour with the fewest neighbours.
@@ -320,6 +499,55 @@ impl State<'_> {
                 }
                 map[v] = None;
             }
+        }
+        false
+    }
+
+    /// [`State::extend`] on the index's cached neighbour lists: the same
+    /// candidates in the same order, so the same complete maps in the same
+    /// order, except under a candidate whose neighbours cannot carry its
+    /// pattern node's (no complete map there).
+    fn extend_indexed(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        map: &mut Vec<Option<u32>>,
+        rules: RuleSet,
+    ) -> bool {
+        let Some(v) = rule.next_node(|v| map[v].is_some()) else {
+            return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
+        };
+        // The anchor as `extend` picks it: the first mapped neighbour of least degree.
+        let w = *rule.neighbours[v]
+            .iter()
+            .filter(|&&w| map[w].is_some())
+            .min_by_key(|&&w| self.degree(map[w].expect("mapped")))
+            .expect("v touches a mapped node");
+        let anchor = map[w].expect("mapped");
+        let fits_v = accepts(rule.kinds[v]);
+        let (need, degree) = (rule.between[v][w].len(), rule.neighbours[v].len());
+        for i in 0..ix.n_neighbours(self, anchor) {
+            let y = ix.neighbour(anchor, i);
+            if !fits_v[y.class as usize] || (y.mult as usize) < need {
+                continue;
+            }
+            let y = y.node;
+            if self.degree(y) < degree
+                || map.contains(&Some(y))
+                || rule.neighbours[v].iter().any(|&u| {
+                    u != w
+                        && map[u]
+                            .is_some_and(|hu| self.multiplicity(y, hu) < rule.between[v][u].len())
+                })
+                || !ix.profile(self, y).admits(&rule.needs[v])
+            {
+                continue;
+            }
+            map[v] = Some(y);
+            if self.extend_indexed(ix, rule, map, rules) {
+                return true;
+            }
+            map[v] = None;
         }
         false
     }

@@ -10,6 +10,7 @@
 mod base;
 pub mod certify;
 pub mod examples;
+mod index;
 mod matcher;
 pub mod shapes;
 mod state;
@@ -23,6 +24,7 @@ use crate::body::Body;
 use crate::graph::ContactGraph;
 use crate::{Error, Result};
 use base::Found;
+use index::Index;
 pub use matcher::CompiledRule;
 use state::State;
 
@@ -213,14 +215,54 @@ impl<'r> Engine<'r> {
                 rules: RuleSet::Sound,
                 ..*self
             };
-            let run = compress_engine(&sound, graph, bodies, seed)?;
+            let run = compress_engine(&sound, graph, bodies, seed, Matching::Indexed)?;
             // A graph without geometry is a finite framework; a generated
             // system certifies with its box (`certify::certify`).
             let topo = crate::truth::Topology::finite(graph);
             return Ok(certify::certify(&topo, run, seed));
         }
-        compress_engine(self, graph, bodies, seed)
+        compress_engine(self, graph, bodies, seed, Matching::Indexed)
     }
+
+    /// [`Engine::compress`] with the loaded rules matched as `matching`
+    /// says: the unindexed and audited matchers are references the indexed
+    /// one must reproduce exactly (tests only).
+    #[doc(hidden)]
+    pub fn compress_matching(
+        &self,
+        graph: &ContactGraph,
+        bodies: &[Body],
+        seed: u64,
+        matching: Matching,
+    ) -> Result<Compression> {
+        let engine = Engine {
+            rules: match self.rules {
+                RuleSet::Certified => RuleSet::Sound,
+                r => r,
+            },
+            ..*self
+        };
+        let run = compress_engine(&engine, graph, bodies, seed, matching)?;
+        Ok(match self.rules {
+            RuleSet::Certified => {
+                certify::certify(&crate::truth::Topology::finite(graph), run, seed)
+            }
+            _ => run,
+        })
+    }
+}
+
+/// How loaded rules are matched (tests compare them; the engine indexes).
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Matching {
+    /// Every rule at every pattern node or contact: the plain backtracking.
+    Unindexed,
+    /// Attempts the index shows cannot match are skipped.
+    Indexed,
+    /// As indexed, and every skipped attempt is matched anyway, panicking
+    /// if it would have matched.
+    Audited,
 }
 
 /// Compresses `graph` once, with the order of motif application drawn from `seed`.
@@ -238,11 +280,14 @@ pub fn compress_from(
     Engine::base(rules).compress(graph, bodies, seed)
 }
 
+/// One compression, with loaded rules matched as `matching` says (the same
+/// result every way).
 fn compress_engine(
     engine: &Engine,
     graph: &ContactGraph,
     bodies: &[Body],
     seed: u64,
+    matching: Matching,
 ) -> Result<Compression> {
     let rules = engine.rules;
     check_bodies(graph, bodies)?;
@@ -268,6 +313,8 @@ fn compress_engine(
         let b = state.find(b);
         tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
+    let mut index = (matching != Matching::Unindexed && !engine.extra.is_empty())
+        .then(|| Index::new(graph.n_nodes(), engine.extra, matching == Matching::Audited));
     tasks.extend(
         (0..graph.n_nodes() as u32)
             .filter(|&r| graph.degree(r) >= 2)
@@ -292,11 +339,11 @@ fn compress_engine(
                     }
                 };
                 if rules_first {
-                    rod_rules(&mut state, engine, r, &mut rng)
+                    rod_rules(&mut state, engine, r, &mut rng, index.as_mut())
                         .or_else(|| base(&mut state, &mut rng))
                 } else {
                     base(&mut state, &mut rng)
-                        .or_else(|| rod_rules(&mut state, engine, r, &mut rng))
+                        .or_else(|| rod_rules(&mut state, engine, r, &mut rng, index.as_mut()))
                 }
             }
             Task::Pair(x, y) => {
@@ -305,7 +352,7 @@ fn compress_engine(
                     continue;
                 }
                 if rng.random::<bool>() {
-                    pair_rules(&mut state, engine, x, y, &mut rng).or_else(|| {
+                    pair_rules(&mut state, engine, x, y, &mut rng, index.as_mut()).or_else(|| {
                         engine
                             .base
                             .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
@@ -316,7 +363,7 @@ fn compress_engine(
                         .base
                         .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
                         .flatten()
-                        .or_else(|| pair_rules(&mut state, engine, x, y, &mut rng))
+                        .or_else(|| pair_rules(&mut state, engine, x, y, &mut rng, index.as_mut()))
                 }
             }
         };
@@ -329,6 +376,13 @@ fn compress_engine(
             counts.add(motif);
             sequence.push(motif);
             let (node, changed) = state.merge(&parts, class);
+            if let Some(index) = index.as_mut() {
+                // The parts (the merged node among them) and every node whose
+                // neighbours changed (`State::merge` reports them).
+                for &x in parts.iter().chain(&changed) {
+                    index.invalidate(x);
+                }
+            }
             tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
         }
     }
@@ -399,37 +453,73 @@ fn check_bodies(graph: &ContactGraph, bodies: &[Body]) -> Result<()> {
     Ok(())
 }
 
-/// Tries the rods-only loaded rules with rod `r` on each pattern node, from a random rule on.
-fn rod_rules(state: &mut State, engine: &Engine, r: u32, rng: &mut ChaCha8Rng) -> Option<Found> {
+/// Tries the rods-only loaded rules with rod `r` on each pattern node, from
+/// a random rule on, skipping the nodes `index` shows `r` cannot carry.
+fn rod_rules(
+    state: &mut State,
+    engine: &Engine,
+    r: u32,
+    rng: &mut ChaCha8Rng,
+    mut index: Option<&mut Index>,
+) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
         return None;
     }
     let start = rng.random_range(0..n);
-    (0..n).find_map(|k| {
+    let audit = index.as_ref().is_some_and(|ix| ix.audit);
+    let view = index.as_deref_mut().map(|ix| ix.rod_view(state, r));
+    for k in 0..n {
         let rule = &engine.extra[(start + k) % n];
         if !rule.rods_only() {
-            return None;
+            continue;
         }
-        (0..rule.n_nodes()).find_map(|v| {
-            state
-                .match_rule(rule, v, r, None, engine.rules)
-                .map(|(parts, class)| Found {
+        for v in 0..rule.n_nodes() {
+            if let Some(view) = &view
+                && !rule.rod_could_match(v, view)
+            {
+                assert!(
+                    !audit
+                        || state
+                            .match_rule(rule, v, r, None, engine.rules, None)
+                            .is_none(),
+                    "the index skipped a match of rule {} at rod {r}",
+                    rule.id
+                );
+                continue;
+            }
+            let found = match index.as_deref_mut() {
+                Some(ix) => state
+                    .match_in_ball(ix, rule, v, engine.rules)
+                    .unwrap_or_else(|| state.match_rule(rule, v, r, None, engine.rules, Some(ix))),
+                None => state.match_rule(rule, v, r, None, engine.rules, None),
+            };
+            if audit {
+                let plain = state.match_rule(rule, v, r, None, engine.rules, None);
+                assert_eq!(found, plain, "rule {} at rod {r}", rule.id);
+            }
+            if let Some((parts, class)) = found {
+                return Some(Found {
                     motif: rule.motif,
                     parts,
                     class,
-                })
-        })
-    })
+                });
+            }
+        }
+    }
+    None
 }
 
-/// Tries the loaded rules with bodies on the changed pair `x`, `y` mapped onto each pattern contact.
+/// Tries the loaded rules with bodies on the changed pair `x`, `y` mapped
+/// onto each pattern contact, from a random rule on, skipping the contacts
+/// `index` shows the pair cannot carry.
 fn pair_rules(
     state: &mut State,
     engine: &Engine,
     x: u32,
     y: u32,
     rng: &mut ChaCha8Rng,
+    mut index: Option<&mut Index>,
 ) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
@@ -438,21 +528,65 @@ fn pair_rules(
     let (cx, cy) = (state.class(x), state.class(y));
     let m = state.multiplicity(x, y);
     let start = rng.random_range(0..n);
-    (0..n).find_map(|k| {
-        let rule = &engine.extra[(start + k) % n];
-        if rule.rods_only() {
-            return None;
+    if let Some(ix) = index.as_deref_mut() {
+        ix.start_pair(state, x, y, m);
+    }
+    let found = |rule: &CompiledRule, (parts, class)| Found {
+        motif: rule.motif,
+        parts,
+        class,
+    };
+    let Some(ix) = index else {
+        for k in 0..n {
+            let rule = &engine.extra[(start + k) % n];
+            if rule.rods_only() {
+                continue;
+            }
+            let hit = rule
+                .contact_pairs(cx, cy, m)
+                .find_map(|(a, b)| state.match_rule(rule, a, x, Some((b, y)), engine.rules, None));
+            if let Some(hit) = hit {
+                return Some(found(rule, hit));
+            }
         }
-        rule.contact_pairs(cx, cy, m).find_map(|(a, b)| {
-            state
-                .match_rule(rule, a, x, Some((b, y)), engine.rules)
-                .map(|(parts, class)| Found {
-                    motif: rule.motif,
-                    parts,
-                    class,
-                })
-        })
-    })
+        return None;
+    };
+    // The audit walks every rule, to match each skipped attempt anyway.
+    let rules: Vec<usize> = if ix.audit {
+        (0..n).map(|k| (start + k) % n).collect()
+    } else {
+        ix.candidates(start).collect()
+    };
+    for k in rules {
+        let rule = &engine.extra[k];
+        for j in 0..ix.entries(k, cx, cy).len() {
+            let e = ix.entries(k, cx, cy)[j];
+            let (a, b) = (e.a, e.b);
+            if e.mult > m {
+                continue;
+            }
+            if !ix.pair_could_match(&e) {
+                assert!(
+                    !ix.audit
+                        || state
+                            .match_rule(rule, a, x, Some((b, y)), engine.rules, None)
+                            .is_none(),
+                    "the index skipped a match of rule {} at nodes {x}, {y}",
+                    rule.id
+                );
+                continue;
+            }
+            let hit = state.match_rule(rule, a, x, Some((b, y)), engine.rules, Some(&mut *ix));
+            if ix.audit {
+                let plain = state.match_rule(rule, a, x, Some((b, y)), engine.rules, None);
+                assert_eq!(hit, plain, "rule {} at nodes {x}, {y}", rule.id);
+            }
+            if let Some(hit) = hit {
+                return Some(found(rule, hit));
+            }
+        }
+    }
+    None
 }
 
 /// Tries, in random order, every motif with bodies that contains both `x` and `y`.

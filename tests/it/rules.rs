@@ -4,7 +4,7 @@
 use rgc::contacts::detect;
 use rgc::engine::examples::random_graph;
 use rgc::engine::shapes::base_rules;
-use rgc::engine::{CompiledRule, Compression, Engine, RuleSet};
+use rgc::engine::{CompiledRule, Compression, Engine, Matching, RuleSet};
 use rgc::graph::ContactGraph;
 use rgc::rods::{RodParams, RodSystem};
 
@@ -71,6 +71,78 @@ fn base_motifs_as_rules_compress_like_the_builtin_engine() {
         let system = RodSystem::generate(RodParams::new(23.0, 5.0, density).unwrap(), k as u64);
         let g = ContactGraph::from_contacts(system.len(), &detect(&system));
         agree(&g, &rules, 3 + k as u64);
+    }
+}
+
+/// The rules of the committed rule files `names` (in `motifs/`).
+fn committed(names: &[&str]) -> Vec<CompiledRule> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs");
+    let paths: Vec<_> = names
+        .iter()
+        .map(|n| dir.join(format!("{n}.json")))
+        .collect();
+    rgc::rule_file::load_rules(&paths)
+        .unwrap()
+        .iter()
+        .map(CompiledRule::new)
+        .collect()
+}
+
+/// The index may only skip attempts that cannot match, so compressions
+/// with it are those of the plain matcher, body for body and motif for
+/// motif: on rod systems around the rigidity threshold, with the extended
+/// and the mined rules, under both rule sets, from scratch and restarted
+/// from a run's bodies.
+#[test]
+fn indexed_matcher_compresses_like_the_unindexed_one() {
+    let extended = committed(&["rods-6", "rods-8", "mixed-4"]);
+    let mined = committed(&["mined"]);
+    let (mut rules_applied, mut restarted) = (0, 0);
+    for (k, density) in [30.0, 34.0, 38.0, 42.0, 45.0].into_iter().enumerate() {
+        let seed = 40 + k as u64;
+        let system = RodSystem::generate(RodParams::new(23.0, 4.0, density).unwrap(), seed);
+        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+        for set in [RuleSet::Sound, RuleSet::Paper] {
+            for extra in [&extended, &mined] {
+                let engine = Engine::with_rules(set, extra);
+                let plain = engine
+                    .compress_matching(&g, &[], seed, Matching::Unindexed)
+                    .unwrap();
+                let indexed = engine.compress(&g, &[], seed).unwrap();
+                assert_eq!(indexed, plain, "density {density}, {set:?}");
+                rules_applied += plain.motifs.rules;
+                // A restart from half the bodies has pairs to examine at once.
+                let half = &plain.bodies[..plain.bodies.len() / 2];
+                let plain = engine
+                    .compress_matching(&g, half, seed + 1, Matching::Unindexed)
+                    .unwrap();
+                let indexed = engine.compress(&g, half, seed + 1).unwrap();
+                assert_eq!(indexed, plain, "density {density}, {set:?}, restarted");
+                restarted += plain.motifs.rules;
+            }
+        }
+    }
+    assert!(
+        rules_applied >= 200 && restarted >= 3,
+        "the loaded rules compressed ({rules_applied}, restarted {restarted})"
+    );
+}
+
+/// Every attempt the index skips is one the plain matcher would not have
+/// matched (the audit matches each anyway and panics if it would have).
+#[test]
+fn index_skips_only_impossible_attempts() {
+    let rules: Vec<CompiledRule> = committed(&["rods-6", "rods-8", "mixed-4", "mined"]);
+    for (k, density) in [32.0, 40.0].into_iter().enumerate() {
+        let system = RodSystem::generate(RodParams::new(23.0, 4.0, density).unwrap(), 7 + k as u64);
+        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+        for set in [RuleSet::Sound, RuleSet::Paper] {
+            let engine = Engine::with_rules(set, &rules);
+            let audited = engine
+                .compress_matching(&g, &[], k as u64, Matching::Audited)
+                .unwrap();
+            assert_eq!(audited, engine.compress(&g, &[], k as u64).unwrap());
+        }
     }
 }
 

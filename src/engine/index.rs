@@ -1,0 +1,756 @@
+//! The index of loaded rules and host nodes that lets the matcher skip what
+//! cannot match.
+//!
+//! A match maps the pattern neighbours of a pattern node to distinct host
+//! neighbours of its host, each of a fitting class and sharing at least the
+//! pattern's contacts with it. So the host's neighbours, counted by class and
+//! multiplicity ([`Profile`]), must satisfy Hall's condition for the pattern
+//! node's demands ([`Needs`]); the common neighbours of a changed pair must
+//! do the same for the pattern nodes that touch both ends of a pattern
+//! contact; and, for the rods-only rules, a rod's free neighbours must have
+//! at least the free neighbours its pattern neighbours have.
+//!
+//! Each check only rejects attempts, or partial matches, that could not
+//! have been completed: the engine still tries the remaining attempts in the
+//! same order with the same random draws, and the matcher still meets the
+//! complete matches in the same order, so it finds exactly the motifs the
+//! plain matcher finds.
+
+use crate::body::BodyClass;
+use crate::pattern::NodeKind;
+
+use super::matcher::CompiledRule;
+use super::state::State;
+
+/// Multiplicities are counted up to this; a larger demand is clamped to it,
+/// which only weakens the check.
+const CAP: usize = 4;
+
+/// The host classes as indices: rod, planar body, spatial body.
+pub(super) fn class_index(c: Option<BodyClass>) -> u8 {
+    match c {
+        None => 0,
+        Some(BodyClass::Planar) => 1,
+        Some(BodyClass::Spatial) => 2,
+    }
+}
+
+/// Which host classes (by [`class_index`]) a pattern node of kind `k` accepts.
+pub(super) fn accepts(k: NodeKind) -> [bool; 3] {
+    match k {
+        NodeKind::Rod => [true, false, false],
+        NodeKind::Planar => [false, true, true],
+        NodeKind::Spatial => [false, false, true],
+    }
+}
+
+/// A host node's neighbours: `at_least[c][m - 1]` of them are of class `c`
+/// and share at least `m` contacts with it.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Profile {
+    at_least: [[u32; CAP]; 3],
+}
+
+impl Profile {
+    /// Free rods among the neighbours.
+    pub fn free_rods(&self) -> u32 {
+        self.at_least[0][0]
+    }
+
+    /// Whether every Hall condition of `needs` holds.
+    pub fn admits(&self, needs: &Needs) -> bool {
+        needs.0.iter().all(|h| {
+            let fitting: u32 = (0..3)
+                .filter(|&c| h.min[c] > 0)
+                .map(|c| self.at_least[c][h.min[c] as usize - 1])
+                .sum();
+            fitting >= h.need
+        })
+    }
+}
+
+/// One Hall condition: the host neighbours that fit some demand of a set
+/// must number at least the set's size. A neighbour of class `c` fits when
+/// it shares at least `min[c]` contacts with the host (0: no demand of the
+/// set accepts class `c`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Hall {
+    need: u32,
+    min: [u8; 3],
+}
+
+/// The Hall conditions of one pattern node's neighbours on its host's [`Profile`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(super) struct Needs(Vec<Hall>);
+
+/// The sets of `t` demand types Hall's condition is checked on: every set
+/// while they are few, else each one and all of them.
+fn hall_sets(t: usize) -> Vec<u32> {
+    if t <= 6 {
+        (1..1u32 << t).collect()
+    } else {
+        (0..t).map(|i| 1 << i).chain([(1 << t) - 1]).collect()
+    }
+}
+
+impl Needs {
+    /// Conditions for demands given as (kind, contacts) of each pattern neighbour.
+    pub fn new(demands: &[(NodeKind, usize)]) -> Self {
+        let mut types: Vec<((NodeKind, usize), u32)> = Vec::new();
+        for &(k, m) in demands {
+            let key = (k, m.clamp(1, CAP));
+            match types.iter_mut().find(|(t, _)| *t == key) {
+                Some((_, n)) => *n += 1,
+                None => types.push((key, 1)),
+            }
+        }
+        let halls = hall_sets(types.len())
+            .into_iter()
+            .map(|set| {
+                let mut h = Hall {
+                    need: 0,
+                    min: [0; 3],
+                };
+                for (i, &((k, m), n)) in types.iter().enumerate() {
+                    if set & (1 << i) == 0 {
+                        continue;
+                    }
+                    h.need += n;
+                    for (c, ok) in accepts(k).into_iter().enumerate() {
+                        if ok && (h.min[c] == 0 || (m as u8) < h.min[c]) {
+                            h.min[c] = m as u8;
+                        }
+                    }
+                }
+                h
+            })
+            .collect();
+        Needs(halls)
+    }
+}
+
+/// A common neighbour of a changed pair: its class index and its contacts with each end.
+pub(super) type Common = (u8, u32, u32);
+
+/// What the pattern nodes touching both ends of a pattern contact demand of
+/// the host pair's common neighbours: (kind, contacts with each end).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(super) struct CommonNeeds(Vec<(NodeKind, usize, usize)>);
+
+impl CommonNeeds {
+    pub fn new(demands: Vec<(NodeKind, usize, usize)>) -> Self {
+        CommonNeeds(demands)
+    }
+
+    /// Whether `common` satisfies Hall's condition for these demands.
+    pub fn admitted_by(&self, common: &[Common]) -> bool {
+        let d = &self.0;
+        if d.is_empty() {
+            return true;
+        }
+        if common.len() < d.len() {
+            return false;
+        }
+        let fits = |&(k, ma, mb): &(NodeKind, usize, usize), &(c, mx, my): &Common| {
+            accepts(k)[c as usize] && mx as usize >= ma && my as usize >= mb
+        };
+        hall_sets(d.len()).into_iter().all(|set| {
+            let fitting = common
+                .iter()
+                .filter(|z| {
+                    d.iter()
+                        .enumerate()
+                        .any(|(i, dem)| set & (1 << i) != 0 && fits(dem, z))
+                })
+                .count();
+            fitting >= set.count_ones() as usize
+        })
+    }
+}
+
+/// The largest pattern eccentricity whose ball [`RodView`] measures.
+pub(super) const MAX_RADIUS: usize = 4;
+
+/// What a rods-only rule needs to know of a free rod `r`'s surroundings in
+/// the free rods: a match with `r` on a pattern node of eccentricity `k`
+/// lies in the ball of radius `k` around `r`, and the pattern's cycles are
+/// cycles there.
+#[derive(Clone, Debug, Default)]
+pub(super) struct RodView {
+    /// The free neighbours' numbers of free neighbours, largest first.
+    pub free_degrees: Vec<u32>,
+    /// The cyclomatic number (contacts − rods + 1) of the free rods within
+    /// each distance of `r` (0 to [`MAX_RADIUS`]).
+    pub cycles: [i64; MAX_RADIUS + 1],
+}
+
+/// One step of a rods-only rule's search from a start node: the pattern
+/// node the plain matcher maps next, its mapped neighbours, its degree and
+/// its distance from the start.
+#[derive(Clone, Debug)]
+pub(super) struct Step {
+    pub node: usize,
+    pub back: Vec<usize>,
+    pub degree: u32,
+    pub distance: u8,
+}
+
+/// The free rods within the index's radius of a rod task's rod, sorted, with
+/// their contacts among them as bit rows: a match of a rods-only rule lies
+/// there, and bit operations list a pattern node's candidates in the plain
+/// matcher's order (by node).
+#[derive(Default)]
+struct Ball {
+    /// Whether the rows are those of the current rod task.
+    built: bool,
+    rods: Vec<u32>,
+    distance: Vec<u8>,
+    /// Neighbours within the ball.
+    degree: Vec<u32>,
+    words: usize,
+    rows: Vec<u64>,
+    root: usize,
+}
+
+/// Balls larger than this are not built; the matcher then searches the
+/// cached lists instead.
+const MAX_BALL: usize = 1024;
+
+impl Ball {
+    /// Calls `complete` on every complete map (host rods by pattern node)
+    /// of the plain matcher's search from pattern node `start` on the root,
+    /// in its order, until it returns true; whether it did.
+    fn search(
+        &self,
+        start: usize,
+        plan: &[Step],
+        n: usize,
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> bool {
+        let mut local = vec![usize::MAX; n];
+        local[start] = self.root;
+        let mut used = vec![0u64; self.words];
+        used[self.root / 64] |= 1 << (self.root % 64);
+        let mut map = vec![None; n];
+        map[start] = Some(self.rods[self.root]);
+        self.extend(plan, &mut local, &mut used, &mut map, complete)
+    }
+
+    fn extend(
+        &self,
+        plan: &[Step],
+        local: &mut [usize],
+        used: &mut [u64],
+        map: &mut [Option<u32>],
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> bool {
+        let Some((step, rest)) = plan.split_first() else {
+            return complete(map);
+        };
+        for k in 0..self.words {
+            let mut bits = !used[k];
+            for &w in &step.back {
+                bits &= self.rows[local[w] * self.words + k];
+            }
+            while bits != 0 {
+                let b = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let i = 64 * k + b;
+                // A complete map puts the node within its pattern distance
+                // of the root, with its neighbours in the ball.
+                if self.distance[i] > step.distance || self.degree[i] < step.degree {
+                    continue;
+                }
+                local[step.node] = i;
+                map[step.node] = Some(self.rods[i]);
+                used[k] |= 1 << b;
+                if self.extend(rest, local, used, map, complete) {
+                    return true;
+                }
+                used[k] &= !(1 << b);
+            }
+        }
+        map[step.node] = None;
+        false
+    }
+}
+
+/// A neighbouring node as the index caches it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Neighbour {
+    pub node: u32,
+    /// [`class_index`] of the node.
+    pub class: u8,
+    /// Contacts shared with it.
+    pub mult: u32,
+}
+
+/// A pattern contact of a rule with bodies whose ends fit a class pair, and
+/// the numbers of its conditions in [`Index`]'s tables.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PairEntry {
+    pub a: usize,
+    pub b: usize,
+    /// Pattern contacts between `a` and `b`: the host pair needs as many.
+    pub mult: usize,
+    need_a: usize,
+    need_b: usize,
+    common: usize,
+}
+
+/// The pattern contacts of all rules that share their conditions, for one
+/// class pair: the rules that have one, as bits. A class pair's list is
+/// sorted by contacts between the ends, then by the conditions on `x`, then
+/// on `y`, and `skip_a`, `skip_b` are where the run of the same contacts
+/// and condition on `x` (and on `y`) ends, so a failed condition skips its run.
+#[derive(Clone, Debug)]
+struct Shared {
+    entry: PairEntry,
+    rules: Vec<u64>,
+    skip_a: usize,
+    skip_b: usize,
+}
+
+/// Host nodes' neighbour lists and profiles, computed when first needed and
+/// dropped when a merge changes a node's neighbours; the rules' pattern
+/// contacts by class pair; and the scratch of one task.
+pub(super) struct Index {
+    /// Whether skipped attempts are matched anyway, to prove them impossible.
+    pub audit: bool,
+    fresh: Vec<bool>,
+    profile: Vec<Profile>,
+    /// Each node's neighbours, in the matcher's candidate order: by node for
+    /// a rod, in the body's map order for a body.
+    adjacency: Vec<Vec<Neighbour>>,
+    /// By rule, by class pair (`3 * class x + class y`), the pattern
+    /// contacts in the order the plain matcher tries them.
+    entries: Vec<[Vec<PairEntry>; 9]>,
+    /// By class pair, the distinct conditions of the entries.
+    shared: [Vec<Shared>; 9],
+    /// Per pair task: the rules some entry of which passes the conditions, as bits.
+    candidates: Vec<u64>,
+    /// Distinct [`Needs`] and [`CommonNeeds`] of all entries.
+    needs: Vec<Needs>,
+    commons: Vec<CommonNeeds>,
+    /// Per pair task: what each distinct need says of `x`, of `y` and of
+    /// their common neighbours (0 unknown, 1 no, 2 yes).
+    said_x: Vec<u8>,
+    said_y: Vec<u8>,
+    said_common: Vec<u8>,
+    /// The largest ball a rod task measures.
+    radius: usize,
+    /// Per rod task: each rod's distance from the task's rod when `seen` is
+    /// the task's stamp, and the rods by distance.
+    distance: Vec<u8>,
+    seen: Vec<u32>,
+    stamp: u32,
+    /// A rod task's rod, then the free rods around it in breadth-first order.
+    around: Vec<u32>,
+    ball: Ball,
+    /// The common neighbours of a pair task.
+    common: Vec<Common>,
+    /// The profiles of a pair task's ends.
+    pair: (Profile, Profile),
+}
+
+/// Finds `item` in `list`, appending it if new; its position.
+fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
+    list.iter().position(|x| x == item).unwrap_or_else(|| {
+        list.push(item.clone());
+        list.len() - 1
+    })
+}
+
+impl Index {
+    pub fn new(n_rods: usize, rules: &[CompiledRule], audit: bool) -> Self {
+        let (mut needs, mut commons) = (Vec::new(), Vec::new());
+        let entries = rules
+            .iter()
+            .map(|rule| {
+                let mut by_class: [Vec<PairEntry>; 9] = Default::default();
+                if rule.rods_only() {
+                    return by_class;
+                }
+                for a in 0..rule.n_nodes() {
+                    for &b in &rule.neighbours[a] {
+                        let entry = PairEntry {
+                            a,
+                            b,
+                            mult: rule.between[a][b].len(),
+                            need_a: intern(&mut needs, &rule.needs[a]),
+                            need_b: intern(&mut needs, &rule.needs[b]),
+                            common: intern(&mut commons, &rule.common[a][b]),
+                        };
+                        let (ka, kb) = (accepts(rule.kinds[a]), accepts(rule.kinds[b]));
+                        for cx in 0..3 {
+                            for cy in 0..3 {
+                                if ka[cx] && kb[cy] {
+                                    by_class[3 * cx + cy].push(entry);
+                                }
+                            }
+                        }
+                    }
+                }
+                by_class
+            })
+            .collect::<Vec<_>>();
+        let words = rules.len().div_ceil(64);
+        let mut shared: [Vec<Shared>; 9] = Default::default();
+        for (k, by_class) in entries.iter().enumerate() {
+            for (c, list) in by_class.iter().enumerate() {
+                for e in list {
+                    let same = |s: &Shared| {
+                        let f = &s.entry;
+                        (f.mult, f.need_a, f.need_b, f.common)
+                            == (e.mult, e.need_a, e.need_b, e.common)
+                    };
+                    let at = match shared[c].iter().position(same) {
+                        Some(at) => at,
+                        None => {
+                            shared[c].push(Shared {
+                                entry: *e,
+                                rules: vec![0; words],
+                                skip_a: 0,
+                                skip_b: 0,
+                            });
+                            shared[c].len() - 1
+                        }
+                    };
+                    shared[c][at].rules[k / 64] |= 1 << (k % 64);
+                }
+            }
+        }
+        for list in &mut shared {
+            let key = |s: &Shared| (s.entry.mult, s.entry.need_a, s.entry.need_b, s.entry.common);
+            list.sort_by_key(key);
+            for i in (0..list.len()).rev() {
+                let (m, a, b, _) = key(&list[i]);
+                let next = list.get(i + 1).map(key);
+                list[i].skip_a = match next {
+                    Some((m2, a2, _, _)) if (m2, a2) == (m, a) => list[i + 1].skip_a,
+                    _ => i + 1,
+                };
+                list[i].skip_b = match next {
+                    Some((m2, a2, b2, _)) if (m2, a2, b2) == (m, a, b) => list[i + 1].skip_b,
+                    _ => i + 1,
+                };
+            }
+        }
+        Index {
+            audit,
+            fresh: vec![false; n_rods],
+            profile: vec![Profile::default(); n_rods],
+            adjacency: vec![Vec::new(); n_rods],
+            entries,
+            shared,
+            candidates: vec![0; words],
+            said_x: vec![0; needs.len()],
+            said_y: vec![0; needs.len()],
+            said_common: vec![0; commons.len()],
+            needs,
+            commons,
+            radius: rules
+                .iter()
+                .filter(|r| r.rods_only())
+                .flat_map(|r| r.eccentricity.iter().copied())
+                .filter(|&e| e <= MAX_RADIUS)
+                .max()
+                .unwrap_or(0),
+            distance: vec![0; n_rods],
+            seen: vec![0; n_rods],
+            stamp: 0,
+            around: Vec::new(),
+            ball: Ball::default(),
+            common: Vec::new(),
+            pair: (Profile::default(), Profile::default()),
+        }
+    }
+
+    /// Forgets what is cached of node `x`: its neighbours or their classes changed.
+    pub fn invalidate(&mut self, x: u32) {
+        self.fresh[x as usize] = false;
+    }
+
+    /// Computes node `x`'s neighbour list and profile unless cached.
+    fn refresh(&mut self, state: &mut State, x: u32) {
+        if self.fresh[x as usize] {
+            return;
+        }
+        let mut list = std::mem::take(&mut self.adjacency[x as usize]);
+        list.clear();
+        if state.class(x).is_some() {
+            list.extend(
+                state.nodes[x as usize]
+                    .adj
+                    .iter()
+                    .map(|(&y, links)| Neighbour {
+                        node: y,
+                        class: class_index(state.class(y)),
+                        mult: links.len() as u32,
+                    }),
+            );
+        } else {
+            let g = state.g;
+            for &(nb, _) in g.neighbors(x) {
+                let y = state.find(nb);
+                match list.iter_mut().find(|n| n.node == y) {
+                    Some(n) => n.mult += 1,
+                    None => list.push(Neighbour {
+                        node: y,
+                        class: class_index(state.class(y)),
+                        mult: 1,
+                    }),
+                }
+            }
+            list.sort_unstable_by_key(|n| n.node);
+        }
+        let mut p = Profile::default();
+        for n in &list {
+            let row = &mut p.at_least[n.class as usize];
+            for slot in row.iter_mut().take((n.mult as usize).min(CAP)) {
+                *slot += 1;
+            }
+        }
+        self.profile[x as usize] = p;
+        self.adjacency[x as usize] = list;
+        self.fresh[x as usize] = true;
+    }
+
+    /// The profile of node `x` (a current node).
+    pub fn profile(&mut self, state: &mut State, x: u32) -> Profile {
+        self.refresh(state, x);
+        self.profile[x as usize]
+    }
+
+    /// The number of neighbours of node `x`, caching its list.
+    pub fn n_neighbours(&mut self, state: &mut State, x: u32) -> usize {
+        self.refresh(state, x);
+        self.adjacency[x as usize].len()
+    }
+
+    /// Neighbour `i` of node `x`, whose list [`Index::n_neighbours`] cached.
+    pub fn neighbour(&self, x: u32, i: usize) -> Neighbour {
+        self.adjacency[x as usize][i]
+    }
+
+    /// What the rods-only rules need to know of free rod `r`.
+    pub fn rod_view(&mut self, state: &mut State, r: u32) -> RodView {
+        let mut view = RodView::default();
+        self.refresh(state, r);
+        for i in 0..self.adjacency[r as usize].len() {
+            let n = self.adjacency[r as usize][i];
+            if n.class == 0 {
+                view.free_degrees
+                    .push(self.profile(state, n.node).free_rods());
+            }
+        }
+        view.free_degrees.sort_unstable_by(|a, b| b.cmp(a));
+        // Breadth first through free rods; a contact counts at the larger
+        // distance of its rods, once.
+        self.stamp += 1;
+        let stamp = self.stamp;
+        self.seen[r as usize] = stamp;
+        self.distance[r as usize] = 0;
+        let mut ball = std::mem::take(&mut self.around);
+        ball.clear();
+        ball.push(r);
+        let (mut rods, mut contacts) = ([0i64; MAX_RADIUS + 1], [0i64; MAX_RADIUS + 1]);
+        let mut next = 0;
+        while next < ball.len() {
+            let u = ball[next];
+            next += 1;
+            let d = self.distance[u as usize] as usize;
+            rods[d] += 1;
+            self.refresh(state, u);
+            for i in 0..self.adjacency[u as usize].len() {
+                let w = self.adjacency[u as usize][i];
+                if w.class != 0 {
+                    continue;
+                }
+                let w = w.node as usize;
+                if self.seen[w] != stamp {
+                    if d < self.radius {
+                        self.seen[w] = stamp;
+                        self.distance[w] = d as u8 + 1;
+                        ball.push(w as u32);
+                    }
+                } else if (self.distance[w] as usize) < d
+                    || (self.distance[w] as usize == d && (w as u32) < u)
+                {
+                    contacts[d] += 1;
+                }
+            }
+        }
+        self.around = ball;
+        self.ball.built = false;
+        let (mut n, mut e) = (0, 0);
+        for k in 0..=MAX_RADIUS {
+            n += rods[k];
+            e += contacts[k];
+            view.cycles[k] = e - n + 1;
+        }
+        view
+    }
+
+    /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
+    fn build_ball(&mut self) -> bool {
+        let ball = &mut self.ball;
+        if ball.built {
+            return true;
+        }
+        if self.around.len() > MAX_BALL {
+            return false;
+        }
+        ball.rods.clear();
+        ball.rods.extend_from_slice(&self.around);
+        ball.rods.sort_unstable();
+        let n = ball.rods.len();
+        ball.words = n.div_ceil(64);
+        ball.rows.clear();
+        ball.rows.resize(n * ball.words, 0);
+        ball.distance.clear();
+        ball.distance
+            .extend(ball.rods.iter().map(|&u| self.distance[u as usize]));
+        ball.degree.clear();
+        let position = |rods: &[u32], w: u32| rods.binary_search(&w).ok();
+        for (i, &u) in ball.rods.iter().enumerate() {
+            let mut degree = 0;
+            for nb in &self.adjacency[u as usize] {
+                if nb.class != 0 || self.seen[nb.node as usize] != self.stamp {
+                    continue;
+                }
+                if let Some(j) = position(&ball.rods, nb.node) {
+                    ball.rows[i * ball.words + j / 64] |= 1 << (j % 64);
+                    degree += 1;
+                }
+            }
+            ball.degree.push(degree);
+        }
+        ball.root = position(&ball.rods, self.around[0]).expect("the root is in its ball");
+        ball.built = true;
+        true
+    }
+
+    /// Searches the rod task's ball as the plain matcher would search from
+    /// pattern node `start` on the task's rod (`plan`), calling `complete`
+    /// on each complete map until it returns true. `None` when the ball is
+    /// too large to build or narrower than the pattern.
+    pub fn search_ball(
+        &mut self,
+        start: usize,
+        eccentricity: usize,
+        plan: &[Step],
+        n: usize,
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> Option<bool> {
+        if eccentricity > self.radius || !self.build_ball() {
+            return None;
+        }
+        Some(self.ball.search(start, plan, n, complete))
+    }
+
+    /// Starts pair task `x`, `y`, with `m` contacts between them: their
+    /// profiles, common neighbours and candidate rules.
+    pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32, m: usize) {
+        let (px, py) = (self.profile(state, x), self.profile(state, y));
+        self.pair = (px, py);
+        let (small, large, flip) =
+            if self.adjacency[x as usize].len() <= self.adjacency[y as usize].len() {
+                (x, y, false)
+            } else {
+                (y, x, true)
+            };
+        self.common.clear();
+        for n in &self.adjacency[small as usize] {
+            if n.node == large {
+                continue;
+            }
+            let m_large = state.multiplicity(large, n.node) as u32;
+            if m_large > 0 {
+                self.common.push(if flip {
+                    (n.class, m_large, n.mult)
+                } else {
+                    (n.class, n.mult, m_large)
+                });
+            }
+        }
+        self.said_x.fill(0);
+        self.said_y.fill(0);
+        self.said_common.fill(0);
+        self.candidates.fill(0);
+        let c = 3 * class_index(state.class(x)) as usize + class_index(state.class(y)) as usize;
+        let shared = std::mem::take(&mut self.shared[c]);
+        let (px, py) = self.pair;
+        let mut i = 0;
+        while let Some(s) = shared.get(i).filter(|s| s.entry.mult <= m) {
+            let e = &s.entry;
+            if !ask(&mut self.said_x, e.need_a, || {
+                px.admits(&self.needs[e.need_a])
+            }) {
+                i = s.skip_a;
+            } else if !ask(&mut self.said_y, e.need_b, || {
+                py.admits(&self.needs[e.need_b])
+            }) {
+                i = s.skip_b;
+            } else {
+                if ask(&mut self.said_common, e.common, || {
+                    self.commons[e.common].admitted_by(&self.common)
+                }) {
+                    for (w, bits) in self.candidates.iter_mut().zip(&s.rules) {
+                        *w |= bits;
+                    }
+                }
+                i += 1;
+            }
+        }
+        self.shared[c] = shared;
+    }
+
+    /// The rules some pattern contact of which passes the started pair's
+    /// conditions, from rule `start` on, cyclically.
+    pub fn candidates(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
+        let bits = |from: usize, to: usize| {
+            (from / 64..to.div_ceil(64))
+                .flat_map(move |w| {
+                    let mut word = self.candidates[w];
+                    std::iter::from_fn(move || {
+                        (word != 0).then(|| {
+                            let b = word.trailing_zeros() as usize;
+                            word &= word - 1;
+                            64 * w + b
+                        })
+                    })
+                })
+                .filter(move |&k| (from..to).contains(&k))
+        };
+        let n = self.entries.len();
+        bits(start, n).chain(bits(0, start))
+    }
+
+    /// The pattern contacts of rule `k` whose ends fit the classes of the
+    /// started pair, in the plain matcher's order.
+    pub fn entries(&self, k: usize, cx: Option<BodyClass>, cy: Option<BodyClass>) -> &[PairEntry] {
+        &self.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
+    }
+
+    /// Whether the started pair can carry `e` (given enough contacts between them).
+    pub fn pair_could_match(&mut self, e: &PairEntry) -> bool {
+        let (px, py) = self.pair;
+        ask(&mut self.said_x, e.need_a, || {
+            px.admits(&self.needs[e.need_a])
+        }) && ask(&mut self.said_y, e.need_b, || {
+            py.admits(&self.needs[e.need_b])
+        }) && ask(&mut self.said_common, e.common, || {
+            self.commons[e.common].admitted_by(&self.common)
+        })
+    }
+}
+
+/// Condition `k`'s answer for the current task, asking `answer` once
+/// (`said`: 0 not asked, 1 no, 2 yes).
+fn ask(said: &mut [u8], k: usize, answer: impl FnOnce() -> bool) -> bool {
+    if said[k] == 0 {
+        said[k] = 1 + u8::from(answer());
+    }
+    said[k] == 2
+}
