@@ -17,7 +17,7 @@ use crate::graph::io::to_graph6;
 use crate::output;
 use crate::pattern::Pattern;
 use crate::progress::Progress;
-use crate::rigidity::check_exact;
+use crate::rigidity::exact_class;
 use crate::rule_file::{Provenance, Rule};
 use crate::{Error, Result};
 
@@ -232,13 +232,10 @@ fn outcomes(
     candidates
         .par_iter()
         .map(|p| {
-            let v = check_exact(p, crate::rule_file::RULE_SEED)?;
+            let class = exact_class(p, crate::rule_file::RULE_SEED)?;
             let compressed = compressing_run(engine, p, runs)?.map(|(seed, c)| (seed, c.sequence));
             progress.advance(1);
-            Ok(Outcome {
-                class: v.class,
-                compressed,
-            })
+            Ok(Outcome { class, compressed })
         })
         .collect()
 }
