@@ -26,7 +26,6 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeSet;
 
 use super::incidence::{Grouping, Incidence};
 use crate::math::vec3::{
@@ -390,13 +389,7 @@ fn try_construct<S: Scalar, R: Rng>(
         // Most constrained object first; later attempts break ties differently.
         let constraints = |o: &Object, line: &Vec<Option<Line<S>>>| -> usize {
             match *o {
-                Object::Line(l) => {
-                    let mut m: Vec<usize> =
-                        inc.touching(l).filter(|&m| line[m].is_some()).collect();
-                    m.sort_unstable();
-                    m.dedup();
-                    m.len()
-                }
+                Object::Line(l) => inc.placed_touching(l, |m| line[m].is_some()),
                 Object::Group(g) => grouping.groups[g]
                     .iter()
                     .map(|&l| inc.touching(l).filter(|&m| line[m].is_some()).count())
@@ -422,11 +415,12 @@ fn try_construct<S: Scalar, R: Rng>(
         match objects[next] {
             Object::Line(l) => {
                 let mut meets: Vec<Line<S>> = Vec::new();
-                let mut seen = BTreeSet::new();
+                let mut seen: Vec<usize> = Vec::new();
                 for m in inc.touching(l) {
                     if let Some(lm) = line[m]
-                        && seen.insert(m)
+                        && !seen.contains(&m)
                     {
+                        seen.push(m);
                         meets.push(lm);
                     }
                 }
