@@ -385,6 +385,10 @@ fn try_construct<S: Scalar, R: Rng>(
     let mut line: Vec<Option<Line<S>>> = vec![None; n_lines];
     let mut group_planes: Vec<Option<Plane<S>>> = vec![None; grouping.groups.len()];
     let mut placed = vec![false; objects.len()];
+    // Ties between equally constrained objects, broken differently per attempt.
+    let tie: Vec<u64> = (0..objects.len() as u64)
+        .map(|k| k.wrapping_mul(attempt + 1) % (objects.len() as u64 + 1))
+        .collect();
     for _ in 0..objects.len() {
         // Most constrained object first; later attempts break ties differently.
         let constraints = |o: &Object, line: &Vec<Option<Line<S>>>| -> usize {
@@ -404,11 +408,7 @@ fn try_construct<S: Scalar, R: Rng>(
                     Object::Line(_) => c <= 3,
                     Object::Group(_) => true,
                 };
-                (
-                    simple,
-                    c,
-                    (k as u64).wrapping_mul(attempt + 1) % (objects.len() as u64 + 1),
-                )
+                (simple, c, tie[k])
             })
             .ok_or(Infeasible::NoOrder)?;
         placed[next] = true;
