@@ -160,14 +160,13 @@ pub(super) fn dimensions(
     (dimension, ambient)
 }
 
+/// A grouping that was built, with its samples.
+pub(super) type Built = (Grouping, Vec<Realization<Fp>>);
+
 /// The groupings [`families`] builds, with their samples but without their
 /// dimensions (two ranks each, which a verdict needs only when more than one
 /// family is built), and whether the forced grouping was built.
-pub(super) fn realized(
-    inc: &Incidence,
-    samples: usize,
-    seed: u64,
-) -> (Vec<(Grouping, Vec<Realization<Fp>>)>, bool) {
+pub(super) fn realized(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Built>, bool) {
     let forced = Grouping::forced(inc);
     let mut queue = vec![forced.clone()];
     let all = Grouping::all_coplanar(inc).close(inc);

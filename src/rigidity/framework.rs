@@ -106,9 +106,9 @@ pub fn try_framework<S: Scalar>(
     for row in &rows {
         match *row {
             Row::Bar { a, b, d } => {
-                for k in 0..3 {
-                    matrix.add_to(r, 3 * a + k, d[k]);
-                    matrix.add_to(r, 3 * b + k, -d[k]);
+                for (k, &dk) in d.iter().enumerate() {
+                    matrix.add_to(r, 3 * a + k, dk);
+                    matrix.add_to(r, 3 * b + k, -dk);
                 }
                 r += 1;
             }

@@ -153,7 +153,7 @@ impl Grouping {
         if inc.touch.is_empty() {
             return self.close_sets(inc);
         }
-        let masks = self.groups.iter().map(|g| mask(g)).collect();
+        let masks = self.groups.iter().map(mask).collect();
         Grouping::from_masks(close_masks(&inc.touch, masks))
     }
 
