@@ -9,15 +9,17 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::body::Body;
 use crate::engine::{CompiledRule, Compression, Engine, Motif, RuleSet};
 use crate::enumerate::{
-    GraphFilter, TypedFilter, connected_small_graphs, count_connected, typed_patterns,
+    GraphFilter, SmallGraph, TypedFilter, count_connected, par_fold_connected, typed_patterns,
 };
+use crate::graph::ContactGraph;
 use crate::graph::io::to_graph6;
 use crate::output;
 use crate::pattern::Pattern;
 use crate::progress::Progress;
-use crate::rigidity::check_exact;
+use crate::rigidity::exact_class;
 use crate::rule_file::{Provenance, Rule};
 use crate::{Error, Result};
 
@@ -34,13 +36,7 @@ pub fn compressing_run(
     runs: u64,
 ) -> Result<Option<(u64, Compression)>> {
     let (graph, bodies, _) = pattern.to_host()?;
-    for seed in 0..runs {
-        let c = engine.compress(&graph, &bodies, seed)?;
-        if c.components == 1 {
-            return Ok(Some((seed, c)));
-        }
-    }
-    Ok(None)
+    first_compressing_run(engine, &graph, &bodies, runs)
 }
 
 /// Checks, before an audit relies on the engine, that it compresses the base
@@ -215,69 +211,253 @@ impl FalseRigidity {
     }
 }
 
-/// The verdict and the engine's outcome for one candidate.
-struct Outcome {
-    class: String,
-    /// The first compressing run: its seed and motif sequence.
-    compressed: Option<(u64, Vec<Motif>)>,
+/// The counts of one table row and what its candidates found, over
+/// consecutive candidates in enumeration order: tallies of consecutive
+/// stretches add up ([`Tally::append`]) to that of the whole size.
+#[derive(Default)]
+struct Tally {
+    connected: u64,
+    two_core: u64,
+    maxwell: u64,
+    rigid: u64,
+    component_dependent: u64,
+    flexible: u64,
+    undecided: u64,
+    compressed: u64,
+    falsely_compressed: u64,
+    /// Rigid and not compressed, in order.
+    missed: Vec<Pattern>,
+    /// Compressed and not rigid: the pattern, its class, the run and its motifs.
+    false_rigidity: Vec<(Pattern, String, u64, Vec<Motif>)>,
+    /// The first error, which stops the audit.
+    error: Option<Error>,
+    /// Candidates checked and not yet reported to the progress.
+    unreported: u64,
 }
 
-/// Checks candidates in parallel: exact verdict and whether the engine compresses each.
-fn outcomes(
-    candidates: &[Pattern],
-    engine: &Engine,
-    runs: u64,
-    progress: &dyn Progress,
-) -> Result<Vec<Outcome>> {
-    candidates
-        .par_iter()
-        .map(|p| {
-            let v = check_exact(p, crate::rule_file::RULE_SEED)?;
-            let compressed = compressing_run(engine, p, runs)?.map(|(seed, c)| (seed, c.sequence));
-            progress.advance(1);
-            Ok(Outcome {
-                class: v.class,
-                compressed,
-            })
-        })
-        .collect()
-}
+/// Candidates a tally checks between two progress reports: a report takes
+/// a lock, and there are millions of candidates.
+const REPORT_EVERY: u64 = 1 << 10;
 
-/// Fills a row from the outcomes and returns the missed rigid patterns.
-fn tally(
-    row: &mut AuditRow,
-    candidates: &[Pattern],
-    out: &[Outcome],
-    false_rigidity: &mut Vec<FalseRigidity>,
-) -> Vec<Pattern> {
-    let mut missed = Vec::new();
-    for (p, o) in candidates.iter().zip(out) {
-        match o.class.as_str() {
-            "rigid" => row.rigid += 1,
-            "component-dependent" => row.component_dependent += 1,
-            "flexible" => row.flexible += 1,
-            _ => row.undecided += 1,
+impl Tally {
+    /// Classifies a candidate exactly, runs the engine on its host (the
+    /// pattern's rods and declared bodies) and counts both.
+    fn check(
+        &mut self,
+        p: &Pattern,
+        host: &(ContactGraph, Vec<Body>),
+        engine: &Engine,
+        runs: u64,
+        progress: &dyn Progress,
+    ) {
+        if self.error.is_some() {
+            return;
         }
-        match &o.compressed {
-            None if o.class == "rigid" => missed.push(p.clone()),
+        let outcome = exact_class(p, crate::rule_file::RULE_SEED).and_then(|class| {
+            let run = first_compressing_run(engine, &host.0, &host.1, runs)?;
+            Ok((class, run))
+        });
+        let (class, run) = match outcome {
+            Ok(found) => found,
+            Err(e) => {
+                self.error = Some(e);
+                return;
+            }
+        };
+        match class.as_str() {
+            "rigid" => self.rigid += 1,
+            "component-dependent" => self.component_dependent += 1,
+            "flexible" => self.flexible += 1,
+            _ => self.undecided += 1,
+        }
+        match run {
+            None if class == "rigid" => self.missed.push(p.clone()),
             None => {}
-            Some((run, sequence)) => {
-                row.compressed += 1;
-                if o.class != "rigid" {
-                    row.falsely_compressed += 1;
-                    false_rigidity.push(FalseRigidity {
-                        kind: row.kind.clone(),
-                        size: row.size,
-                        pattern: p.clone(),
-                        class: o.class.clone(),
-                        run: *run,
-                        sequence: sequence.clone(),
-                    });
+            Some((seed, c)) => {
+                self.compressed += 1;
+                if class != "rigid" {
+                    self.falsely_compressed += 1;
+                    self.false_rigidity
+                        .push((p.clone(), class, seed, c.sequence));
                 }
             }
         }
+        self.unreported += 1;
+        if self.unreported == REPORT_EVERY {
+            progress.advance(self.unreported);
+            self.unreported = 0;
+        }
     }
-    missed
+
+    /// Adds the tally of the candidates that come next.
+    fn append(&mut self, mut next: Tally) {
+        self.connected += next.connected;
+        self.two_core += next.two_core;
+        self.maxwell += next.maxwell;
+        self.rigid += next.rigid;
+        self.component_dependent += next.component_dependent;
+        self.flexible += next.flexible;
+        self.undecided += next.undecided;
+        self.compressed += next.compressed;
+        self.falsely_compressed += next.falsely_compressed;
+        self.missed.append(&mut next.missed);
+        self.false_rigidity.append(&mut next.false_rigidity);
+        if self.error.is_none() {
+            self.error = next.error;
+        }
+        self.unreported += next.unreported;
+    }
+
+    /// Fills `row` and `false_rigidity`; returns the missed patterns.
+    fn finish(
+        self,
+        row: &mut AuditRow,
+        false_rigidity: &mut Vec<FalseRigidity>,
+    ) -> Result<Vec<Pattern>> {
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        row.connected = self.connected;
+        row.two_core = self.two_core;
+        row.maxwell = self.maxwell;
+        row.rigid = self.rigid;
+        row.component_dependent = self.component_dependent;
+        row.flexible = self.flexible;
+        row.undecided = self.undecided;
+        row.compressed = self.compressed;
+        row.missed = self.missed.len() as u64;
+        row.falsely_compressed = self.falsely_compressed;
+        false_rigidity.extend(self.false_rigidity.into_iter().map(
+            |(pattern, class, run, sequence)| FalseRigidity {
+                kind: row.kind.clone(),
+                size: row.size,
+                pattern,
+                class,
+                run,
+                sequence,
+            },
+        ));
+        Ok(self.missed)
+    }
+}
+
+/// [`compressing_run`] on a pattern's host graph and declared bodies.
+fn first_compressing_run(
+    engine: &Engine,
+    graph: &ContactGraph,
+    bodies: &[Body],
+    runs: u64,
+) -> Result<Option<(u64, Compression)>> {
+    for seed in 0..runs {
+        let c = engine.compress(graph, bodies, seed)?;
+        if c.components == 1 {
+            return Ok(Some((seed, c)));
+        }
+    }
+    Ok(None)
+}
+
+/// The rods-only candidate of a graph and its host (the graph itself, with
+/// the contacts in the same order, as [`Pattern::to_host`] would build it).
+fn rods_candidate(g: &SmallGraph) -> Result<(Pattern, (ContactGraph, Vec<Body>))> {
+    let graph = ContactGraph::new(g.order(), g.edges())?;
+    let pattern = Pattern::from_graph(&graph)?;
+    Ok((pattern, (graph, Vec::new())))
+}
+
+/// Tallies the rods-only patterns on `n` rods: every connected graph is
+/// counted, those of the 2-core, and the candidates (2-core and Maxwell's
+/// count) are checked as they are generated. Candidates come in the order of
+/// their own enumeration: the filters only prune the generation tree, which
+/// is otherwise the same.
+fn tally_rods(n: usize, engine: &Engine, runs: u64, progress: &dyn Progress) -> Result<Tally> {
+    let candidates = GraphFilter::maxwell_rods(n).with_min_degree(2);
+    let mut total = Tally::default();
+    par_fold_connected(
+        n,
+        &GraphFilter::all(),
+        Tally::default,
+        |t, g| {
+            t.connected += 1;
+            if (0..n).any(|v| g.degree(v) < 2) {
+                return;
+            }
+            t.two_core += 1;
+            if !candidates.accepts(g) {
+                return;
+            }
+            t.maxwell += 1;
+            match rods_candidate(g) {
+                Ok((p, host)) => t.check(&p, &host, engine, runs, progress),
+                Err(e) => t.error = t.error.take().or(Some(e)),
+            }
+        },
+        |t| total.append(t),
+    )?;
+    progress.advance(std::mem::take(&mut total.unreported));
+    Ok(total)
+}
+
+/// Mixed candidates checked per task: enough to amortize a task, few enough
+/// to balance the slow ones.
+const MIXED_TASK: usize = 64;
+
+/// Tallies the mixed patterns with `k` components: all connected ones are
+/// enumerated once, and the 2-core and Maxwell's count filter that list
+/// (the enumeration applies the same tests to the same canonical patterns,
+/// in the same sorted order).
+fn tally_mixed(
+    opts: &AuditOptions,
+    k: usize,
+    engine: &Engine,
+    progress: &dyn Progress,
+) -> Result<Tally> {
+    let all = typed_patterns(&TypedFilter {
+        min_contacts_per_node: 0,
+        maxwell: false,
+        rod_sharing: opts.rod_sharing,
+        ..TypedFilter::new(k)
+    })?;
+    let two_core: Vec<&Pattern> = all.iter().filter(|p| min_contacts(p) >= 2).collect();
+    let candidates: Vec<&Pattern> = two_core.iter().copied().filter(|p| p.maxwell()).collect();
+    progress.start(&format!("mixed k={k}"), candidates.len() as u64);
+    let parts: Vec<Tally> = candidates
+        .par_chunks(MIXED_TASK)
+        .map(|chunk| {
+            let mut t = Tally::default();
+            for &p in chunk {
+                match p.to_host() {
+                    Ok((graph, bodies, _)) => {
+                        t.check(p, &(graph, bodies), engine, opts.runs, progress)
+                    }
+                    Err(e) => t.error = t.error.take().or(Some(e)),
+                }
+            }
+            t
+        })
+        .collect();
+    let mut total = Tally {
+        connected: all.len() as u64,
+        two_core: two_core.len() as u64,
+        maxwell: candidates.len() as u64,
+        ..Tally::default()
+    };
+    for t in parts {
+        total.append(t);
+    }
+    progress.advance(std::mem::take(&mut total.unreported));
+    progress.finish();
+    Ok(total)
+}
+
+/// The fewest contacts at a node of `p`, counted with multiplicity.
+fn min_contacts(p: &Pattern) -> usize {
+    let mut at = vec![0usize; p.n_nodes()];
+    for c in &p.contacts {
+        at[c.nodes[0] as usize] += 1;
+        at[c.nodes[1] as usize] += 1;
+    }
+    at.into_iter().min().unwrap_or(0)
 }
 
 /// Of the missed patterns, those the engine still misses with `known` rules
@@ -294,12 +474,14 @@ fn irreducible(
         .par_iter()
         .map(|p| compresses(&engine, p, opts.runs).map(|c| !c))
         .collect::<Result<_>>()?;
-    missed
+    let kept: Vec<&Pattern> = missed
         .iter()
         .zip(still)
-        .filter(|(_, s)| *s)
+        .filter_map(|(p, s)| s.then_some(p))
+        .collect();
+    kept.par_iter()
         .enumerate()
-        .map(|(k, (p, _))| {
+        .map(|(k, p)| {
             let provenance = Provenance {
                 source: "audit".into(),
                 enumeration: Some(enumeration.to_string()),
@@ -314,13 +496,10 @@ fn irreducible(
                 version: Some(env!("CARGO_PKG_VERSION").into()),
                 frequency: Vec::new(),
             };
-            Rule::new(format!("{id}-{k}"), p.clone(), provenance)
+            Rule::new(format!("{id}-{k}"), (*p).clone(), provenance)
         })
         .collect()
 }
-
-/// Candidates checked at a time.
-const CHUNK: usize = 1 << 16;
 
 /// Audits rods-only motifs of 2 to `max_rods` rods and mixed motifs of 2 to
 /// `max_components` components against the engine, one progress stage per size.
@@ -333,30 +512,14 @@ pub fn run(opts: &AuditOptions, progress: &dyn Progress) -> Result<Audit> {
         let mut row = AuditRow {
             kind: "rods".into(),
             size: n,
-            connected: count_connected(n, &GraphFilter::all())?,
-            two_core: count_connected(n, &GraphFilter::all().with_min_degree(2))?,
             ..AuditRow::default()
         };
-        // Candidates as 34-byte graphs, checked a chunk at a time: at n = 10
-        // there are 9 million, too many to hold as patterns.
-        let graphs = connected_small_graphs(n, &GraphFilter::maxwell_rods(n).with_min_degree(2))?;
-        row.maxwell = graphs.len() as u64;
-        progress.start(&format!("rods n={n}"), row.maxwell);
-        let mut missed = Vec::new();
-        for chunk in graphs.chunks(CHUNK) {
-            let candidates: Vec<Pattern> = chunk
-                .iter()
-                .map(|g| Pattern::from_graph(&g.to_contact_graph()))
-                .collect::<Result<_>>()?;
-            let out = outcomes(&candidates, &base, opts.runs, progress)?;
-            missed.extend(tally(
-                &mut row,
-                &candidates,
-                &out,
-                &mut audit.false_rigidity,
-            ));
-        }
-        row.missed = missed.len() as u64;
+        // The stage's total first: a count of the candidates alone prunes
+        // most of the tree and takes seconds at n = 10.
+        let candidates = count_connected(n, &GraphFilter::maxwell_rods(n).with_min_degree(2))?;
+        progress.start(&format!("rods n={n}"), candidates);
+        let missed = tally_rods(n, &base, opts.runs, progress)?
+            .finish(&mut row, &mut audit.false_rigidity)?;
         progress.finish();
         let enumeration = format!("connected rods-only graphs, n={n}, min degree 2, Maxwell");
         let rules = irreducible(&missed, opts, &known, &format!("rods-{n}"), &enumeration)?;
@@ -369,26 +532,13 @@ pub fn run(opts: &AuditOptions, progress: &dyn Progress) -> Result<Audit> {
     let mut known_mixed: Vec<CompiledRule> = Vec::new();
     for k in 2..=opts.max_components {
         let t = Instant::now();
-        let filter = |min_contacts: usize, maxwell: bool| TypedFilter {
-            min_contacts_per_node: min_contacts,
-            maxwell,
-            rod_sharing: opts.rod_sharing,
-            ..TypedFilter::new(k)
-        };
         let mut row = AuditRow {
             kind: "mixed".into(),
             size: k,
-            connected: typed_patterns(&filter(0, false))?.len() as u64,
-            two_core: typed_patterns(&filter(2, false))?.len() as u64,
             ..AuditRow::default()
         };
-        let candidates = typed_patterns(&filter(2, true))?;
-        row.maxwell = candidates.len() as u64;
-        progress.start(&format!("mixed k={k}"), candidates.len() as u64);
-        let out = outcomes(&candidates, &base, opts.runs, progress)?;
-        progress.finish();
-        let missed = tally(&mut row, &candidates, &out, &mut audit.false_rigidity);
-        row.missed = missed.len() as u64;
+        let missed =
+            tally_mixed(opts, k, &base, progress)?.finish(&mut row, &mut audit.false_rigidity)?;
         let enumeration = format!(
             "connected typed patterns, {k} components, rod-body <= 2 and body-body <= 3 contacts, \
              >= 2 contacts per node, Maxwell{}",

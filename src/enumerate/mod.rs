@@ -368,6 +368,40 @@ pub fn par_for_each_connected(
     Ok(total)
 }
 
+/// Folds every graph of [`connected_graphs`] into accumulators on rayon's
+/// threads, one accumulator per subtree of the generation tree (made by
+/// `init`), and hands them to `consume` in generation order: the graphs of
+/// the first accumulator come first, each accumulator saw its graphs in
+/// generation order. Nothing is kept but the accumulators, so work on each
+/// graph (the audit's verdicts) runs as it is generated, with no list of
+/// all graphs and no barrier between chunks of them. Returns the number of
+/// graphs.
+pub fn par_fold_connected<T: Send>(
+    n: usize,
+    filter: &GraphFilter,
+    init: impl Fn() -> T + Sync + Send,
+    fold: impl Fn(&mut T, &SmallGraph) + Sync,
+    mut consume: impl FnMut(T),
+) -> Result<u64> {
+    let fold = &fold;
+    let mut total = 0;
+    run(
+        n,
+        filter,
+        || Fold {
+            acc: init(),
+            fold,
+            count: 0,
+        },
+        |f| {
+            total += f.count;
+            consume(f.acc);
+            Ok::<(), Error>(())
+        },
+    )?;
+    Ok(total)
+}
+
 /// Writes the graphs of [`connected_graphs`] as graph6 lines, in the same
 /// order, and returns how many. An order outside `1..=MAX_ORDER` is an
 /// `InvalidInput` error.
@@ -441,6 +475,20 @@ impl<F: Fn(&SmallGraph) + Sync> Sink for Calls<'_, F> {
     #[inline]
     fn emit(&mut self, g: &SmallGraph) {
         (self.f)(g);
+        self.count += 1;
+    }
+}
+
+struct Fold<'f, T, F> {
+    acc: T,
+    fold: &'f F,
+    count: u64,
+}
+
+impl<T: Send, F: Fn(&mut T, &SmallGraph) + Sync> Sink for Fold<'_, T, F> {
+    #[inline]
+    fn emit(&mut self, g: &SmallGraph) {
+        (self.fold)(&mut self.acc, g);
         self.count += 1;
     }
 }

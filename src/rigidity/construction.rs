@@ -26,7 +26,6 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeSet;
 
 use super::incidence::{Grouping, Incidence};
 use crate::math::vec3::{
@@ -386,17 +385,15 @@ fn try_construct<S: Scalar, R: Rng>(
     let mut line: Vec<Option<Line<S>>> = vec![None; n_lines];
     let mut group_planes: Vec<Option<Plane<S>>> = vec![None; grouping.groups.len()];
     let mut placed = vec![false; objects.len()];
+    // Ties between equally constrained objects, broken differently per attempt.
+    let tie: Vec<u64> = (0..objects.len() as u64)
+        .map(|k| k.wrapping_mul(attempt + 1) % (objects.len() as u64 + 1))
+        .collect();
     for _ in 0..objects.len() {
         // Most constrained object first; later attempts break ties differently.
         let constraints = |o: &Object, line: &Vec<Option<Line<S>>>| -> usize {
             match *o {
-                Object::Line(l) => {
-                    let mut m: Vec<usize> =
-                        inc.touching(l).filter(|&m| line[m].is_some()).collect();
-                    m.sort_unstable();
-                    m.dedup();
-                    m.len()
-                }
+                Object::Line(l) => inc.placed_touching(l, |m| line[m].is_some()),
                 Object::Group(g) => grouping.groups[g]
                     .iter()
                     .map(|&l| inc.touching(l).filter(|&m| line[m].is_some()).count())
@@ -411,22 +408,19 @@ fn try_construct<S: Scalar, R: Rng>(
                     Object::Line(_) => c <= 3,
                     Object::Group(_) => true,
                 };
-                (
-                    simple,
-                    c,
-                    (k as u64).wrapping_mul(attempt + 1) % (objects.len() as u64 + 1),
-                )
+                (simple, c, tie[k])
             })
             .ok_or(Infeasible::NoOrder)?;
         placed[next] = true;
         match objects[next] {
             Object::Line(l) => {
                 let mut meets: Vec<Line<S>> = Vec::new();
-                let mut seen = BTreeSet::new();
+                let mut seen: Vec<usize> = Vec::new();
                 for m in inc.touching(l) {
                     if let Some(lm) = line[m]
-                        && seen.insert(m)
+                        && !seen.contains(&m)
                     {
+                        seen.push(m);
                         meets.push(lm);
                     }
                 }

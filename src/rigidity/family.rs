@@ -7,8 +7,9 @@ use std::collections::BTreeSet;
 
 use super::construction::{Infeasible, Realization, construct};
 use super::incidence::{Grouping, Incidence, body_planes};
+use super::rank::dense_rank;
 use crate::math::vec3::{V3, cross, is_null, size, sub};
-use crate::math::{Fp, Matrix, Scalar, rank_fp};
+use crate::math::{Fp, Matrix, Scalar};
 
 /// The Jacobian of the incidence constraints at a sample: collinearity of
 /// the contacts of each line, and coplanarity of the contacts of each group
@@ -93,7 +94,7 @@ fn base_triangle<S: Scalar>(cs: &[usize], points: &[V3<S>]) -> Option<(usize, us
 /// Dimension of the realizations near a sample: `3C - rank J`.
 pub fn local_dimension(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) -> usize {
     let j = jacobian(inc, planes, points);
-    3 * points.len() - rank_fp(&j)
+    3 * points.len() - dense_rank(&j.data, j.rows, j.cols)
 }
 
 /// A family that was built, with its dimensions.
@@ -125,6 +126,47 @@ pub const MAX_GROUPINGS: usize = 64;
 /// independent realizations each. Returns the families and whether the
 /// forced (most generic) grouping could be built.
 pub fn families(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Family>, bool) {
+    let (built, forced_built) = realized(inc, samples, seed);
+    let families = built
+        .into_iter()
+        .map(|(grouping, samples)| {
+            let (dimension, ambient) = dimensions(inc, &grouping, &samples[0].points);
+            Family {
+                grouping,
+                dimension,
+                ambient,
+                samples,
+            }
+        })
+        .collect();
+    (families, forced_built)
+}
+
+/// A family's dimension and that of all realizations at its sample.
+pub(super) fn dimensions(
+    inc: &Incidence,
+    grouping: &Grouping,
+    points: &[V3<Fp>],
+) -> (usize, usize) {
+    let base_planes = body_planes(inc);
+    let ambient = local_dimension(inc, &base_planes, points);
+    // The same constraints give the same Jacobian: a grouping of the
+    // planar bodies alone is no more special than its realizations.
+    let dimension = if grouping.groups == base_planes {
+        ambient
+    } else {
+        local_dimension(inc, &grouping.groups, points)
+    };
+    (dimension, ambient)
+}
+
+/// A grouping that was built, with its samples.
+pub(super) type Built = (Grouping, Vec<Realization<Fp>>);
+
+/// The groupings [`families`] builds, with their samples but without their
+/// dimensions (two ranks each, which a verdict needs only when more than one
+/// family is built), and whether the forced grouping was built.
+pub(super) fn realized(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Built>, bool) {
     let forced = Grouping::forced(inc);
     let mut queue = vec![forced.clone()];
     let all = Grouping::all_coplanar(inc).close(inc);
@@ -133,9 +175,8 @@ pub fn families(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Family>, boo
     }
     let mut seen: BTreeSet<Grouping> = queue.iter().cloned().collect();
     let mut built: BTreeSet<Grouping> = BTreeSet::new();
-    let mut out: Vec<Family> = Vec::new();
+    let mut out = Vec::new();
     let mut forced_built = false;
-    let base_planes = body_planes(inc);
     let mut k = 0;
     while k < queue.len() && k < MAX_GROUPINGS {
         let grouping = queue[k].clone();
@@ -152,15 +193,7 @@ pub fn families(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Family>, boo
             if grouping == forced {
                 forced_built = true;
             }
-            let pts = &samples[0].points;
-            let dimension = local_dimension(inc, &grouping.groups, pts);
-            let ambient = local_dimension(inc, &base_planes, pts);
-            out.push(Family {
-                grouping: grouping.clone(),
-                dimension,
-                ambient,
-                samples,
-            });
+            out.push((grouping.clone(), samples));
         }
         // Blocks that can share a plane: groups, and lines with three or more contacts.
         let mut blocks: Vec<BTreeSet<usize>> = grouping.groups.clone();

@@ -27,19 +27,7 @@ impl<S: Scalar> Framework<S> {
     /// Dimension of the trivial motions on these points: 6, or 5 when they
     /// all lie on one line (the spin about it moves nothing).
     pub fn trivial_dimension(&self) -> usize {
-        let Some(&p0) = self.points.first() else {
-            return 0;
-        };
-        let Some(d) = self
-            .points
-            .iter()
-            .find(|&&p| !same_point(p, p0))
-            .map(|&p| sub(p, p0))
-        else {
-            return 3;
-        };
-        let collinear = self.points.iter().all(|&p| parallel(sub(p, p0), d));
-        if collinear { 5 } else { 6 }
+        trivial_dimension(&self.points)
     }
 
     /// The six trivial motions (translations and rotations) as velocity vectors.
@@ -61,6 +49,23 @@ impl<S: Scalar> Framework<S> {
         }
         out
     }
+}
+
+/// Dimension of the trivial motions on `points`: 6, or 5 when they all lie
+/// on one line (the spin about it moves nothing).
+pub fn trivial_dimension<S: Scalar>(points: &[V3<S>]) -> usize {
+    let Some(&p0) = points.first() else {
+        return 0;
+    };
+    let Some(d) = points
+        .iter()
+        .find(|&&p| !same_point(p, p0))
+        .map(|&p| sub(p, p0))
+    else {
+        return 3;
+    };
+    let collinear = points.iter().all(|&p| parallel(sub(p, p0), d));
+    if collinear { 5 } else { 6 }
 }
 
 /// Builds the rigidity matrix of `inc` at `sample`; `random` supplies the
@@ -94,14 +99,88 @@ pub fn try_framework<S: Scalar>(
     sample: &Realization<S>,
     random: &mut impl FnMut() -> S,
 ) -> Option<Framework<S>> {
+    let Structure { points, rows } = structure(inc, sample, random)?;
+    let height = rows.iter().map(|r| r.height()).sum();
+    let mut matrix = Matrix::zeros(height, 3 * points.len());
+    let mut r = 0;
+    for row in &rows {
+        match *row {
+            Row::Bar { a, b, d } => {
+                for (k, &dk) in d.iter().enumerate() {
+                    matrix.add_to(r, 3 * a + k, dk);
+                    matrix.add_to(r, 3 * b + k, -dk);
+                }
+                r += 1;
+            }
+            Row::Affine { c, terms, len } => {
+                for k in 0..3 {
+                    matrix.add_to(r, 3 * c + k, S::one());
+                    for &(t, coef) in &terms[..len] {
+                        matrix.add_to(r, 3 * t + k, coef);
+                    }
+                    r += 1;
+                }
+            }
+        }
+    }
+    Some(Framework { matrix, points })
+}
+
+/// A rigidity matrix as its rows are built (MODEL §2): bars, and points
+/// moved affinely with the anchors of their part, the same three rows for
+/// each coordinate. The exact rank uses that structure
+/// ([`super::rank::structured_rank`]); [`try_framework`] spells the rows out.
+#[derive(Clone, Debug)]
+pub struct Structure<S> {
+    /// Contact points first (in contact order), then auxiliary points.
+    pub points: Vec<V3<S>>,
+    /// In the order of the matrix rows.
+    pub rows: Vec<Row<S>>,
+}
+
+/// One bar row, or the three rows (one per coordinate) of an affine point.
+#[derive(Clone, Copy, Debug)]
+pub enum Row<S> {
+    /// `d . (u_a - u_b) = 0`, with `d = p_a - p_b`.
+    Bar { a: usize, b: usize, d: V3<S> },
+    /// `u_c + sum_j coef_j u_(t_j) = 0` in each coordinate, for the first
+    /// `len` terms `(t_j, coef_j)`: two anchors of a rod, three or four of a body.
+    Affine {
+        c: usize,
+        terms: [(usize, S); 4],
+        len: usize,
+    },
+}
+
+impl<S> Row<S> {
+    /// Rows of the matrix this stands for.
+    fn height(&self) -> usize {
+        match self {
+            Row::Bar { .. } => 1,
+            Row::Affine { .. } => 3,
+        }
+    }
+}
+
+/// The rows of the rigidity matrix of `inc` at `sample`, with the points
+/// they act on; `random` supplies auxiliary points. `None` when the sample
+/// is degenerate (see [`try_framework`]).
+pub fn structure<S: Scalar>(
+    inc: &Incidence,
+    sample: &Realization<S>,
+    random: &mut impl FnMut() -> S,
+) -> Option<Structure<S>> {
     let mut points: Vec<V3<S>> = sample.points.clone();
-    let mut rows: Vec<Vec<(usize, S)>> = Vec::new();
+    let mut rows: Vec<Row<S>> = Vec::new();
+    let mut own: Vec<usize> = Vec::new();
     for (node, kind) in inc.kinds.iter().enumerate() {
         let lines = &inc.node_lines[node];
-        let mut own: Vec<usize> = lines
-            .iter()
-            .flat_map(|&l| inc.line_contacts[l].iter().copied())
-            .collect();
+        own.clear();
+        own.extend(
+            lines
+                .iter()
+                .flat_map(|&l| inc.line_contacts[l].iter().copied()),
+        );
         own.sort_unstable();
         own.dedup();
         match kind {
@@ -152,13 +231,7 @@ pub fn try_framework<S: Scalar>(
             }
         }
     }
-    let mut matrix = Matrix::zeros(rows.len(), 3 * points.len());
-    for (r, row) in rows.iter().enumerate() {
-        for &(c, v) in row {
-            matrix.add_to(r, c, v);
-        }
-    }
-    Some(Framework { matrix, points })
+    Some(Structure { points, rows })
 }
 
 /// Whether `p` is affinely independent of the points `anchors`, with a
@@ -189,11 +262,7 @@ fn independent<S: Scalar>(points: &[V3<S>], anchors: &[usize], p: V3<S>) -> bool
 /// anchors are the first point and the one farthest from it, and `s` is read
 /// on the coordinate along which they differ most: the best-conditioned
 /// choice for floats, any distinct pair over F_p.
-fn rod_rows<S: Scalar>(
-    points: &[V3<S>],
-    own: &[usize],
-    rows: &mut Vec<Vec<(usize, S)>>,
-) -> Option<()> {
+fn rod_rows<S: Scalar>(points: &[V3<S>], own: &[usize], rows: &mut Vec<Row<S>>) -> Option<()> {
     let a = own[0];
     let far = |c: usize| size(sub(points[c], points[a]));
     let b = own[1..]
@@ -201,7 +270,7 @@ fn rod_rows<S: Scalar>(
         .copied()
         .fold(own[1], |best, c| if far(c) > far(best) { c } else { best });
     let d = sub(points[a], points[b]);
-    rows.push(bar(a, b, d));
+    rows.push(Row::Bar { a, b, d });
     let i = (0..3).fold(0, |best, x| {
         if d[x].magnitude() > d[best].magnitude() {
             x
@@ -212,13 +281,10 @@ fn rod_rows<S: Scalar>(
     let inv = d[i].recip()?;
     for &c in own.iter().filter(|&&c| c != a && c != b) {
         let s = (points[c][i] - points[b][i]) * inv;
-        for k in 0..3 {
-            rows.push(vec![
-                (3 * c + k, S::one()),
-                (3 * a + k, -s),
-                (3 * b + k, s - S::one()),
-            ]);
-        }
+        let mut terms = [(0, S::zero()); 4];
+        terms[0] = (a, -s);
+        terms[1] = (b, s - S::one());
+        rows.push(Row::Affine { c, terms, len: 2 });
     }
     Some(())
 }
@@ -228,28 +294,30 @@ fn body_rows<S: Scalar>(
     points: &[V3<S>],
     anchors: &[usize],
     own: &[usize],
-    rows: &mut Vec<Vec<(usize, S)>>,
+    rows: &mut Vec<Row<S>>,
 ) -> Option<()> {
     for (i, &a) in anchors.iter().enumerate() {
         for &b in &anchors[i + 1..] {
-            rows.push(bar(a, b, sub(points[a], points[b])));
+            rows.push(Row::Bar {
+                a,
+                b,
+                d: sub(points[a], points[b]),
+            });
         }
     }
     for &c in own.iter().filter(|c| !anchors.contains(c)) {
         let lambda = affine_coordinates(points, anchors, points[c])?;
-        for k in 0..3 {
-            let mut row = vec![(3 * c + k, S::one())];
-            row.extend(anchors.iter().zip(&lambda).map(|(&a, &l)| (3 * a + k, -l)));
-            rows.push(row);
+        let mut terms = [(0, S::zero()); 4];
+        for (term, (&a, &l)) in terms.iter_mut().zip(anchors.iter().zip(&lambda)) {
+            *term = (a, -l);
         }
+        rows.push(Row::Affine {
+            c,
+            terms,
+            len: anchors.len(),
+        });
     }
     Some(())
-}
-
-fn bar<S: Scalar>(a: usize, b: usize, d: V3<S>) -> Vec<(usize, S)> {
-    (0..3)
-        .flat_map(|k| [(3 * a + k, d[k]), (3 * b + k, -d[k])])
-        .collect()
 }
 
 /// Affine coordinates of `x` with respect to three or four anchors.

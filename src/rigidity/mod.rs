@@ -17,6 +17,7 @@ pub mod family;
 pub mod framework;
 pub mod incidence;
 pub mod projection;
+pub mod rank;
 pub mod verdict;
 
-pub use verdict::{ComponentReport, Method, Verdict, check_exact, check_float};
+pub use verdict::{ComponentReport, Method, Verdict, check_exact, check_float, exact_class};

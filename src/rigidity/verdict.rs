@@ -9,11 +9,14 @@ use serde::{Deserialize, Serialize};
 
 use super::construction::{self, Geometry, Realization};
 use super::family::{self};
-use super::framework::{Framework, dof, float_framework, framework, trivial_residual};
+use super::framework::{
+    Framework, dof, float_framework, structure, trivial_dimension, trivial_residual,
+};
 use super::incidence::{Grouping, Incidence};
 use super::projection;
+use super::rank::structured_rank;
+use crate::math::Fp;
 use crate::math::float::{FloatRank, RankRule, decide_rank_above, qr_diagonal, singular_values};
-use crate::math::{Fp, rank_fp};
 use crate::pattern::Pattern;
 use crate::{Error, Result};
 
@@ -92,24 +95,14 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5EED);
     let mut components = Vec::new();
     for (fam, &component) in families.iter().zip(&is_component) {
-        let mut best = (0, usize::MAX);
-        for s in &fam.samples {
-            let f = framework(&inc, s, &mut || Fp::random(&mut rng));
-            let r = rank_fp(&f.matrix);
-            if r > best.0 || best.1 == usize::MAX {
-                best = (r.max(best.0), dof(&f, r).min(best.1));
-            }
-            if best.1 == 0 {
-                break; // no sample can have a larger rank
-            }
-        }
+        let (rank, dof) = exact_rank(&inc, &fam.samples, &mut rng);
         components.push(ComponentReport {
             built: fam.grouping.describe(&inc),
             dimension: fam.dimension,
             ambient: fam.ambient,
             component,
-            rank: best.0,
-            dof: best.1,
+            rank,
+            dof,
             undecided: false,
             projected: false,
         });
@@ -132,6 +125,65 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
         }
         Err(why) => Ok(verdict(components, false, Method::Exact, &why)),
     }
+}
+
+/// The class of [`check_exact`]'s verdict (`rigid`, `flexible`,
+/// `component-dependent` or `undecided`), by the same realizations, ranks
+/// and random draws, without what the class does not need: when one family
+/// is built it is the only component, so its dimensions (two Jacobian ranks)
+/// are not computed. The audit classifies millions of patterns this way.
+pub fn exact_class(pattern: &Pattern, seed: u64) -> Result<String> {
+    let inc = incidence(pattern)?;
+    let (built, forced_built) = family::realized(&inc, EXACT_SAMPLES, seed);
+    if !forced_built {
+        // The projection draws from the stream the ranks left; rare enough
+        // to take the whole verdict.
+        return Ok(check_exact(pattern, seed)?.class);
+    }
+    let is_component = if built.len() == 1 {
+        vec![true]
+    } else {
+        let dims: Vec<(usize, usize)> = built
+            .iter()
+            .map(|(g, samples)| family::dimensions(&inc, g, &samples[0].points))
+            .collect();
+        family::components_by_dimension(&dims)
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5EED);
+    let mut dofs = Vec::new();
+    for ((_, samples), &component) in built.iter().zip(&is_component) {
+        // Every family is ranked, components or not, so that the auxiliary
+        // points of each come from the same draws as in `check_exact`.
+        let (_, dof) = exact_rank(&inc, samples, &mut rng);
+        if component {
+            dofs.push(dof);
+        }
+    }
+    Ok(class_of(&dofs, true).0.to_string())
+}
+
+/// The largest rank and smallest degrees of freedom over a family's samples,
+/// each ranked exactly; stops at the first rigid sample (no sample can
+/// have a larger rank). Auxiliary points come from `rng`.
+fn exact_rank(
+    inc: &Incidence,
+    samples: &[Realization<Fp>],
+    rng: &mut ChaCha8Rng,
+) -> (usize, usize) {
+    let mut best = (0, usize::MAX);
+    for s in samples {
+        let f = structure(inc, s, &mut || Fp::random(rng))
+            .expect("the points of each part are distinct");
+        let r = structured_rank(&f);
+        let dof = (3 * f.points.len()).saturating_sub(r + trivial_dimension(&f.points));
+        if r > best.0 || best.1 == usize::MAX {
+            best = (r.max(best.0), dof.min(best.1));
+        }
+        if best.1 == 0 {
+            break;
+        }
+    }
+    best
 }
 
 /// What the verdict says when the most generic family was not built.
@@ -397,22 +449,16 @@ fn verdict(
             )),
         )
     } else {
-        let rigid_all = real.iter().all(|c| c.dof == 0);
-        let flexible_all = real.iter().all(|c| c.dof > 0);
-        match (rigid_all, flexible_all, forced_built) {
-            (true, _, true) => (Some(true), "rigid", None),
-            (true, _, false) => (
-                None,
-                "undecided",
-                Some(if unbuilt.is_empty() {
-                    FORCED_UNBUILT.to_string()
-                } else {
-                    unbuilt.to_string()
-                }),
-            ),
-            (false, true, _) => (Some(false), "flexible", None),
-            (false, false, _) => (Some(false), "component-dependent", None),
-        }
+        let dofs: Vec<usize> = real.iter().map(|c| c.dof).collect();
+        let (class, rigid) = class_of(&dofs, forced_built);
+        let note = (class == "undecided").then(|| {
+            if unbuilt.is_empty() {
+                FORCED_UNBUILT.to_string()
+            } else {
+                unbuilt.to_string()
+            }
+        });
+        (rigid, class, note)
     };
     Verdict {
         rigid,
@@ -423,6 +469,20 @@ fn verdict(
         method,
         gap: None,
         note,
+    }
+}
+
+/// The class of decided components with these degrees of freedom (at least
+/// one), and whether rigid: rigid on all only counts when the most generic
+/// family was built.
+fn class_of(dofs: &[usize], forced_built: bool) -> (&'static str, Option<bool>) {
+    let rigid_all = dofs.iter().all(|&d| d == 0);
+    let flexible_all = dofs.iter().all(|&d| d > 0);
+    match (rigid_all, flexible_all, forced_built) {
+        (true, _, true) => ("rigid", Some(true)),
+        (true, _, false) => ("undecided", None),
+        (false, true, _) => ("flexible", Some(false)),
+        (false, false, _) => ("component-dependent", Some(false)),
     }
 }
 

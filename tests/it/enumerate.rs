@@ -9,7 +9,8 @@ use proptest::prelude::*;
 use rgc::enumerate::{
     GraphFilter, MAX_ORDER, SmallGraph, TypedFilter, canonical_graph6, canonical_pattern,
     connected_graphs, connected_small_graphs, count_connected, for_each_connected,
-    maxwell_rod_edges, par_for_each_connected, typed_patterns, write_connected_graph6,
+    maxwell_rod_edges, par_fold_connected, par_for_each_connected, typed_patterns,
+    write_connected_graph6,
 };
 use rgc::graph::ContactGraph;
 use rgc::graph::io::{parse_graph6, read_graph6_file, to_graph6};
@@ -267,6 +268,41 @@ fn writer_lists_and_callbacks_agree() {
         par_seen.into_inner().unwrap(),
         list.iter().copied().collect()
     );
+}
+
+/// Folding keeps generation order: the accumulators, taken in the order
+/// they are handed back, hold the graphs of the list in its order, on any
+/// number of threads.
+#[test]
+fn folds_come_back_in_generation_order() {
+    for n in [1, 4, 7, 8] {
+        let f = GraphFilter::maxwell_rods(n).with_min_degree(2);
+        let list = connected_small_graphs(n, &f).unwrap();
+        for threads in [1, 3] {
+            let mut seen: Vec<SmallGraph> = Vec::new();
+            let mut parts = 0;
+            let count = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    par_fold_connected(
+                        n,
+                        &f,
+                        Vec::new,
+                        |v, g| v.push(*g),
+                        |v| {
+                            parts += 1;
+                            seen.extend(v);
+                        },
+                    )
+                })
+                .unwrap();
+            assert_eq!(count, list.len() as u64);
+            assert_eq!(seen, list, "n = {n}, {threads} threads");
+            assert!(n < 8 || parts > 100, "{parts} accumulators");
+        }
+    }
 }
 
 #[test]

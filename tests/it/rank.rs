@@ -66,3 +66,71 @@ proptest! {
         prop_assert_eq!(rank_fp(&m), dense_rank(&m));
     }
 }
+
+/// Every rods-only candidate up to 7 rods and every mixed candidate up to
+/// 3 components: the candidates the audit classifies.
+fn candidates() -> Vec<rgc::pattern::Pattern> {
+    use rgc::enumerate::{GraphFilter, TypedFilter, connected_graphs, typed_patterns};
+    let mut out = Vec::new();
+    for n in 3..=7 {
+        for g in connected_graphs(n, &GraphFilter::maxwell_rods(n).with_min_degree(2)).unwrap() {
+            out.push(rgc::pattern::Pattern::from_graph(&g).unwrap());
+        }
+    }
+    for k in 2..=3 {
+        let filter = TypedFilter {
+            maxwell: true,
+            ..TypedFilter::new(k)
+        };
+        out.extend(typed_patterns(&filter).unwrap());
+    }
+    out
+}
+
+/// The rank by the matrix's structure (`3 rank A + rank B K`) is the rank
+/// of the matrix itself, on every sample of every family of the audit's
+/// small candidates, bodies and auxiliary points included.
+#[test]
+fn structured_rank_is_the_matrix_rank() {
+    use rand::SeedableRng;
+    use rgc::rigidity::family::families;
+    use rgc::rigidity::framework::{structure, try_framework};
+    use rgc::rigidity::incidence::Incidence;
+    use rgc::rigidity::rank::structured_rank;
+    let mut checked = 0;
+    for p in candidates() {
+        let inc = Incidence::new(&p);
+        for fam in families(&inc, 2, 11).0 {
+            for s in &fam.samples {
+                let mut a = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+                let mut b = a.clone();
+                let dense = try_framework(&inc, s, &mut || Fp::random(&mut a)).unwrap();
+                let structured = structure(&inc, s, &mut || Fp::random(&mut b)).unwrap();
+                assert_eq!(dense.points, structured.points);
+                assert_eq!(
+                    structured_rank(&structured),
+                    rank_fp(&dense.matrix),
+                    "{p:?}, {}",
+                    fam.grouping.describe(&inc)
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 1000, "{checked}");
+}
+
+/// The audit's class is the full verdict's class on every small candidate.
+#[test]
+fn exact_class_is_the_verdicts_class() {
+    use rgc::rigidity::{check_exact, exact_class};
+    for p in candidates() {
+        for seed in [1, rgc::rule_file::RULE_SEED] {
+            assert_eq!(
+                exact_class(&p, seed).unwrap(),
+                check_exact(&p, seed).unwrap().class,
+                "{p:?}"
+            );
+        }
+    }
+}
