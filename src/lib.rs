@@ -10,7 +10,7 @@
 //! * [`progress`] — how long computations report progress to their caller;
 //! * [`usage`] — what the process used: peak resident memory and CPU time (Linux);
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
-//! * [`contacts`] — which rods touch (cell list, robust segment distance);
+//! * [`contacts`] — which rods touch (a fine grid of rod covers, robust segment distance);
 //! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
 //! * [`body`] — rigid bodies and their planar or spatial class;
 //! * [`spanning`] — whether a cluster of rods spans the periodic box;
