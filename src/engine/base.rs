@@ -20,9 +20,23 @@ pub(super) struct Found {
     pub class: BodyClass,
 }
 
-/// Exact verdicts of induced patterns, by canonical form, shared by all runs.
-static VERDICTS: std::sync::LazyLock<std::sync::Mutex<FxHashMap<String, bool>>> =
+/// Exact verdicts of induced patterns, shared by all runs.
+#[derive(Default)]
+struct Verdicts {
+    /// By canonical form: one exact rank per isomorphism class.
+    canonical: FxHashMap<String, bool>,
+    /// By the pattern as induced: the same motif induces the same few
+    /// labelings again and again, and hashing one is far cheaper than its
+    /// canonical form.
+    raw: FxHashMap<Pattern, bool>,
+}
+
+static VERDICTS: std::sync::LazyLock<std::sync::Mutex<Verdicts>> =
     std::sync::LazyLock::new(Default::default);
+
+/// Induced patterns remembered as they are, at most (beyond it the raw
+/// cache starts again; the canonical one keeps every verdict).
+const MAX_RAW_VERDICTS: usize = 1 << 16;
 
 /// Largest induced pattern verified by exact rank; larger ones fall back to
 /// the verified base rules.
@@ -50,13 +64,26 @@ impl State<'_> {
         let Some(p) = self.induced(parts) else {
             return true;
         };
-        let key = crate::rule_file::canonical_form(&p);
-        if let Some(&known) = VERDICTS.lock().expect("verdict cache").get(&key) {
+        if let Some(&known) = VERDICTS.lock().expect("verdict cache").raw.get(&p) {
             return known;
         }
-        let rigid = crate::rigidity::check_exact(&p, crate::rule_file::RULE_SEED)
-            .is_ok_and(|v| v.rigid == Some(true));
-        VERDICTS.lock().expect("verdict cache").insert(key, rigid);
+        let key = crate::rule_file::canonical_form(&p);
+        let known = VERDICTS
+            .lock()
+            .expect("verdict cache")
+            .canonical
+            .get(&key)
+            .copied();
+        let rigid = known.unwrap_or_else(|| {
+            crate::rigidity::check_exact(&p, crate::rule_file::RULE_SEED)
+                .is_ok_and(|v| v.rigid == Some(true))
+        });
+        let mut verdicts = VERDICTS.lock().expect("verdict cache");
+        verdicts.canonical.insert(key, rigid);
+        if verdicts.raw.len() >= MAX_RAW_VERDICTS {
+            verdicts.raw.clear();
+        }
+        verdicts.raw.insert(p, rigid);
         rigid
     }
 

@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 use super::{CompiledRule, Engine, RuleSet};
 use crate::Result;
 use crate::pattern::{NodeKind, Pattern, PatternContact};
-use crate::rule_file::{Provenance, Rule, canonical_form};
+use crate::rule_file::{Provenance, Rule, RuleFile, canonical_form};
 
 /// Motif orders tried before saying the engine compresses a pattern.
 pub const ORDERS: u64 = 8;
@@ -213,20 +213,53 @@ pub struct Refuted {
     pub dof: Option<usize>,
 }
 
+/// The verified base rules, as `rgc rules` writes them to `motifs/base.json`:
+/// deriving them again costs every process about 50 ms of exact rank, and a
+/// test checks that the file is what [`base_rules`] derives.
+const BASE_RULES: &str = include_str!("../../motifs/base.json");
+
 /// The verified rules the `sound` engine uses for 3D3A, 3D3B and 3D4,
-/// built once per process.
+/// read once per process from [`BASE_RULES`].
 pub(super) fn sound_rules() -> &'static [CompiledRule] {
     static RULES: OnceLock<Vec<CompiledRule>> = OnceLock::new();
     RULES.get_or_init(|| {
-        let (rules, _) = base_rules().expect("the base shapes are well formed");
-        rules
-            .iter()
-            .filter(|r| {
-                ["3D3A", "3D3B", "3D4"]
-                    .iter()
-                    .any(|m| r.id.starts_with(&format!("base-{m}-")))
-            })
+        sound_subset(&committed_base_rules())
             .map(CompiledRule::new)
             .collect()
     })
+}
+
+fn committed_base_rules() -> Vec<Rule> {
+    let file: RuleFile = serde_json::from_str(BASE_RULES).expect("motifs/base.json is a rule file");
+    file.rules
+}
+
+/// The rules of 3D3A, 3D3B and 3D4 among the base rules.
+fn sound_subset(rules: &[Rule]) -> impl Iterator<Item = &Rule> {
+    rules.iter().filter(|r| {
+        ["3D3A", "3D3B", "3D4"]
+            .iter()
+            .any(|m| r.id.starts_with(&format!("base-{m}-")))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rules the engine reads are the ones exact rank derives now.
+    #[test]
+    fn the_committed_base_rules_are_the_derived_ones() {
+        let (derived, _) = base_rules().unwrap();
+        let committed = committed_base_rules();
+        let patterns = |rules: &[Rule]| -> Vec<(String, Pattern)> {
+            sound_subset(rules)
+                .map(|r| (r.id.clone(), r.pattern.clone()))
+                .collect()
+        };
+        assert_eq!(patterns(&committed), patterns(&derived));
+        let ids: Vec<&str> = sound_rules().iter().map(|r| r.id.as_str()).collect();
+        assert_eq!(ids.len(), patterns(&derived).len());
+        assert!(ids.iter().all(|id| !id.starts_with("base-3D3C")), "{ids:?}");
+    }
 }

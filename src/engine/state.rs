@@ -112,9 +112,17 @@ impl<'g> State<'g> {
             .map_or(&[][..], |v| v.as_slice())
     }
 
-    /// Rods of node `x` that rod `r` touches (the other ends of `r`'s contacts with `x`).
+    /// Rods of node `x` that rod `r` touches (the other ends of `r`'s
+    /// contacts with `x`), sorted.
     pub fn rod_contacts_with(&mut self, r: u32, x: u32, out: &mut Vec<u32>) {
         out.clear();
+        if self.class(x).is_some() && self.is_free_rod(r) {
+            // A body keeps its contacts with each neighbour: one look-up
+            // instead of resolving every contact of `r`.
+            out.extend(self.body_links(x, r).iter().map(|l| l.own));
+            out.sort_unstable();
+            return;
+        }
         let g = self.g;
         for &(nb, _) in g.neighbors(r) {
             if self.find(nb) == x {
