@@ -453,11 +453,22 @@ impl Chart for Vex<'_> {
                     + PathElement::new(vec![(0, 0), (6, 0)], black)
                     + PathElement::new(vec![(12, 0), (18, 0)], black)
             });
-        if let Some(PowerLaw { a, m, r2 }) = self.fit.free {
+        if let Some(PowerLaw {
+            a,
+            m,
+            m_interval,
+            r2,
+        }) = self.fit.free
+        {
             let grey = RGBColor(128, 128, 128).stroke_width(3);
+            let m_text = m_interval.map_or(format!("{m:.3}"), |(lo, hi)| {
+                format!("{m:.3} [{lo:.3}, {hi:.3}]")
+            });
             chart
                 .draw_series(LineSeries::new(ends(&|x| a * x.powf(m)), grey))?
-                .label(format!("ρc = {a:.3} (1/V_ex)^m, m = {m:.3}, R² = {r2:.4}"))
+                .label(format!(
+                    "ρc = {a:.3} (1/V_ex)^m, m = {m_text}, R² = {r2:.4}"
+                ))
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
         }
         let blue = colour(0);

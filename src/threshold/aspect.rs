@@ -53,6 +53,8 @@ impl AspectRow {
 pub struct PowerLaw {
     pub a: f64,
     pub m: f64,
+    /// The interval of `m` the thresholds' intervals give (see [`fit`]).
+    pub m_interval: Option<(f64, f64)>,
     /// R² of the fit on the logarithms.
     pub r2: f64,
 }
@@ -62,6 +64,8 @@ pub struct PowerLaw {
 pub struct VexFit {
     /// `c` of `rho_c = c / V_ex`: the geometric mean of `rho_c V_ex`.
     pub fixed: f64,
+    /// The interval of `c` the thresholds' intervals give.
+    pub fixed_interval: Option<(f64, f64)>,
     /// The free power law; absent with fewer than two distinct `V_ex`.
     pub free: Option<PowerLaw>,
 }
@@ -129,6 +133,13 @@ pub fn read(studies: &[PathBuf]) -> Result<AspectRatios> {
 
 /// Fits `points` as `(gamma, 1/V_ex, threshold)`: both must be positive and
 /// finite, since the fits live on log-log axes.
+///
+/// Both fits are linear in the log thresholds, and the thresholds of
+/// different studies are independent, so their intervals carry over
+/// linearly: a fit parameter `sum_i w_i ln rho_i` gets the half-width
+/// `sqrt(sum_i (w_i h_i)^2)` at the studies' confidence, `h_i` being half
+/// the width of study i's interval on the log scale. There is no interval
+/// when a study has none.
 pub fn fit(points: &[(f64, f64, Estimate)]) -> Result<VexFit> {
     if points.is_empty() {
         return Err(Error::Parameter(
@@ -147,17 +158,65 @@ pub fn fit(points: &[(f64, f64, Estimate)]) -> Result<VexFit> {
     let n = points.len();
     let lx: Vec<f64> = points.iter().map(|p| p.1.ln()).collect();
     let ly: Vec<f64> = points.iter().map(|p| p.2.value.ln()).collect();
-    let fixed = (ly.iter().zip(&lx).map(|(y, x)| y - x).sum::<f64>() / n as f64).exp();
+    let half: Option<Vec<f64>> = points
+        .iter()
+        .map(|p| match (p.2.lo, p.2.hi) {
+            (Some(lo), Some(hi)) if lo > 0.0 && hi >= lo => Some((hi.ln() - lo.ln()) / 2.0),
+            _ => None,
+        })
+        .collect();
+    // The half-width of `sum_i w_i ln rho_i`.
+    let spread = |w: &[f64]| {
+        half.as_ref().map(|h| {
+            w.iter()
+                .zip(h)
+                .map(|(w, h)| (w * h).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+    };
+    let ln_fixed = ly.iter().zip(&lx).map(|(y, x)| y - x).sum::<f64>() / n as f64;
+    let fixed_interval =
+        spread(&vec![1.0 / n as f64; n]).map(|h| ((ln_fixed - h).exp(), (ln_fixed + h).exp()));
     let design = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { lx[i] });
+    let mean_x = lx.iter().sum::<f64>() / n as f64;
+    let sxx: f64 = lx.iter().map(|x| (x - mean_x).powi(2)).sum();
+    let slope_weights: Vec<f64> = lx.iter().map(|x| (x - mean_x) / sxx).collect();
     let free =
         crate::math::stats::least_squares(&design, &DVector::from_vec(ly)).map(|(b, r2, _)| {
             PowerLaw {
                 a: b[0].exp(),
                 m: b[1],
+                m_interval: spread(&slope_weights).map(|h| (b[1] - h, b[1] + h)),
                 r2,
             }
         });
-    Ok(VexFit { fixed, free })
+    Ok(VexFit {
+        fixed: ln_fixed.exp(),
+        fixed_interval,
+        free,
+    })
+}
+
+/// The studies and both fits, as `rgc aspect-ratios` writes them.
+#[derive(Serialize)]
+struct AspectFile<'a> {
+    kind: Kind,
+    rows: &'a [AspectRow],
+    fit: &'a VexFit,
+}
+
+/// Writes the rows and the fits as JSON.
+pub fn write_json(path: &Path, r: &AspectRatios) -> Result<()> {
+    let file = AspectFile {
+        kind: r.kind,
+        rows: &r.rows,
+        fit: &r.fit,
+    };
+    crate::output::write_atomic(
+        path,
+        serde_json::to_string_pretty(&file).expect("fits serialize") + "\n",
+    )
 }
 
 /// Writes the rows as CSV with a header (fields quoted where they need it).
@@ -213,6 +272,34 @@ mod tests {
             .exp()
             .powf(1.0 / 3.0);
         assert!((f.fixed - c).abs() < 1e-12);
+        assert!(f.fixed_interval.is_none() && p.m_interval.is_none());
+    }
+
+    /// An interval carries over as the linear propagation says: a
+    /// threshold at the middle `1/V_ex` does not move the slope, one at an
+    /// end moves it by its log half-width over the spread of `ln 1/V_ex`.
+    #[test]
+    fn threshold_intervals_carry_over_to_the_exponent() {
+        let e = std::f64::consts::E;
+        let point = |x: f64, h: f64| {
+            let value = 2.0 * x;
+            let e = Estimate {
+                value,
+                lo: Some(value * (-h).exp()),
+                hi: Some(value * h.exp()),
+            };
+            (1.0, x, e)
+        };
+        // ln x = -1, 0, 1: slope weights -1/2, 0, 1/2.
+        let f = fit(&[point(1.0 / e, 0.0), point(1.0, 0.3), point(e, 0.1)]).unwrap();
+        let p = f.free.unwrap();
+        assert!((p.m - 1.0).abs() < 1e-12, "{p:?}");
+        let (lo, hi) = p.m_interval.unwrap();
+        assert!((hi - lo - 2.0 * 0.05).abs() < 1e-12, "{lo} {hi}");
+        let (clo, chi) = f.fixed_interval.unwrap();
+        let h = (0.3f64.powi(2) + 0.1f64.powi(2)).sqrt() / 3.0;
+        assert!((chi.ln() - clo.ln() - 2.0 * h).abs() < 1e-12);
+        assert!(clo < f.fixed && f.fixed < chi);
     }
 
     #[test]

@@ -578,6 +578,18 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
         assert!((1.0..2.0).contains(&times_vex), "{line}");
     }
     assert!(stem.with_extension("png").exists());
+    // Two studies with intervals give the exponent an interval around it.
+    let fit: Value =
+        serde_json::from_str(&std::fs::read_to_string(stem.with_extension("json")).unwrap())
+            .unwrap();
+    assert_eq!(fit["rows"].as_array().unwrap().len(), 2);
+    let free = &fit["fit"]["free"];
+    let m = free["m"].as_f64().unwrap();
+    let (lo, hi) = (
+        free["m_interval"][0].as_f64().unwrap(),
+        free["m_interval"][1].as_f64().unwrap(),
+    );
+    assert!(lo < m && m < hi, "{free}");
     let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
     assert!(
         svg.contains("Contact threshold against"),

@@ -13,7 +13,7 @@ pub struct AspectArgs {
     /// Finished study directories (each with its summary.json), one per aspect ratio.
     #[arg(required = true)]
     studies: Vec<PathBuf>,
-    /// Output path without extension: `.csv`, `.svg` and `.png` are written.
+    /// Output path without extension: `.csv`, `.json` (the rows and both fits, with intervals), `.svg` and `.png` are written.
     #[arg(long, default_value = "results/threshold-vs-vex")]
     out: PathBuf,
 }
@@ -30,17 +30,24 @@ pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
             row.threshold_times_vex
         );
     }
+    let interval =
+        |i: Option<(f64, f64)>| i.map_or(String::new(), |(lo, hi)| format!(" [{lo:.4}, {hi:.4}]"));
     say!(
         out,
-        "fit: rho_c = {:.4} / V_ex (exponent fixed to 1){}",
+        "fit: rho_c = {:.4}{} / V_ex (exponent fixed to 1){}",
         r.fit.fixed,
+        interval(r.fit.fixed_interval),
         r.fit.free.map_or(String::new(), |p| format!(
-            "; rho_c = {:.4} (1/V_ex)^m with m = {:.4}, R² = {:.4}",
-            p.a, p.m, p.r2
+            "; rho_c = {:.4} (1/V_ex)^m with m = {:.4}{}, R² = {:.4}",
+            p.a,
+            p.m,
+            interval(p.m_interval),
+            p.r2
         ))
     );
     let with = |ext: &str| a.out.with_extension(ext);
     aspect::write_csv(&with("csv"), &r.rows)?;
+    aspect::write_json(&with("json"), &r)?;
     let title = format!(
         "{} threshold against the inverse excluded volume 1/V_ex",
         match r.kind {
@@ -52,8 +59,9 @@ pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
     plot::threshold_vs_vex(&r.points(), &r.fit, &title, &with("svg"), &with("png"))?;
     say!(
         out,
-        "Files: {}, {}, {}",
+        "Files: {}, {}, {}, {}",
         with("csv").display(),
+        with("json").display(),
         with("svg").display(),
         with("png").display()
     );
