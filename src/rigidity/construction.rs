@@ -226,6 +226,13 @@ impl<S: Scalar, R: Rng> Draw<'_, S, R> {
 
 /// The point where two coplanar, non-parallel lines meet.
 fn meet<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<V3<S>> {
+    let (det, num) = meet_fraction(a, b)?;
+    meet_at(a, b, num * det.recip()?)
+}
+
+/// The parameter of the point where `b` meets `a` (`a.p + s a.d`) as a
+/// fraction `num / det`; `None` for parallel lines.
+fn meet_fraction<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<(S, S)> {
     // a.p + s a.d = b.p + t b.d: solve the two rows with the largest minor, check the third.
     if parallel(a.d, b.d) {
         return None;
@@ -239,10 +246,41 @@ fn meet<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<V3<S>> {
             _ => Some((i, j)),
         },
     )?;
-    let inv = det(i, j).recip()?;
-    let s = (r[i] * (-b.d[j]) - (-b.d[i]) * r[j]) * inv;
+    Some((det(i, j), r[i] * (-b.d[j]) - (-b.d[i]) * r[j]))
+}
+
+/// The point of `a` at parameter `s`, if it lies on `b`.
+fn meet_at<S: Scalar>(a: &Line<S>, b: &Line<S>, s: S) -> Option<V3<S>> {
     let x = add(a.p, scale(a.d, s));
     on_line(x, b).then_some(x)
+}
+
+/// Whether `S` is exact arithmetic (F_p): there [`Scalar::vanishes`] is
+/// exact zero, so one is never negligible.
+pub(super) fn exact<S: Scalar>() -> bool {
+    !S::one().vanishes(1.0, 1.0)
+}
+
+/// Replaces each of `xs` by its inverse with one inversion and three
+/// products per element (Montgomery's trick); `false` if one is zero. Exact
+/// arithmetic only: the inverses are the same as one by one, whereas floats
+/// would round differently.
+pub(super) fn invert_all<S: Scalar>(xs: &mut [S], prefix: &mut Vec<S>) -> bool {
+    prefix.clear();
+    let mut acc = S::one();
+    for &x in xs.iter() {
+        prefix.push(acc);
+        acc = acc * x;
+    }
+    let Some(mut inv) = acc.recip() else {
+        return false;
+    };
+    for (x, &before) in xs.iter_mut().zip(prefix.iter()).rev() {
+        let x_inv = inv * before;
+        inv = inv * *x;
+        *x = x_inv;
+    }
+    true
 }
 
 /// Where a line crosses a plane (none when it is parallel to it).
@@ -478,13 +516,44 @@ fn try_construct<S: Scalar, R: Rng>(
     }
     // Contact points: where two placed lines meet, else a random point on the placed one.
     let mut points = Vec::with_capacity(inc.n_contacts());
-    for &[a, b] in &inc.contact_lines {
+    // In exact arithmetic the meeting points come after the draws (which
+    // they do not use), their inverses in one batch: an inverse costs
+    // dozens of products, and a realization has a meeting point per contact.
+    let exact = exact::<S>();
+    let mut meets: Vec<usize> = Vec::new();
+    for (k, &[a, b]) in inc.contact_lines.iter().enumerate() {
         let x = match (line[a], line[b]) {
+            (Some(_), Some(_)) if exact => {
+                meets.push(k);
+                [S::zero(); 3]
+            }
             (Some(la), Some(lb)) => meet(&la, &lb).ok_or(Infeasible::NoOrder)?,
             (Some(l), None) | (None, Some(l)) => draw.on_line(&l),
             (None, None) => draw.point(),
         };
         points.push(x);
+    }
+    if !meets.is_empty() {
+        let placed = |k: usize| {
+            let [a, b] = inc.contact_lines[k];
+            (line[a].expect("placed"), line[b].expect("placed"))
+        };
+        let mut dets = Vec::with_capacity(meets.len());
+        let mut nums = Vec::with_capacity(meets.len());
+        for &k in &meets {
+            let (la, lb) = placed(k);
+            let (det, num) = meet_fraction(&la, &lb).ok_or(Infeasible::NoOrder)?;
+            dets.push(det);
+            nums.push(num);
+        }
+        let mut prefix = Vec::with_capacity(meets.len());
+        if !invert_all(&mut dets, &mut prefix) {
+            return Err(Infeasible::NoOrder);
+        }
+        for ((&k, &inv), &num) in meets.iter().zip(&dets).zip(&nums) {
+            let (la, lb) = placed(k);
+            points[k] = meet_at(&la, &lb, num * inv).ok_or(Infeasible::NoOrder)?;
+        }
     }
     for i in 0..points.len() {
         if points[..i].iter().any(|&y| same_point(points[i], y)) {

@@ -7,9 +7,8 @@ use std::collections::BTreeSet;
 
 use super::construction::{Infeasible, Realization, construct};
 use super::incidence::{Grouping, Incidence, body_planes};
-use super::rank::dense_rank;
 use crate::math::vec3::{V3, cross, is_null, size, sub};
-use crate::math::{Fp, Matrix, Scalar};
+use crate::math::{Fp, Matrix, Scalar, rank_fp};
 
 /// The Jacobian of the incidence constraints at a sample: collinearity of
 /// the contacts of each line, and coplanarity of the contacts of each group
@@ -94,7 +93,7 @@ fn base_triangle<S: Scalar>(cs: &[usize], points: &[V3<S>]) -> Option<(usize, us
 /// Dimension of the realizations near a sample: `3C - rank J`.
 pub fn local_dimension(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) -> usize {
     let j = jacobian(inc, planes, points);
-    3 * points.len() - dense_rank(&j.data, j.rows, j.cols)
+    3 * points.len() - rank_fp(&j)
 }
 
 /// A family that was built, with its dimensions.

@@ -8,7 +8,7 @@
 //! by bars and moves every other point as their affine combination. Internal
 //! degrees of freedom are `3 P - rank - 6` (5 when every point is on one line).
 
-use super::construction::{Line, Plane, Realization, normalized};
+use super::construction::{Line, Plane, Realization, exact, invert_all, normalized};
 use super::incidence::Incidence;
 use crate::math::vec3::{V3, add, cross, dot, parallel, same_point, scale, size, sub};
 use crate::math::{Matrix, Scalar};
@@ -173,6 +173,8 @@ pub fn structure<S: Scalar>(
     let mut points: Vec<V3<S>> = sample.points.clone();
     let mut rows: Vec<Row<S>> = Vec::new();
     let mut own: Vec<usize> = Vec::new();
+    // In exact arithmetic the rods' inverses are taken together at the end.
+    let mut deferred = exact::<S>().then(Vec::new);
     for (node, kind) in inc.kinds.iter().enumerate() {
         let lines = &inc.node_lines[node];
         own.clear();
@@ -198,7 +200,7 @@ pub fn structure<S: Scalar>(
                         own.push(points.len() - 1);
                     }
                 }
-                rod_rows(&points, &own, &mut rows)?;
+                rod_rows(&points, &own, &mut rows, deferred.as_mut())?;
             }
             NodeKind::Planar | NodeKind::Spatial => {
                 let planar = *kind == NodeKind::Planar;
@@ -231,6 +233,9 @@ pub fn structure<S: Scalar>(
             }
         }
     }
+    if let Some(rods) = deferred {
+        finish_rods(&mut rows, &rods)?;
+    }
     Some(Structure { points, rows })
 }
 
@@ -262,7 +267,17 @@ fn independent<S: Scalar>(points: &[V3<S>], anchors: &[usize], p: V3<S>) -> bool
 /// anchors are the first point and the one farthest from it, and `s` is read
 /// on the coordinate along which they differ most: the best-conditioned
 /// choice for floats, any distinct pair over F_p.
-fn rod_rows<S: Scalar>(points: &[V3<S>], own: &[usize], rows: &mut Vec<Row<S>>) -> Option<()> {
+///
+/// With `deferred`, the affine rows wait for the inverse of `d_i`: they
+/// hold `p_c[i] - p_b[i]` in place of `s`, and the rod (its first affine
+/// row, their number and `d_i`) goes on `deferred`, for [`finish_rods`] to
+/// invert every rod's `d_i` at once (exact arithmetic).
+fn rod_rows<S: Scalar>(
+    points: &[V3<S>],
+    own: &[usize],
+    rows: &mut Vec<Row<S>>,
+    deferred: Option<&mut Vec<(usize, usize, S)>>,
+) -> Option<()> {
     let a = own[0];
     let far = |c: usize| size(sub(points[c], points[a]));
     let b = own[1..]
@@ -278,13 +293,40 @@ fn rod_rows<S: Scalar>(points: &[V3<S>], own: &[usize], rows: &mut Vec<Row<S>>) 
             best
         }
     });
-    let inv = d[i].recip()?;
+    let inv = match deferred {
+        Some(rods) => {
+            rods.push((rows.len(), own.len() - 2, d[i]));
+            None
+        }
+        None => Some(d[i].recip()?),
+    };
     for &c in own.iter().filter(|&&c| c != a && c != b) {
-        let s = (points[c][i] - points[b][i]) * inv;
+        let along = points[c][i] - points[b][i];
+        let s = inv.map_or(along, |inv| along * inv);
         let mut terms = [(0, S::zero()); 4];
         terms[0] = (a, -s);
         terms[1] = (b, s - S::one());
         rows.push(Row::Affine { c, terms, len: 2 });
+    }
+    Some(())
+}
+
+/// Completes the deferred affine rows of rods (see [`rod_rows`]), every
+/// rod's `d_i` inverted at once: `s` is the held value times the inverse.
+fn finish_rods<S: Scalar>(rows: &mut [Row<S>], rods: &[(usize, usize, S)]) -> Option<()> {
+    let mut inverses: Vec<S> = rods.iter().map(|&(_, _, v)| v).collect();
+    let mut prefix = Vec::with_capacity(inverses.len());
+    if !invert_all(&mut inverses, &mut prefix) {
+        return None;
+    }
+    for (&(first, count, _), &inv) in rods.iter().zip(&inverses) {
+        for row in &mut rows[first..first + count] {
+            if let Row::Affine { terms, .. } = row {
+                let s = -terms[0].1 * inv;
+                terms[0].1 = -s;
+                terms[1].1 = s - S::one();
+            }
+        }
     }
     Some(())
 }

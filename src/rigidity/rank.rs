@@ -271,24 +271,6 @@ fn mask_bits(mut m: u128) -> impl Iterator<Item = usize> {
     })
 }
 
-/// The rank of a dense `rows x cols` matrix over F_p (a Jacobian), by
-/// sparse elimination without inverses in this thread's buffers.
-pub fn dense_rank(data: &[Fp], rows: usize, cols: usize) -> usize {
-    WORK.with(|w| {
-        let w = &mut *w.borrow_mut();
-        w.b.clear();
-        w.b.extend_from_slice(data);
-        match sparse_rank(&mut w.b, rows, cols, &mut w.support) {
-            Some(rank) => rank,
-            None => {
-                w.b.clear();
-                w.b.extend_from_slice(data);
-                reduce(&mut w.b, rows, cols, &mut w.pivots, &mut w.nonzero, false)
-            }
-        }
-    })
-}
-
 /// Row-reduces the dense `rows x cols` matrix `a` in place and returns its
 /// rank, with `pivots` the pivot column of each of the first `rank` rows.
 /// Fraction free: a row is cleared at a pivot column `c` by `q row - x
