@@ -239,14 +239,20 @@ fn meet_fraction<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<(S, S)> {
     }
     let r = sub(b.p, a.p);
     let det = |i: usize, j: usize| a.d[i] * (-b.d[j]) - (-b.d[i]) * a.d[j];
-    let (i, j) = [(0, 1), (0, 2), (1, 2)].into_iter().fold(
+    // Each minor once; the first of the largest (in order) is taken.
+    let minors = [
+        ((0, 1), det(0, 1)),
+        ((0, 2), det(0, 2)),
+        ((1, 2), det(1, 2)),
+    ];
+    let ((i, j), minor) = minors.into_iter().fold(
         None,
-        |best: Option<(usize, usize)>, (i, j)| match best {
-            Some((k, l)) if det(k, l).magnitude() >= det(i, j).magnitude() => best,
-            _ => Some((i, j)),
+        |best: Option<((usize, usize), S)>, (ij, m)| match best {
+            Some((_, b)) if b.magnitude() >= m.magnitude() => best,
+            _ => Some((ij, m)),
         },
     )?;
-    Some((det(i, j), r[i] * (-b.d[j]) - (-b.d[i]) * r[j]))
+    Some((minor, r[i] * (-b.d[j]) - (-b.d[i]) * r[j]))
 }
 
 /// The point of `a` at parameter `s`, if it lies on `b`.
@@ -300,8 +306,13 @@ fn on_line<S: Scalar>(x: V3<S>, l: &Line<S>) -> bool {
 }
 
 fn on_plane<S: Scalar>(x: V3<S>, pl: &Plane<S>) -> bool {
+    on_plane_with(x, pl, pl.normal())
+}
+
+/// [`on_plane`] with the plane's normal given.
+fn on_plane_with<S: Scalar>(x: V3<S>, pl: &Plane<S>, normal: V3<S>) -> bool {
     let scale = size(pl.u) * size(pl.v) * (size(x) + size(pl.q));
-    dot(pl.normal(), sub(x, pl.q)).vanishes(scale, INCIDENCE_TOL)
+    dot(normal, sub(x, pl.q)).vanishes(scale, INCIDENCE_TOL)
 }
 
 fn line_in_plane<S: Scalar>(l: &Line<S>, pl: &Plane<S>) -> bool {
@@ -665,10 +676,14 @@ pub(crate) fn check<S: Scalar>(
         }
     }
     for (g, plane) in grouping.groups.iter().zip(&s.group_planes) {
-        let cs = inc.group_contacts(g);
-        if let Some(pl) = plane
-            && cs.iter().any(|&c| !on_plane(s.points[c], pl))
-        {
+        let Some(pl) = plane else {
+            continue;
+        };
+        // The contacts of the group's lines (a contact between two of them
+        // is tested twice, to the same effect), with the normal computed once.
+        let normal = pl.normal();
+        let mut contacts = g.iter().flat_map(|&l| inc.line_contacts[l].iter());
+        if contacts.any(|&c| !on_plane_with(s.points[c], pl, normal)) {
             return Err("a group point is off its plane".into());
         }
     }

@@ -99,7 +99,7 @@ pub fn try_framework<S: Scalar>(
     sample: &Realization<S>,
     random: &mut impl FnMut() -> S,
 ) -> Option<Framework<S>> {
-    let Structure { points, rows } = structure(inc, sample, random)?;
+    let Structure { points, rows, .. } = structure(inc, sample, random)?;
     let height = rows.iter().map(|r| r.height()).sum();
     let mut matrix = Matrix::zeros(height, 3 * points.len());
     let mut r = 0;
@@ -136,6 +136,18 @@ pub struct Structure<S> {
     pub points: Vec<V3<S>>,
     /// In the order of the matrix rows.
     pub rows: Vec<Row<S>>,
+    /// The parts (pattern nodes) the rows belong to, in node order.
+    pub parts: Vec<Part>,
+}
+
+/// The rows of one rod or body in a [`Structure`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Part {
+    pub rod: bool,
+    /// Two anchors for a rod, three or four for a body.
+    pub anchors: [usize; 4],
+    pub n_anchors: usize,
+    pub rows: std::ops::Range<usize>,
 }
 
 /// One bar row, or the three rows (one per coordinate) of an affine point.
@@ -170,9 +182,12 @@ pub fn structure<S: Scalar>(
     sample: &Realization<S>,
     random: &mut impl FnMut() -> S,
 ) -> Option<Structure<S>> {
-    let mut points: Vec<V3<S>> = sample.points.clone();
-    let mut rows: Vec<Row<S>> = Vec::new();
+    let mut points: Vec<V3<S>> = Vec::with_capacity(sample.points.len() + 4);
+    points.extend_from_slice(&sample.points);
+    // A part's rows: a bar per anchor pair and an affine row per other point.
+    let mut rows: Vec<Row<S>> = Vec::with_capacity(2 * inc.n_contacts() + 6 * inc.kinds.len());
     let mut own: Vec<usize> = Vec::new();
+    let mut parts: Vec<Part> = Vec::with_capacity(inc.kinds.len());
     // In exact arithmetic the rods' inverses are taken together at the end.
     let mut deferred = exact::<S>().then(Vec::new);
     for (node, kind) in inc.kinds.iter().enumerate() {
@@ -200,7 +215,17 @@ pub fn structure<S: Scalar>(
                         own.push(points.len() - 1);
                     }
                 }
+                let start = rows.len();
                 rod_rows(&points, &own, &mut rows, deferred.as_mut())?;
+                let Row::Bar { a, b, .. } = rows[start] else {
+                    unreachable!("a rod's rows start with its bar")
+                };
+                parts.push(Part {
+                    rod: true,
+                    anchors: [a, b, 0, 0],
+                    n_anchors: 2,
+                    rows: start..rows.len(),
+                });
             }
             NodeKind::Planar | NodeKind::Spatial => {
                 let planar = *kind == NodeKind::Planar;
@@ -229,14 +254,27 @@ pub fn structure<S: Scalar>(
                         anchors.push(points.len() - 1);
                     }
                 }
+                let start = rows.len();
                 body_rows(&points, &anchors, &own, &mut rows)?;
+                let mut fixed = [0; 4];
+                fixed[..anchors.len()].copy_from_slice(&anchors);
+                parts.push(Part {
+                    rod: false,
+                    anchors: fixed,
+                    n_anchors: anchors.len(),
+                    rows: start..rows.len(),
+                });
             }
         }
     }
     if let Some(rods) = deferred {
         finish_rods(&mut rows, &rods)?;
     }
-    Some(Structure { points, rows })
+    Some(Structure {
+        points,
+        rows,
+        parts,
+    })
 }
 
 /// Whether `p` is affinely independent of the points `anchors`, with a

@@ -129,9 +129,10 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
 
 /// The class of [`check_exact`]'s verdict (`rigid`, `flexible`,
 /// `component-dependent` or `undecided`), by the same realizations, ranks
-/// and random draws, without what the class does not need: when one family
-/// is built it is the only component, so its dimensions (two Jacobian ranks)
-/// are not computed. The audit classifies millions of patterns this way.
+/// and random draws, without what the class does not need: the families'
+/// dimensions (two Jacobian ranks each), which say which families are
+/// components, only when the families disagree. The audit classifies
+/// millions of patterns this way.
 pub fn exact_class(pattern: &Pattern, seed: u64) -> Result<String> {
     let inc = incidence(pattern)?;
     let (built, forced_built) = family::realized(&inc, EXACT_SAMPLES, seed);
@@ -140,26 +141,31 @@ pub fn exact_class(pattern: &Pattern, seed: u64) -> Result<String> {
         // to take the whole verdict.
         return Ok(check_exact(pattern, seed)?.class);
     }
-    let is_component = if built.len() == 1 {
-        vec![true]
-    } else {
-        let dims: Vec<(usize, usize)> = built
-            .iter()
-            .map(|(g, samples)| family::dimensions(&inc, g, &samples[0].points))
-            .collect();
-        family::components_by_dimension(&dims)
-    };
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5EED);
-    let mut dofs = Vec::new();
-    for ((_, samples), &component) in built.iter().zip(&is_component) {
-        // Every family is ranked, components or not, so that the auxiliary
-        // points of each come from the same draws as in `check_exact`.
-        let (_, dof) = exact_rank(&inc, samples, &mut rng);
-        if component {
-            dofs.push(dof);
-        }
+    // Every family is ranked, components or not, so that the auxiliary
+    // points of each come from the same draws as in `check_exact`.
+    let dofs: Vec<usize> = built
+        .iter()
+        .map(|(_, samples)| exact_rank(&inc, samples, &mut rng).1)
+        .collect();
+    // Which families are components matters only when they disagree: if
+    // every family is rigid (or every one flexible), so is every component.
+    // Else their dimensions (two Jacobian ranks each) decide.
+    let all_rigid = dofs.iter().all(|&d| d == 0);
+    let all_flexible = dofs.iter().all(|&d| d > 0);
+    if all_rigid || all_flexible {
+        return Ok(class_of(&dofs, true).0.to_string());
     }
-    Ok(class_of(&dofs, true).0.to_string())
+    let dims: Vec<(usize, usize)> = built
+        .iter()
+        .map(|(g, samples)| family::dimensions(&inc, g, &samples[0].points))
+        .collect();
+    let component_dofs: Vec<usize> = family::components_by_dimension(&dims)
+        .into_iter()
+        .zip(&dofs)
+        .filter_map(|(component, &dof)| component.then_some(dof))
+        .collect();
+    Ok(class_of(&component_dofs, true).0.to_string())
 }
 
 /// The largest rank and smallest degrees of freedom over a family's samples,
