@@ -108,7 +108,7 @@ impl Pattern {
             let (x, y) = ((c.nodes[0], c.rods[0]), (c.nodes[1], c.rods[1]));
             (x.min(y), x.max(y))
         };
-        let mut keys: Vec<((u8, u8), (u8, u8), usize)> = self
+        let mut keys: Vec<_> = self
             .contacts
             .iter()
             .enumerate()

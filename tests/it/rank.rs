@@ -130,8 +130,8 @@ fn rows_hold_at_the_points(s: &rgc::rigidity::framework::Structure<Fp>) {
     for row in &s.rows {
         match *row {
             Row::Bar { a, b, d } => {
-                for k in 0..3 {
-                    assert_eq!(d[k], s.points[a][k] - s.points[b][k]);
+                for (k, &dk) in d.iter().enumerate() {
+                    assert_eq!(dk, s.points[a][k] - s.points[b][k]);
                 }
             }
             Row::Affine { c, terms, len } => {
