@@ -101,7 +101,28 @@ impl Pattern {
                 self.contacts.len()
             ));
         }
-        let mut seen = std::collections::HashSet::new();
+        // The first contact repeating an earlier one's pair of rods, found
+        // by sorting the pairs (a hash set per pattern costs more than the
+        // rest of a small pattern's checks).
+        let key = |c: &PatternContact| {
+            let (x, y) = ((c.nodes[0], c.rods[0]), (c.nodes[1], c.rods[1]));
+            (x.min(y), x.max(y))
+        };
+        let mut keys: Vec<_> = self
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let (x, y) = key(c);
+                (x, y, k)
+            })
+            .collect();
+        keys.sort_unstable();
+        let first_repeat = keys
+            .windows(2)
+            .filter(|w| (w[0].0, w[0].1) == (w[1].0, w[1].1))
+            .map(|w| w[1].2)
+            .min();
         for (k, c) in self.contacts.iter().enumerate() {
             let [a, b] = c.nodes;
             if a as usize >= self.kinds.len() || b as usize >= self.kinds.len() {
@@ -121,12 +142,7 @@ impl Pattern {
                     ));
                 }
             }
-            let key = if (a, c.rods[0]) <= (b, c.rods[1]) {
-                (a, c.rods[0], b, c.rods[1])
-            } else {
-                (b, c.rods[1], a, c.rods[0])
-            };
-            if !seen.insert(key) {
+            if first_repeat == Some(k) {
                 return bad(format!(
                     "contact {k} repeats rod {} of node {a} touching rod {} of node {b}: two rods touch at most once",
                     c.rods[0], c.rods[1]

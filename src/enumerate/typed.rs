@@ -321,7 +321,12 @@ pub fn canonical_pattern(p: &Pattern) -> Pattern {
     if p.validate().is_err() {
         return p.clone();
     }
-    Workspace::default().canonical(p)
+    // The engine asks for canonical forms of small patterns in its inner
+    // loop: a thread's buffers are reused rather than allocated per call.
+    thread_local! {
+        static WORKSPACE: std::cell::RefCell<Workspace> = std::cell::RefCell::new(Workspace::default());
+    }
+    WORKSPACE.with(|ws| ws.borrow_mut().canonical(p))
 }
 
 /// Buffers for canonical forms, reused across the patterns of a thread.

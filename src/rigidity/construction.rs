@@ -226,23 +226,67 @@ impl<S: Scalar, R: Rng> Draw<'_, S, R> {
 
 /// The point where two coplanar, non-parallel lines meet.
 fn meet<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<V3<S>> {
+    let (det, num) = meet_fraction(a, b)?;
+    meet_at(a, b, num * det.recip()?)
+}
+
+/// The parameter of the point where `b` meets `a` (`a.p + s a.d`) as a
+/// fraction `num / det`; `None` for parallel lines.
+fn meet_fraction<S: Scalar>(a: &Line<S>, b: &Line<S>) -> Option<(S, S)> {
     // a.p + s a.d = b.p + t b.d: solve the two rows with the largest minor, check the third.
     if parallel(a.d, b.d) {
         return None;
     }
     let r = sub(b.p, a.p);
     let det = |i: usize, j: usize| a.d[i] * (-b.d[j]) - (-b.d[i]) * a.d[j];
-    let (i, j) = [(0, 1), (0, 2), (1, 2)].into_iter().fold(
+    // Each minor once; the first of the largest (in order) is taken.
+    let minors = [
+        ((0, 1), det(0, 1)),
+        ((0, 2), det(0, 2)),
+        ((1, 2), det(1, 2)),
+    ];
+    let ((i, j), minor) = minors.into_iter().fold(
         None,
-        |best: Option<(usize, usize)>, (i, j)| match best {
-            Some((k, l)) if det(k, l).magnitude() >= det(i, j).magnitude() => best,
-            _ => Some((i, j)),
+        |best: Option<((usize, usize), S)>, (ij, m)| match best {
+            Some((_, b)) if b.magnitude() >= m.magnitude() => best,
+            _ => Some((ij, m)),
         },
     )?;
-    let inv = det(i, j).recip()?;
-    let s = (r[i] * (-b.d[j]) - (-b.d[i]) * r[j]) * inv;
+    Some((minor, r[i] * (-b.d[j]) - (-b.d[i]) * r[j]))
+}
+
+/// The point of `a` at parameter `s`, if it lies on `b`.
+fn meet_at<S: Scalar>(a: &Line<S>, b: &Line<S>, s: S) -> Option<V3<S>> {
     let x = add(a.p, scale(a.d, s));
     on_line(x, b).then_some(x)
+}
+
+/// Whether `S` is exact arithmetic (F_p): there [`Scalar::vanishes`] is
+/// exact zero, so one is never negligible.
+pub(super) fn exact<S: Scalar>() -> bool {
+    !S::one().vanishes(1.0, 1.0)
+}
+
+/// Replaces each of `xs` by its inverse with one inversion and three
+/// products per element (Montgomery's trick); `false` if one is zero. Exact
+/// arithmetic only: the inverses are the same as one by one, whereas floats
+/// would round differently.
+pub(super) fn invert_all<S: Scalar>(xs: &mut [S], prefix: &mut Vec<S>) -> bool {
+    prefix.clear();
+    let mut acc = S::one();
+    for &x in xs.iter() {
+        prefix.push(acc);
+        acc = acc * x;
+    }
+    let Some(mut inv) = acc.recip() else {
+        return false;
+    };
+    for (x, &before) in xs.iter_mut().zip(prefix.iter()).rev() {
+        let x_inv = inv * before;
+        inv = inv * *x;
+        *x = x_inv;
+    }
+    true
 }
 
 /// Where a line crosses a plane (none when it is parallel to it).
@@ -262,8 +306,13 @@ fn on_line<S: Scalar>(x: V3<S>, l: &Line<S>) -> bool {
 }
 
 fn on_plane<S: Scalar>(x: V3<S>, pl: &Plane<S>) -> bool {
+    on_plane_with(x, pl, pl.normal())
+}
+
+/// [`on_plane`] with the plane's normal given.
+fn on_plane_with<S: Scalar>(x: V3<S>, pl: &Plane<S>, normal: V3<S>) -> bool {
     let scale = size(pl.u) * size(pl.v) * (size(x) + size(pl.q));
-    dot(pl.normal(), sub(x, pl.q)).vanishes(scale, INCIDENCE_TOL)
+    dot(normal, sub(x, pl.q)).vanishes(scale, INCIDENCE_TOL)
 }
 
 fn line_in_plane<S: Scalar>(l: &Line<S>, pl: &Plane<S>) -> bool {
@@ -478,13 +527,44 @@ fn try_construct<S: Scalar, R: Rng>(
     }
     // Contact points: where two placed lines meet, else a random point on the placed one.
     let mut points = Vec::with_capacity(inc.n_contacts());
-    for &[a, b] in &inc.contact_lines {
+    // In exact arithmetic the meeting points come after the draws (which
+    // they do not use), their inverses in one batch: an inverse costs
+    // dozens of products, and a realization has a meeting point per contact.
+    let exact = exact::<S>();
+    let mut meets: Vec<usize> = Vec::new();
+    for (k, &[a, b]) in inc.contact_lines.iter().enumerate() {
         let x = match (line[a], line[b]) {
+            (Some(_), Some(_)) if exact => {
+                meets.push(k);
+                [S::zero(); 3]
+            }
             (Some(la), Some(lb)) => meet(&la, &lb).ok_or(Infeasible::NoOrder)?,
             (Some(l), None) | (None, Some(l)) => draw.on_line(&l),
             (None, None) => draw.point(),
         };
         points.push(x);
+    }
+    if !meets.is_empty() {
+        let placed = |k: usize| {
+            let [a, b] = inc.contact_lines[k];
+            (line[a].expect("placed"), line[b].expect("placed"))
+        };
+        let mut dets = Vec::with_capacity(meets.len());
+        let mut nums = Vec::with_capacity(meets.len());
+        for &k in &meets {
+            let (la, lb) = placed(k);
+            let (det, num) = meet_fraction(&la, &lb).ok_or(Infeasible::NoOrder)?;
+            dets.push(det);
+            nums.push(num);
+        }
+        let mut prefix = Vec::with_capacity(meets.len());
+        if !invert_all(&mut dets, &mut prefix) {
+            return Err(Infeasible::NoOrder);
+        }
+        for ((&k, &inv), &num) in meets.iter().zip(&dets).zip(&nums) {
+            let (la, lb) = placed(k);
+            points[k] = meet_at(&la, &lb, num * inv).ok_or(Infeasible::NoOrder)?;
+        }
     }
     for i in 0..points.len() {
         if points[..i].iter().any(|&y| same_point(points[i], y)) {
@@ -596,10 +676,14 @@ pub(crate) fn check<S: Scalar>(
         }
     }
     for (g, plane) in grouping.groups.iter().zip(&s.group_planes) {
-        let cs = inc.group_contacts(g);
-        if let Some(pl) = plane
-            && cs.iter().any(|&c| !on_plane(s.points[c], pl))
-        {
+        let Some(pl) = plane else {
+            continue;
+        };
+        // The contacts of the group's lines (a contact between two of them
+        // is tested twice, to the same effect), with the normal computed once.
+        let normal = pl.normal();
+        let mut contacts = g.iter().flat_map(|&l| inc.line_contacts[l].iter());
+        if contacts.any(|&c| !on_plane_with(s.points[c], pl, normal)) {
             return Err("a group point is off its plane".into());
         }
     }

@@ -7,9 +7,8 @@ use std::collections::BTreeSet;
 
 use super::construction::{Infeasible, Realization, construct};
 use super::incidence::{Grouping, Incidence, body_planes};
-use super::rank::dense_rank;
 use crate::math::vec3::{V3, cross, is_null, size, sub};
-use crate::math::{Fp, Matrix, Scalar};
+use crate::math::{Fp, Matrix, Scalar, rank_fp};
 
 /// The Jacobian of the incidence constraints at a sample: collinearity of
 /// the contacts of each line, and coplanarity of the contacts of each group
@@ -94,7 +93,7 @@ fn base_triangle<S: Scalar>(cs: &[usize], points: &[V3<S>]) -> Option<(usize, us
 /// Dimension of the realizations near a sample: `3C - rank J`.
 pub fn local_dimension(inc: &Incidence, planes: &[BTreeSet<usize>], points: &[V3<Fp>]) -> usize {
     let j = jacobian(inc, planes, points);
-    3 * points.len() - dense_rank(&j.data, j.rows, j.cols)
+    3 * points.len() - rank_fp(&j)
 }
 
 /// A family that was built, with its dimensions.
@@ -163,10 +162,66 @@ pub(super) fn dimensions(
 /// A grouping that was built, with its samples.
 pub(super) type Built = (Grouping, Vec<Realization<Fp>>);
 
+/// The seed of sample `s` of the `k`-th grouping [`realized`] dequeues
+/// (from 1).
+fn sample_seed(seed: u64, k: usize, s: u64) -> u64 {
+    seed.wrapping_add(1000 * k as u64 + s)
+}
+
+/// A grouping built by [`realized_first`]: its first sample, and where it
+/// came in the queue, which seeds its later samples.
+pub(super) struct FirstBuilt {
+    pub grouping: Grouping,
+    pub first: Realization<Fp>,
+    k: usize,
+}
+
+impl FirstBuilt {
+    /// Sample `s` of the grouping, the one [`realized`] would build.
+    pub fn sample(
+        &self,
+        inc: &Incidence,
+        seed: u64,
+        s: u64,
+    ) -> Result<Realization<Fp>, Infeasible> {
+        construct(inc, &self.grouping, sample_seed(seed, self.k, s))
+    }
+}
+
 /// The groupings [`families`] builds, with their samples but without their
 /// dimensions (two ranks each, which a verdict needs only when more than one
 /// family is built), and whether the forced grouping was built.
 pub(super) fn realized(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Built>, bool) {
+    let (built, forced_built) = explore(inc, samples, seed);
+    let built = built.into_iter().map(|(g, _, s)| (g, s)).collect();
+    (built, forced_built)
+}
+
+/// [`realized`] with only the first sample of each grouping built: a grouping
+/// counts as built when its first sample is. A construction order either
+/// fails for every draw or for a set of draws of probability about
+/// `degree / p` (Schwartz–Zippel), so when the first sample is built the
+/// later ones are too, but for that chance; a verdict whose first sample is
+/// rigid never needs them.
+pub(super) fn realized_first(inc: &Incidence, seed: u64) -> (Vec<FirstBuilt>, bool) {
+    let (built, forced_built) = explore(inc, 1, seed);
+    let built = built
+        .into_iter()
+        .map(|(grouping, k, mut samples)| FirstBuilt {
+            grouping,
+            first: samples.swap_remove(0),
+            k,
+        })
+        .collect();
+    (built, forced_built)
+}
+
+/// A grouping [`explore`] built, its index in the queue and its samples.
+type Explored = (Grouping, usize, Vec<Realization<Fp>>);
+
+/// The exploration of [`realized`]: each grouping built, with its index in
+/// the queue and `samples` samples.
+fn explore(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Explored>, bool) {
     let forced = Grouping::forced(inc);
     let mut queue = vec![forced.clone()];
     let all = Grouping::all_coplanar(inc).close(inc);
@@ -184,7 +239,7 @@ pub(super) fn realized(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Built
         let attempt: Result<Vec<Realization<Fp>>, Infeasible> =
             if built.insert(grouping.effective(inc)) {
                 (0..samples as u64)
-                    .map(|s| construct(inc, &grouping, seed.wrapping_add(1000 * k as u64 + s)))
+                    .map(|s| construct(inc, &grouping, sample_seed(seed, k, s)))
                     .collect()
             } else {
                 Err(Infeasible::NoOrder)
@@ -193,7 +248,7 @@ pub(super) fn realized(inc: &Incidence, samples: usize, seed: u64) -> (Vec<Built
             if grouping == forced {
                 forced_built = true;
             }
-            out.push((grouping.clone(), samples));
+            out.push((grouping.clone(), k, samples));
         }
         // Blocks that can share a plane: groups, and lines with three or more contacts.
         let mut blocks: Vec<BTreeSet<usize>> = grouping.groups.clone();

@@ -8,7 +8,7 @@
 //! by bars and moves every other point as their affine combination. Internal
 //! degrees of freedom are `3 P - rank - 6` (5 when every point is on one line).
 
-use super::construction::{Line, Plane, Realization, normalized};
+use super::construction::{Line, Plane, Realization, exact, invert_all, normalized};
 use super::incidence::Incidence;
 use crate::math::vec3::{V3, add, cross, dot, parallel, same_point, scale, size, sub};
 use crate::math::{Matrix, Scalar};
@@ -99,7 +99,7 @@ pub fn try_framework<S: Scalar>(
     sample: &Realization<S>,
     random: &mut impl FnMut() -> S,
 ) -> Option<Framework<S>> {
-    let Structure { points, rows } = structure(inc, sample, random)?;
+    let Structure { points, rows, .. } = structure(inc, sample, random)?;
     let height = rows.iter().map(|r| r.height()).sum();
     let mut matrix = Matrix::zeros(height, 3 * points.len());
     let mut r = 0;
@@ -136,6 +136,18 @@ pub struct Structure<S> {
     pub points: Vec<V3<S>>,
     /// In the order of the matrix rows.
     pub rows: Vec<Row<S>>,
+    /// The parts (pattern nodes) the rows belong to, in node order.
+    pub parts: Vec<Part>,
+}
+
+/// The rows of one rod or body in a [`Structure`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Part {
+    pub rod: bool,
+    /// Two anchors for a rod, three or four for a body.
+    pub anchors: [usize; 4],
+    pub n_anchors: usize,
+    pub rows: std::ops::Range<usize>,
 }
 
 /// One bar row, or the three rows (one per coordinate) of an affine point.
@@ -170,9 +182,14 @@ pub fn structure<S: Scalar>(
     sample: &Realization<S>,
     random: &mut impl FnMut() -> S,
 ) -> Option<Structure<S>> {
-    let mut points: Vec<V3<S>> = sample.points.clone();
-    let mut rows: Vec<Row<S>> = Vec::new();
+    let mut points: Vec<V3<S>> = Vec::with_capacity(sample.points.len() + 4);
+    points.extend_from_slice(&sample.points);
+    // A part's rows: a bar per anchor pair and an affine row per other point.
+    let mut rows: Vec<Row<S>> = Vec::with_capacity(2 * inc.n_contacts() + 6 * inc.kinds.len());
     let mut own: Vec<usize> = Vec::new();
+    let mut parts: Vec<Part> = Vec::with_capacity(inc.kinds.len());
+    // In exact arithmetic the rods' inverses are taken together at the end.
+    let mut deferred = exact::<S>().then(Vec::new);
     for (node, kind) in inc.kinds.iter().enumerate() {
         let lines = &inc.node_lines[node];
         own.clear();
@@ -198,7 +215,17 @@ pub fn structure<S: Scalar>(
                         own.push(points.len() - 1);
                     }
                 }
-                rod_rows(&points, &own, &mut rows)?;
+                let start = rows.len();
+                rod_rows(&points, &own, &mut rows, deferred.as_mut())?;
+                let Row::Bar { a, b, .. } = rows[start] else {
+                    unreachable!("a rod's rows start with its bar")
+                };
+                parts.push(Part {
+                    rod: true,
+                    anchors: [a, b, 0, 0],
+                    n_anchors: 2,
+                    rows: start..rows.len(),
+                });
             }
             NodeKind::Planar | NodeKind::Spatial => {
                 let planar = *kind == NodeKind::Planar;
@@ -227,11 +254,27 @@ pub fn structure<S: Scalar>(
                         anchors.push(points.len() - 1);
                     }
                 }
+                let start = rows.len();
                 body_rows(&points, &anchors, &own, &mut rows)?;
+                let mut fixed = [0; 4];
+                fixed[..anchors.len()].copy_from_slice(&anchors);
+                parts.push(Part {
+                    rod: false,
+                    anchors: fixed,
+                    n_anchors: anchors.len(),
+                    rows: start..rows.len(),
+                });
             }
         }
     }
-    Some(Structure { points, rows })
+    if let Some(rods) = deferred {
+        finish_rods(&mut rows, &rods)?;
+    }
+    Some(Structure {
+        points,
+        rows,
+        parts,
+    })
 }
 
 /// Whether `p` is affinely independent of the points `anchors`, with a
@@ -262,7 +305,17 @@ fn independent<S: Scalar>(points: &[V3<S>], anchors: &[usize], p: V3<S>) -> bool
 /// anchors are the first point and the one farthest from it, and `s` is read
 /// on the coordinate along which they differ most: the best-conditioned
 /// choice for floats, any distinct pair over F_p.
-fn rod_rows<S: Scalar>(points: &[V3<S>], own: &[usize], rows: &mut Vec<Row<S>>) -> Option<()> {
+///
+/// With `deferred`, the affine rows wait for the inverse of `d_i`: they
+/// hold `p_c[i] - p_b[i]` in place of `s`, and the rod (its first affine
+/// row, their number and `d_i`) goes on `deferred`, for [`finish_rods`] to
+/// invert every rod's `d_i` at once (exact arithmetic).
+fn rod_rows<S: Scalar>(
+    points: &[V3<S>],
+    own: &[usize],
+    rows: &mut Vec<Row<S>>,
+    deferred: Option<&mut Vec<(usize, usize, S)>>,
+) -> Option<()> {
     let a = own[0];
     let far = |c: usize| size(sub(points[c], points[a]));
     let b = own[1..]
@@ -278,13 +331,40 @@ fn rod_rows<S: Scalar>(points: &[V3<S>], own: &[usize], rows: &mut Vec<Row<S>>) 
             best
         }
     });
-    let inv = d[i].recip()?;
+    let inv = match deferred {
+        Some(rods) => {
+            rods.push((rows.len(), own.len() - 2, d[i]));
+            None
+        }
+        None => Some(d[i].recip()?),
+    };
     for &c in own.iter().filter(|&&c| c != a && c != b) {
-        let s = (points[c][i] - points[b][i]) * inv;
+        let along = points[c][i] - points[b][i];
+        let s = inv.map_or(along, |inv| along * inv);
         let mut terms = [(0, S::zero()); 4];
         terms[0] = (a, -s);
         terms[1] = (b, s - S::one());
         rows.push(Row::Affine { c, terms, len: 2 });
+    }
+    Some(())
+}
+
+/// Completes the deferred affine rows of rods (see [`rod_rows`]), every
+/// rod's `d_i` inverted at once: `s` is the held value times the inverse.
+fn finish_rods<S: Scalar>(rows: &mut [Row<S>], rods: &[(usize, usize, S)]) -> Option<()> {
+    let mut inverses: Vec<S> = rods.iter().map(|&(_, _, v)| v).collect();
+    let mut prefix = Vec::with_capacity(inverses.len());
+    if !invert_all(&mut inverses, &mut prefix) {
+        return None;
+    }
+    for (&(first, count, _), &inv) in rods.iter().zip(&inverses) {
+        for row in &mut rows[first..first + count] {
+            if let Row::Affine { terms, .. } = row {
+                let s = -terms[0].1 * inv;
+                terms[0].1 = -s;
+                terms[1].1 = s - S::one();
+            }
+        }
     }
     Some(())
 }

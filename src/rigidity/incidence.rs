@@ -31,7 +31,8 @@ impl Incidence {
     pub fn new(p: &Pattern) -> Self {
         // Lines by (node, rod label): a rod node has rod 0 only, a body its
         // labels in use and 0 (see `Pattern::rods_of`), in that order.
-        let mut keys: Vec<(u8, u8)> = (0..p.kinds.len() as u8).map(|i| (i, 0)).collect();
+        let mut keys: Vec<(u8, u8)> = Vec::with_capacity(p.kinds.len() + 2 * p.contacts.len());
+        keys.extend((0..p.kinds.len() as u8).map(|i| (i, 0)));
         for c in &p.contacts {
             for side in 0..2 {
                 if p.kinds[c.nodes[side] as usize].is_body() {

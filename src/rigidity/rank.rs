@@ -36,6 +36,7 @@ struct Work {
     b: Vec<Fp>,
     nonzero: Vec<(usize, Fp)>,
     support: Vec<u128>,
+    parts: Vec<(u128, u128, bool)>,
 }
 
 thread_local! {
@@ -55,16 +56,22 @@ fn rank_in(s: &Structure<Fp>, w: &mut Work) -> usize {
         .iter()
         .filter(|r| matches!(r, Row::Affine { .. }))
         .count();
+    // The affine functions of space restricted to the points (1, x, y, z)
+    // always lie in ker A: every affine row puts a point at the same affine
+    // combination of its anchors. When they span it, the bars act on `x_j`,
+    // and bar (a, b) with `d = p_a - p_b` reads `d_j d_k` in column (j, k):
+    // the rank of the bars on `ker A ⊗ R^3` is that of the matrices `d d^T`
+    // (the classical conic condition). They span it when as many points as
+    // they have dimensions determine every point (`spanned_by_affine`), or
+    // else when the rank of A says so.
+    let affine_dimension = affine_span(&s.points) + 1;
+    if spanned_by_affine(s, affine_dimension, &mut w.parts) {
+        return 3 * (n - affine_dimension) + conic_rank(s);
+    }
     fill_affine(s, n, affine, &mut w.a);
     if let Some(rank_a) = sparse_rank(&mut w.a, affine, n, &mut w.support) {
-        // The affine functions of space restricted to the points (1, x, y,
-        // z) always lie in ker A: every affine row puts a point at the same
-        // affine combination of its anchors. When they span it, the bars
-        // act on `x_j`, and bar (a, b) with `d = p_a - p_b` reads `d_j d_k`
-        // in column (j, k): the rank of the bars on `ker A ⊗ R^3` is that of
-        // the matrices `d d^T` (the classical conic condition).
-        if n - rank_a == affine_span(&s.points) + 1 {
-            return 3 * rank_a + conic_rank(s, &mut w.b, &mut w.support);
+        if n - rank_a == affine_dimension {
+            return 3 * rank_a + conic_rank(s);
         }
         fill_affine(s, n, affine, &mut w.a);
     }
@@ -146,6 +153,95 @@ fn fill_affine(s: &Structure<Fp>, n: usize, affine: usize, a: &mut Vec<Fp>) {
     }
 }
 
+/// Whether `ker A` is at most `dimension`-dimensional because the values
+/// at `dimension` points determine those at every point. A function in
+/// `ker A` is affine along each rod, so its values at two points of a rod
+/// give all the rod's (the points of a rod are distinct and the rows put
+/// them at distinct parameters); and a body's points are fixed combinations
+/// of its anchors. Seeds are chosen greedily: two points of the rod with the
+/// most points, then, while points are unknown, one point of the rod (or
+/// one anchor of the body) whose closure knows the most. `false` when the
+/// seeds run past `dimension`, or beyond 128 points. Since `ker A` holds the
+/// `dimension` affine functions, `true` means `ker A` is exactly their
+/// span: a certificate without arithmetic.
+fn spanned_by_affine(
+    s: &Structure<Fp>,
+    dimension: usize,
+    parts: &mut Vec<(u128, u128, bool)>,
+) -> bool {
+    let n = s.points.len();
+    if n > 128 || s.parts.is_empty() {
+        return false;
+    }
+    // (anchors, points, rod) of each part.
+    parts.clear();
+    for part in &s.parts {
+        let anchors = part.anchors[..part.n_anchors]
+            .iter()
+            .fold(0u128, |m, &a| m | 1 << a);
+        let points = s.rows[part.rows.clone()]
+            .iter()
+            .fold(anchors, |m, row| match *row {
+                Row::Affine { c, .. } => m | 1 << c,
+                Row::Bar { .. } => m,
+            });
+        parts.push((anchors, points, part.rod));
+    }
+    let close = |mut known: u128| loop {
+        let before = known;
+        for &(anchors, points, rod) in parts.iter() {
+            let fixed = if rod {
+                (known & points).count_ones() >= 2
+            } else {
+                known & anchors == anchors
+            };
+            if fixed {
+                known |= points;
+            }
+        }
+        if known == before {
+            return known;
+        }
+    };
+    let all = if n == 128 {
+        u128::MAX
+    } else {
+        (1u128 << n) - 1
+    };
+    let Some(&(_, first, _)) = parts
+        .iter()
+        .filter(|p| p.2)
+        .max_by_key(|p| p.1.count_ones())
+    else {
+        return false;
+    };
+    let mut seeds = 2;
+    let mut known = close(first);
+    while known != all {
+        seeds += 1;
+        if seeds > dimension {
+            return false;
+        }
+        // One more seed: the unknown point that makes the most known.
+        let mut best = known;
+        for &(anchors, points, rod) in parts.iter() {
+            let candidates = if rod { points } else { anchors } & !known;
+            if candidates == 0 || (rod && known & points == 0) {
+                continue;
+            }
+            let grown = close(known | candidates & candidates.wrapping_neg());
+            if grown.count_ones() > best.count_ones() {
+                best = grown;
+            }
+        }
+        if best == known {
+            return false;
+        }
+        known = best;
+    }
+    seeds == dimension
+}
+
 /// The dimension of the affine span of `points` (0 to 3).
 fn affine_span(points: &[V3<Fp>]) -> usize {
     let Some(&p0) = points.first() else {
@@ -171,93 +267,125 @@ fn affine_span(points: &[V3<Fp>]) -> usize {
 
 /// The rank of the matrices `d d^T` of the bars of `s`, as rows of their
 /// six distinct entries.
-fn conic_rank(s: &Structure<Fp>, b: &mut Vec<Fp>, support: &mut Vec<u128>) -> usize {
-    b.clear();
-    let mut bars = 0;
+fn conic_rank(s: &Structure<Fp>) -> usize {
+    // Rows go into an echelon basis one at a time, and at six (the most
+    // there can be) the rest need not be looked at.
+    let mut basis: [([Fp; 6], usize); 6] = [([Fp::ZERO; 6], 0); 6];
+    let mut rank = 0;
     for row in &s.rows {
-        if let Row::Bar { d, .. } = *row {
-            b.extend([
-                d[0] * d[0],
-                d[0] * d[1],
-                d[0] * d[2],
-                d[1] * d[1],
-                d[1] * d[2],
-                d[2] * d[2],
-            ]);
-            bars += 1;
+        let Row::Bar { d, .. } = *row else {
+            continue;
+        };
+        let mut v = [
+            d[0] * d[0],
+            d[0] * d[1],
+            d[0] * d[2],
+            d[1] * d[1],
+            d[1] * d[2],
+            d[2] * d[2],
+        ];
+        // Clear v at each pivot of the basis (fraction free, as in `reduce`).
+        for (b, p) in &basis[..rank] {
+            let x = v[*p];
+            if !x.is_zero() {
+                let q = b[*p];
+                for (vk, &bk) in v.iter_mut().zip(b) {
+                    *vk = *vk * q - x * bk;
+                }
+            }
+        }
+        if let Some(p) = v.iter().position(|x| !x.is_zero()) {
+            basis[rank] = (v, p);
+            rank += 1;
+            if rank == 6 {
+                break;
+            }
         }
     }
-    sparse_rank(b, bars, 6, support).expect("six columns fit a mask")
+    rank
 }
 
 /// The rank of the dense `rows x cols` matrix `a` (destroyed), or `None`
-/// when it has more than 128 rows or columns. Elimination follows each
-/// row's non-zero columns (bit masks) and picks the sparsest row holding
-/// the pivot column, so it costs what the non-zeros and their fill cost,
-/// not `rows x cols` per pivot; fraction free (see [`reduce`]).
+/// when it has more than 128 rows or columns. Elimination follows bit masks
+/// of each row's non-zero columns and each column's non-zero rows: the next
+/// pivot column is the one fewest remaining rows hold (minimum degree, to
+/// keep the fill small), its row the sparsest of them. So it costs what the
+/// non-zeros and their fill cost, not `rows x cols` per pivot. Fraction free
+/// (see [`reduce`]).
 fn sparse_rank(a: &mut [Fp], rows: usize, cols: usize, support: &mut Vec<u128>) -> Option<usize> {
     if rows > 128 || cols > 128 {
         return None;
     }
+    let mut col_rows = [0u128; 128];
     support.clear();
-    support.extend((0..rows).map(|r| {
-        a[r * cols..(r + 1) * cols]
-            .iter()
-            .enumerate()
-            .filter(|(_, x)| !x.is_zero())
-            .fold(0u128, |m, (k, _)| m | 1 << k)
-    }));
-    let mut free_rows: u128 = if rows == 128 {
-        u128::MAX
-    } else {
-        (1 << rows) - 1
-    };
-    let mut rank = 0;
-    let mut order: [(u32, u8); 128] = [(0, 0); 128];
-    for (c, o) in order[..cols].iter_mut().enumerate() {
-        let count = support.iter().filter(|&&m| m >> c & 1 == 1).count();
-        *o = (count as u32, c as u8);
+    for r in 0..rows {
+        let mut m = 0u128;
+        for (k, x) in a[r * cols..(r + 1) * cols].iter().enumerate() {
+            if !x.is_zero() {
+                m |= 1 << k;
+                col_rows[k] |= 1 << r;
+            }
+        }
+        support.push(m);
     }
-    order[..cols].sort_unstable();
-    for &(_, c) in &order[..cols] {
-        let c = c as usize;
-        let bit = 1u128 << c;
-        let holding = |free: u128| {
-            let mut m = 0u128;
-            for r in mask_bits(free) {
-                if support[r] & bit != 0 {
-                    m |= 1 << r;
+    let all = |n: usize| {
+        if n == 128 {
+            u128::MAX
+        } else {
+            (1u128 << n) - 1
+        }
+    };
+    let mut free_rows = all(rows);
+    let mut left_cols = all(cols);
+    let mut rank = 0;
+    loop {
+        let mut best: Option<(u32, usize)> = None;
+        for c in mask_bits(left_cols) {
+            let held = (col_rows[c] & free_rows).count_ones();
+            if held == 0 {
+                left_cols &= !(1 << c);
+            } else if best.is_none_or(|(fewest, _)| held < fewest) {
+                best = Some((held, c));
+                if held == 1 {
+                    break;
                 }
             }
-            m
+        }
+        let Some((_, c)) = best else {
+            return Some(rank);
         };
-        let rows_c = holding(free_rows);
-        let Some(p) = mask_bits(rows_c).min_by_key(|&r| support[r].count_ones()) else {
-            continue;
-        };
+        left_cols &= !(1 << c);
+        let bit = 1u128 << c;
+        let rows_c = col_rows[c] & free_rows;
+        let p = mask_bits(rows_c)
+            .min_by_key(|&r| support[r].count_ones())
+            .expect("the column is held");
         free_rows &= !(1 << p);
         rank += 1;
         let q = a[p * cols + c];
         let sp = support[p] & !bit;
         for r in mask_bits(rows_c & !(1 << p)) {
             let x = a[r * cols + c];
-            let row_start = r * cols;
-            a[row_start + c] = Fp::ZERO;
+            let start = r * cols;
+            a[start + c] = Fp::ZERO;
+            col_rows[c] &= !(1 << r);
             for k in mask_bits(support[r] & !sp & !bit) {
-                a[row_start + k] = a[row_start + k] * q;
+                a[start + k] = a[start + k] * q;
             }
             let mut sr = (support[r] | sp) & !bit;
             for k in mask_bits(sp) {
-                let y = a[row_start + k] * q - x * a[p * cols + k];
-                a[row_start + k] = y;
+                let y = a[start + k] * q - x * a[p * cols + k];
+                a[start + k] = y;
                 if y.is_zero() {
                     sr &= !(1 << k);
+                    col_rows[k] &= !(1 << r);
+                } else {
+                    col_rows[k] |= 1 << r;
                 }
             }
             support[r] = sr;
         }
     }
-    Some(rank)
 }
 
 /// The set bits of a mask, ascending.
@@ -268,24 +396,6 @@ fn mask_bits(mut m: u128) -> impl Iterator<Item = usize> {
             m &= m - 1;
             k
         })
-    })
-}
-
-/// The rank of a dense `rows x cols` matrix over F_p (a Jacobian), by
-/// sparse elimination without inverses in this thread's buffers.
-pub fn dense_rank(data: &[Fp], rows: usize, cols: usize) -> usize {
-    WORK.with(|w| {
-        let w = &mut *w.borrow_mut();
-        w.b.clear();
-        w.b.extend_from_slice(data);
-        match sparse_rank(&mut w.b, rows, cols, &mut w.support) {
-            Some(rank) => rank,
-            None => {
-                w.b.clear();
-                w.b.extend_from_slice(data);
-                reduce(&mut w.b, rows, cols, &mut w.pivots, &mut w.nonzero, false)
-            }
-        }
     })
 }
 

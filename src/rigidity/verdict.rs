@@ -129,37 +129,122 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
 
 /// The class of [`check_exact`]'s verdict (`rigid`, `flexible`,
 /// `component-dependent` or `undecided`), by the same realizations, ranks
-/// and random draws, without what the class does not need: when one family
-/// is built it is the only component, so its dimensions (two Jacobian ranks)
-/// are not computed. The audit classifies millions of patterns this way.
+/// and random draws, without what the class does not need: the families'
+/// dimensions (two Jacobian ranks each), which say which families are
+/// components, only when the families disagree. The audit classifies
+/// millions of patterns this way.
 pub fn exact_class(pattern: &Pattern, seed: u64) -> Result<String> {
     let inc = incidence(pattern)?;
-    let (built, forced_built) = family::realized(&inc, EXACT_SAMPLES, seed);
+    // First samples only: most families are rigid on their first sample,
+    // and a later one is built only for a family that is not.
+    let (built, forced_built) = family::realized_first(&inc, seed);
     if !forced_built {
         // The projection draws from the stream the ranks left; rare enough
         // to take the whole verdict.
         return Ok(check_exact(pattern, seed)?.class);
     }
-    let is_component = if built.len() == 1 {
-        vec![true]
-    } else {
-        let dims: Vec<(usize, usize)> = built
-            .iter()
-            .map(|(g, samples)| family::dimensions(&inc, g, &samples[0].points))
-            .collect();
-        family::components_by_dimension(&dims)
-    };
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5EED);
-    let mut dofs = Vec::new();
-    for ((_, samples), &component) in built.iter().zip(&is_component) {
-        // Every family is ranked, components or not, so that the auxiliary
-        // points of each come from the same draws as in `check_exact`.
-        let (_, dof) = exact_rank(&inc, samples, &mut rng);
-        if component {
-            dofs.push(dof);
+    // Every family is ranked, components or not, so that the auxiliary
+    // points of each come from the same draws as in `check_exact`.
+    let mut dofs = Vec::with_capacity(built.len());
+    for b in &built {
+        match first_rank(&inc, b, seed, &mut rng) {
+            Some(dof) => dofs.push(dof),
+            // A later sample that would not build drops its family:
+            // all samples, as `check_exact` builds them.
+            None => return exact_class_eager(&inc, pattern, seed),
         }
     }
-    Ok(class_of(&dofs, true).0.to_string())
+    // Which families are components matters only when they disagree: if
+    // every family is rigid (or every one flexible), so is every component.
+    // Else their dimensions (two Jacobian ranks each) decide.
+    let all_rigid = dofs.iter().all(|&d| d == 0);
+    let all_flexible = dofs.iter().all(|&d| d > 0);
+    if all_rigid || all_flexible {
+        return Ok(class_of(&dofs, true).0.to_string());
+    }
+    let dims: Vec<(usize, usize)> = built
+        .iter()
+        .map(|b| family::dimensions(&inc, &b.grouping, &b.first.points))
+        .collect();
+    Ok(component_class(&dims, &dofs))
+}
+
+/// [`exact_class`] with every sample of every family built first.
+fn exact_class_eager(inc: &Incidence, pattern: &Pattern, seed: u64) -> Result<String> {
+    let (built, forced_built) = family::realized(inc, EXACT_SAMPLES, seed);
+    if !forced_built {
+        return Ok(check_exact(pattern, seed)?.class);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5EED);
+    let dofs: Vec<usize> = built
+        .iter()
+        .map(|(_, samples)| exact_rank(inc, samples, &mut rng).1)
+        .collect();
+    let dims: Vec<(usize, usize)> = built
+        .iter()
+        .map(|(g, samples)| family::dimensions(inc, g, &samples[0].points))
+        .collect();
+    Ok(component_class(&dims, &dofs))
+}
+
+/// The class over the families that are components, by their dimensions.
+fn component_class(dims: &[(usize, usize)], dofs: &[usize]) -> String {
+    let component_dofs: Vec<usize> = family::components_by_dimension(dims)
+        .into_iter()
+        .zip(dofs)
+        .filter_map(|(component, &dof)| component.then_some(dof))
+        .collect();
+    class_of(&component_dofs, true).0.to_string()
+}
+
+/// [`exact_rank`]'s degrees of freedom for a family of which only the first
+/// sample is built: the later samples are built as they are needed, with
+/// the seeds [`family::realized`] gives them. `None` when one of them does
+/// not build.
+fn first_rank(
+    inc: &Incidence,
+    b: &family::FirstBuilt,
+    seed: u64,
+    rng: &mut ChaCha8Rng,
+) -> Option<usize> {
+    let mut best = (0, usize::MAX);
+    for s in 0..EXACT_SAMPLES as u64 {
+        let later;
+        let sample = if s == 0 {
+            &b.first
+        } else {
+            later = b.sample(inc, seed, s).ok()?;
+            &later
+        };
+        best = better(best, sample_rank(inc, sample, rng));
+        if best.1 == 0 {
+            break;
+        }
+    }
+    Some(best.1)
+}
+
+/// The rank and degrees of freedom of one sample, its auxiliary points
+/// from `rng`.
+fn sample_rank(inc: &Incidence, s: &Realization<Fp>, rng: &mut ChaCha8Rng) -> (usize, usize) {
+    let f =
+        structure(inc, s, &mut || Fp::random(rng)).expect("the points of each part are distinct");
+    let r = structured_rank(&f);
+    (
+        r,
+        (3 * f.points.len()).saturating_sub(r + trivial_dimension(&f.points)),
+    )
+}
+
+/// The best so far after one more sample's `(rank, dof)`: the largest
+/// rank, and the fewest degrees of freedom where the rank grew.
+fn better(best: (usize, usize), (r, dof): (usize, usize)) -> (usize, usize) {
+    if r > best.0 || best.1 == usize::MAX {
+        (r.max(best.0), dof.min(best.1))
+    } else {
+        best
+    }
 }
 
 /// The largest rank and smallest degrees of freedom over a family's samples,
@@ -172,13 +257,7 @@ fn exact_rank(
 ) -> (usize, usize) {
     let mut best = (0, usize::MAX);
     for s in samples {
-        let f = structure(inc, s, &mut || Fp::random(rng))
-            .expect("the points of each part are distinct");
-        let r = structured_rank(&f);
-        let dof = (3 * f.points.len()).saturating_sub(r + trivial_dimension(&f.points));
-        if r > best.0 || best.1 == usize::MAX {
-            best = (r.max(best.0), dof.min(best.1));
-        }
+        best = better(best, sample_rank(inc, s, rng));
         if best.1 == 0 {
             break;
         }

@@ -107,6 +107,7 @@ fn structured_rank_is_the_matrix_rank() {
                 let dense = try_framework(&inc, s, &mut || Fp::random(&mut a)).unwrap();
                 let structured = structure(&inc, s, &mut || Fp::random(&mut b)).unwrap();
                 assert_eq!(dense.points, structured.points);
+                rows_hold_at_the_points(&structured);
                 assert_eq!(
                     structured_rank(&structured),
                     rank_fp(&dense.matrix),
@@ -118,6 +119,33 @@ fn structured_rank_is_the_matrix_rank() {
         }
     }
     assert!(checked > 1000, "{checked}");
+}
+
+/// Each row of an exact rigidity matrix states a fact about the points: a
+/// bar's direction is the difference of its points, and an affine point is
+/// the combination its coefficients give (`p_c + sum coef p_t = 0`, the
+/// coefficients summing to -1).
+fn rows_hold_at_the_points(s: &rgc::rigidity::framework::Structure<Fp>) {
+    use rgc::rigidity::framework::Row;
+    for row in &s.rows {
+        match *row {
+            Row::Bar { a, b, d } => {
+                for (k, &dk) in d.iter().enumerate() {
+                    assert_eq!(dk, s.points[a][k] - s.points[b][k]);
+                }
+            }
+            Row::Affine { c, terms, len } => {
+                let sum = terms[..len].iter().fold(Fp::ZERO, |acc, t| acc + t.1);
+                assert_eq!(sum, -Fp::ONE);
+                for k in 0..3 {
+                    let at = terms[..len].iter().fold(s.points[c][k], |acc, &(t, coef)| {
+                        acc + coef * s.points[t][k]
+                    });
+                    assert_eq!(at, Fp::ZERO);
+                }
+            }
+        }
+    }
 }
 
 /// The audit's class is the full verdict's class on every small candidate.
