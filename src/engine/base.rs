@@ -23,8 +23,9 @@ pub(super) struct Found {
 /// Exact verdicts of induced patterns, shared by all runs.
 #[derive(Default)]
 struct Verdicts {
-    /// By canonical form: one exact rank per isomorphism class.
-    canonical: FxHashMap<String, bool>,
+    /// By canonical pattern (contacts sorted): one exact rank per
+    /// isomorphism class, without formatting the canonical form as text.
+    canonical: FxHashMap<Pattern, bool>,
     /// By the pattern as induced: the same motif induces the same few
     /// labelings again and again, and hashing one is far cheaper than its
     /// canonical form.
@@ -67,7 +68,8 @@ impl State<'_> {
         if let Some(&known) = VERDICTS.lock().expect("verdict cache").raw.get(&p) {
             return known;
         }
-        let key = crate::rule_file::canonical_form(&p);
+        let mut key = crate::enumerate::canonical_pattern(&p);
+        key.contacts.sort_unstable();
         let known = VERDICTS
             .lock()
             .expect("verdict cache")
