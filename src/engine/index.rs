@@ -44,39 +44,59 @@ pub(super) fn accepts(k: NodeKind) -> [bool; 3] {
     }
 }
 
-/// A host node's neighbours: `at_least[c][m - 1]` of them are of class `c`
-/// and share at least `m` contacts with it.
-#[derive(Clone, Copy, Debug, Default)]
+/// A host node's neighbours: `at_least[slot(c, m)]` of them are of class
+/// `c` and share at least `m` contacts with it; the last slot is always 0.
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Profile {
-    at_least: [[u32; CAP]; 3],
+    at_least: [u32; 3 * CAP + 1],
 }
+
+impl Default for Profile {
+    fn default() -> Self {
+        Profile {
+            at_least: [0; 3 * CAP + 1],
+        }
+    }
+}
+
+/// The slot of class `c` and at least `m` contacts (1 to [`CAP`]) in a [`Profile`].
+fn slot(c: usize, m: usize) -> u8 {
+    (c * CAP + m - 1) as u8
+}
+
+/// The slot that is always 0.
+const NONE: u8 = 3 * CAP as u8;
 
 impl Profile {
     /// Free rods among the neighbours.
     pub fn free_rods(&self) -> u32 {
-        self.at_least[0][0]
+        self.at_least[slot(0, 1) as usize]
+    }
+
+    /// Counts a neighbour of class `c` sharing `m` contacts.
+    fn add(&mut self, c: usize, m: usize) {
+        for k in 1..=m.min(CAP) {
+            self.at_least[slot(c, k) as usize] += 1;
+        }
     }
 
     /// Whether every Hall condition of `needs` holds.
     pub fn admits(&self, needs: &Needs) -> bool {
+        let p = &self.at_least;
         needs.0.iter().all(|h| {
-            let fitting: u32 = (0..3)
-                .filter(|&c| h.min[c] > 0)
-                .map(|c| self.at_least[c][h.min[c] as usize - 1])
-                .sum();
-            fitting >= h.need
+            p[h.slots[0] as usize] + p[h.slots[1] as usize] + p[h.slots[2] as usize] >= h.need
         })
     }
 }
 
 /// One Hall condition: the host neighbours that fit some demand of a set
-/// must number at least the set's size. A neighbour of class `c` fits when
-/// it shares at least `min[c]` contacts with the host (0: no demand of the
-/// set accepts class `c`).
+/// must number at least the set's size. `slots[c]` counts the neighbours
+/// of class `c` that fit (the [`Profile`] slot of the least contacts a
+/// demand of the set accepts from class `c`, or [`NONE`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 struct Hall {
     need: u32,
-    min: [u8; 3],
+    slots: [u8; 3],
 }
 
 /// The Hall conditions of one pattern node's neighbours on its host's [`Profile`].
@@ -104,27 +124,47 @@ impl Needs {
                 None => types.push((key, 1)),
             }
         }
-        let halls = hall_sets(types.len())
+        let halls: Vec<Hall> = hall_sets(types.len())
             .into_iter()
             .map(|set| {
-                let mut h = Hall {
-                    need: 0,
-                    min: [0; 3],
-                };
+                let mut need = 0;
+                let mut least = [usize::MAX; 3];
                 for (i, &((k, m), n)) in types.iter().enumerate() {
                     if set & (1 << i) == 0 {
                         continue;
                     }
-                    h.need += n;
+                    need += n;
                     for (c, ok) in accepts(k).into_iter().enumerate() {
-                        if ok && (h.min[c] == 0 || (m as u8) < h.min[c]) {
-                            h.min[c] = m as u8;
+                        if ok {
+                            least[c] = least[c].min(m);
                         }
                     }
                 }
-                h
+                let slots = [0, 1, 2].map(|c| match least[c] {
+                    usize::MAX => NONE,
+                    m => slot(c, m),
+                });
+                Hall { need, slots }
             })
             .collect();
+        // A condition is implied by one that needs as many and accepts no
+        // more from any class (a higher slot of a class counts fewer).
+        let implies = |b: &Hall, a: &Hall| {
+            b.need >= a.need
+                && (0..3)
+                    .all(|c| b.slots[c] == NONE || (a.slots[c] != NONE && a.slots[c] <= b.slots[c]))
+        };
+        let mut kept: Vec<Hall> = Vec::new();
+        for (i, a) in halls.iter().enumerate() {
+            let implied = halls
+                .iter()
+                .enumerate()
+                .any(|(j, b)| j != i && implies(b, a) && (b != a || j < i));
+            if !implied {
+                kept.push(a.clone());
+            }
+        }
+        let halls = kept;
         Needs(halls)
     }
 }
@@ -168,55 +208,72 @@ impl CommonNeeds {
     }
 }
 
-/// The largest pattern eccentricity whose ball [`RodView`] measures.
+/// The largest pattern eccentricity whose ball a rod task measures.
 pub(super) const MAX_RADIUS: usize = 4;
 
-/// What a rods-only rule needs to know of a free rod `r`'s surroundings in
-/// the free rods: a match with `r` on a pattern node of eccentricity `k`
-/// lies in the ball of radius `k` around `r`, and the pattern's cycles are
-/// cycles there.
-#[derive(Clone, Debug, Default)]
-pub(super) struct RodView {
-    /// The free neighbours' numbers of free neighbours, largest first.
-    pub free_degrees: Vec<u32>,
-    /// The cyclomatic number (contacts − rods + 1) of the free rods within
-    /// each distance of `r` (0 to [`MAX_RADIUS`]).
-    pub cycles: [i64; MAX_RADIUS + 1],
-}
-
-/// One step of a rods-only rule's search from a start node: the pattern
-/// node the plain matcher maps next, its mapped neighbours, its degree and
-/// its distance from the start.
+/// One step of the plain matcher's search: the pattern node it maps next,
+/// its mapped neighbours, its degree, its distance from the start, and how
+/// many steps are done when all its neighbours in `back` are mapped.
 #[derive(Clone, Debug)]
 pub(super) struct Step {
     pub node: usize,
     pub back: Vec<usize>,
     pub degree: u32,
     pub distance: u8,
+    pub ready: usize,
 }
 
-/// The free rods within the index's radius of a rod task's rod, sorted, with
-/// their contacts among them as bit rows: a match of a rods-only rule lies
-/// there, and bit operations list a pattern node's candidates in the plain
-/// matcher's order (by node).
+/// Ball rods are told apart by their neighbours in the ball up to this many.
+const MAX_DEGREE: usize = 8;
+
+/// The free rods within the index's radius of a rod task's rod, sorted, as
+/// bits of one integer, with their contacts among them as bit rows: a match of
+/// a rods-only rule lies there, and bit operations list a pattern node's
+/// candidates in the plain matcher's order (by node). Larger balls (none at
+/// density 40, box 10) are searched on the cached lists instead.
 #[derive(Default)]
 struct Ball {
     /// Whether the rows are those of the current rod task.
     built: bool,
     rods: Vec<u32>,
-    distance: Vec<u8>,
-    /// Neighbours within the ball.
-    degree: Vec<u32>,
-    words: usize,
-    rows: Vec<u64>,
+    rows: Vec<Bits>,
+    /// By distance `d`: the rods within `d` of the root.
+    near: Vec<Bits>,
+    /// By `k`: the rods with at least `k` neighbours in the ball.
+    wide: [Bits; MAX_DEGREE + 1],
     root: usize,
 }
 
-/// Balls larger than this are not built; the matcher then searches the
-/// cached lists instead.
-const MAX_BALL: usize = 1024;
+/// A set of ball rods.
+type Bits = u128;
+
+/// The largest ball built: one set of bits.
+const MAX_BALL: usize = Bits::BITS as usize;
+
+/// The state of one search in a [`Ball`]: ball rods by pattern node, the
+/// rods used, and the map in host rods.
+#[derive(Default)]
+struct Search {
+    local: Vec<usize>,
+    used: Bits,
+    map: Vec<Option<u32>>,
+}
 
 impl Ball {
+    /// The rods that can carry `step`, given the map so far: not used,
+    /// touching the rods its mapped neighbours are on, within its pattern
+    /// distance of the root (a complete map is a homomorphism), and with at
+    /// least its neighbours in the ball (all of a complete map is).
+    fn candidates(&self, step: &Step, s: &Search) -> Bits {
+        let mut bits = !s.used
+            & self.near[step.distance as usize]
+            & self.wide[(step.degree as usize).min(MAX_DEGREE)];
+        for &b in &step.back {
+            bits &= self.rows[s.local[b]];
+        }
+        bits
+    }
+
     /// Calls `complete` on every complete map (host rods by pattern node)
     /// of the plain matcher's search from pattern node `start` on the root,
     /// in its order, until it returns true; whether it did.
@@ -225,52 +282,50 @@ impl Ball {
         start: usize,
         plan: &[Step],
         n: usize,
+        s: &mut Search,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> bool {
-        let mut local = vec![usize::MAX; n];
-        local[start] = self.root;
-        let mut used = vec![0u64; self.words];
-        used[self.root / 64] |= 1 << (self.root % 64);
-        let mut map = vec![None; n];
-        map[start] = Some(self.rods[self.root]);
-        self.extend(plan, &mut local, &mut used, &mut map, complete)
+        s.local.clear();
+        s.local.resize(n, usize::MAX);
+        s.local[start] = self.root;
+        s.used = 1 << self.root;
+        s.map.clear();
+        s.map.resize(n, None);
+        s.map[start] = Some(self.rods[self.root]);
+        self.viable(plan, s) && self.extend(plan, 0, s, complete)
+    }
+
+    /// Whether every step of `plan` whose mapped neighbours are all among
+    /// the starts has a candidate (else no map can be completed; checking
+    /// again deeper in the search costs more than it saves).
+    fn viable(&self, plan: &[Step], s: &Search) -> bool {
+        plan.iter()
+            .all(|step| step.ready != 0 || self.candidates(step, s) != 0)
     }
 
     fn extend(
         &self,
         plan: &[Step],
-        local: &mut [usize],
-        used: &mut [u64],
-        map: &mut [Option<u32>],
+        done: usize,
+        s: &mut Search,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> bool {
-        let Some((step, rest)) = plan.split_first() else {
-            return complete(map);
+        let Some(step) = plan.get(done) else {
+            return complete(&s.map);
         };
-        for k in 0..self.words {
-            let mut bits = !used[k];
-            for &w in &step.back {
-                bits &= self.rows[local[w] * self.words + k];
+        let mut bits = self.candidates(step, s);
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            s.local[step.node] = i;
+            s.map[step.node] = Some(self.rods[i]);
+            s.used |= 1 << i;
+            if self.extend(plan, done + 1, s, complete) {
+                return true;
             }
-            while bits != 0 {
-                let b = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let i = 64 * k + b;
-                // A complete map puts the node within its pattern distance
-                // of the root, with its neighbours in the ball.
-                if self.distance[i] > step.distance || self.degree[i] < step.degree {
-                    continue;
-                }
-                local[step.node] = i;
-                map[step.node] = Some(self.rods[i]);
-                used[k] |= 1 << b;
-                if self.extend(rest, local, used, map, complete) {
-                    return true;
-                }
-                used[k] &= !(1 << b);
-            }
+            s.used &= !(1 << i);
         }
-        map[step.node] = None;
+        s.map[step.node] = None;
         false
     }
 }
@@ -339,6 +394,15 @@ pub(super) struct Index {
     said_common: Vec<u8>,
     /// The largest ball a rod task measures.
     radius: usize,
+    /// The rods-only rules, by number.
+    rods_only: Vec<usize>,
+    /// Per rod task: the rod, its free neighbours' numbers of free
+    /// neighbours (largest first), and, once measured, the cyclomatic
+    /// number (contacts − rods + 1) of the free rods within each distance
+    /// of it (0 to [`MAX_RADIUS`]).
+    rod: u32,
+    free_degrees: Vec<u32>,
+    cycles: Option<[i64; MAX_RADIUS + 1]>,
     /// Per rod task: each rod's distance from the task's rod when `seen` is
     /// the task's stamp, and the rods by distance.
     distance: Vec<u8>,
@@ -347,6 +411,7 @@ pub(super) struct Index {
     /// A rod task's rod, then the free rods around it in breadth-first order.
     around: Vec<u32>,
     ball: Ball,
+    search: Search,
     /// The common neighbours of a pair task.
     common: Vec<Common>,
     /// The profiles of a pair task's ends.
@@ -456,11 +521,16 @@ impl Index {
                 .filter(|&e| e <= MAX_RADIUS)
                 .max()
                 .unwrap_or(0),
+            rods_only: (0..rules.len()).filter(|&k| rules[k].rods_only()).collect(),
+            rod: 0,
+            free_degrees: Vec::new(),
+            cycles: None,
             distance: vec![0; n_rods],
             seen: vec![0; n_rods],
             stamp: 0,
             around: Vec::new(),
             ball: Ball::default(),
+            search: Search::default(),
             common: Vec::new(),
             pair: (Profile::default(), Profile::default()),
         }
@@ -506,10 +576,7 @@ impl Index {
         }
         let mut p = Profile::default();
         for n in &list {
-            let row = &mut p.at_least[n.class as usize];
-            for slot in row.iter_mut().take((n.mult as usize).min(CAP)) {
-                *slot += 1;
-            }
+            p.add(n.class as usize, n.mult as usize);
         }
         self.profile[x as usize] = p;
         self.adjacency[x as usize] = list;
@@ -533,18 +600,55 @@ impl Index {
         self.adjacency[x as usize][i]
     }
 
-    /// What the rods-only rules need to know of free rod `r`.
-    pub fn rod_view(&mut self, state: &mut State, r: u32) -> RodView {
-        let mut view = RodView::default();
+    /// Starts rod task `r` (a free rod): its free neighbours' numbers of
+    /// free neighbours; the ball around it is measured when first needed.
+    pub fn start_rod(&mut self, state: &mut State, r: u32) {
         self.refresh(state, r);
+        self.rod = r;
+        self.cycles = None;
+        self.ball.built = false;
+        let mut free = std::mem::take(&mut self.free_degrees);
+        free.clear();
         for i in 0..self.adjacency[r as usize].len() {
             let n = self.adjacency[r as usize][i];
             if n.class == 0 {
-                view.free_degrees
-                    .push(self.profile(state, n.node).free_rods());
+                free.push(self.profile(state, n.node).free_rods());
             }
         }
-        view.free_degrees.sort_unstable_by(|a, b| b.cmp(a));
+        free.sort_unstable_by(|a, b| b.cmp(a));
+        self.free_degrees = free;
+    }
+
+    /// The rods-only rules, from rule `start` on, cyclically.
+    pub fn rods_only_from(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
+        let split = self.rods_only.partition_point(|&k| k < start);
+        self.rods_only[split..]
+            .iter()
+            .chain(&self.rods_only[..split])
+            .copied()
+    }
+
+    /// Whether the started rod task's rod can carry pattern node `v` of
+    /// rods-only `rule`: its free neighbours, by their own free neighbours,
+    /// can carry `v`'s neighbours, and the free rods within `v`'s
+    /// eccentricity have at least the pattern's independent cycles (checked
+    /// up to [`MAX_RADIUS`]).
+    pub fn rod_could_match(&mut self, state: &mut State, rule: &CompiledRule, v: usize) -> bool {
+        let want = &rule.neighbour_degrees[v];
+        let f = &self.free_degrees;
+        if want.len() > f.len() || want.iter().zip(f).any(|(w, f)| w > f) {
+            return false;
+        }
+        let e = rule.eccentricity[v];
+        e > MAX_RADIUS || self.cycles(state)[e] >= rule.cycles
+    }
+
+    /// The started rod task's cycles by distance, measured now if not yet.
+    fn cycles(&mut self, state: &mut State) -> [i64; MAX_RADIUS + 1] {
+        if let Some(c) = self.cycles {
+            return c;
+        }
+        let r = self.rod;
         // Breadth first through free rods; a contact counts at the larger
         // distance of its rods, once.
         self.stamp += 1;
@@ -582,14 +686,15 @@ impl Index {
             }
         }
         self.around = ball;
-        self.ball.built = false;
+        let mut cycles = [0; MAX_RADIUS + 1];
         let (mut n, mut e) = (0, 0);
         for k in 0..=MAX_RADIUS {
             n += rods[k];
             e += contacts[k];
-            view.cycles[k] = e - n + 1;
+            cycles[k] = e - n + 1;
         }
-        view
+        self.cycles = Some(cycles);
+        cycles
     }
 
     /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
@@ -604,27 +709,28 @@ impl Index {
         ball.rods.clear();
         ball.rods.extend_from_slice(&self.around);
         ball.rods.sort_unstable();
-        let n = ball.rods.len();
-        ball.words = n.div_ceil(64);
         ball.rows.clear();
-        ball.rows.resize(n * ball.words, 0);
-        ball.distance.clear();
-        ball.distance
-            .extend(ball.rods.iter().map(|&u| self.distance[u as usize]));
-        ball.degree.clear();
-        let position = |rods: &[u32], w: u32| rods.binary_search(&w).ok();
+        ball.near.clear();
+        ball.near.resize(self.radius + 1, 0);
+        ball.wide = [0; MAX_DEGREE + 1];
+        let position = |rods: &[u32], r: u32| rods.binary_search(&r).ok();
         for (i, &u) in ball.rods.iter().enumerate() {
-            let mut degree = 0;
+            let mut row: Bits = 0;
             for nb in &self.adjacency[u as usize] {
-                if nb.class != 0 || self.seen[nb.node as usize] != self.stamp {
-                    continue;
-                }
-                if let Some(j) = position(&ball.rods, nb.node) {
-                    ball.rows[i * ball.words + j / 64] |= 1 << (j % 64);
-                    degree += 1;
+                if nb.class == 0
+                    && self.seen[nb.node as usize] == self.stamp
+                    && let Some(j) = position(&ball.rods, nb.node)
+                {
+                    row |= 1 << j;
                 }
             }
-            ball.degree.push(degree);
+            ball.rows.push(row);
+            for d in self.distance[u as usize] as usize..=self.radius {
+                ball.near[d] |= 1 << i;
+            }
+            for k in 0..=(row.count_ones() as usize).min(MAX_DEGREE) {
+                ball.wide[k] |= 1 << i;
+            }
         }
         ball.root = position(&ball.rods, self.around[0]).expect("the root is in its ball");
         ball.built = true;
@@ -643,10 +749,10 @@ impl Index {
         n: usize,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> Option<bool> {
-        if eccentricity > self.radius || !self.build_ball() {
+        if eccentricity > self.radius || self.cycles.is_none() || !self.build_ball() {
             return None;
         }
-        Some(self.ball.search(start, plan, n, complete))
+        Some(self.ball.search(start, plan, n, &mut self.search, complete))
     }
 
     /// Starts pair task `x`, `y`, with `m` contacts between them: their
