@@ -67,7 +67,17 @@ fn slot(c: usize, m: usize) -> u8 {
 /// The slot that is always 0.
 const NONE: u8 = 3 * CAP as u8;
 
+/// Bodies with more neighbours than this are not profiled.
+const LARGE: usize = 256;
+
 impl Profile {
+    /// A profile every [`Needs`] admits.
+    const ANY: Profile = {
+        let mut at_least = [u32::MAX / 4; 3 * CAP + 1];
+        at_least[NONE as usize] = 0;
+        Profile { at_least }
+    };
+
     /// Free rods among the neighbours.
     pub fn free_rods(&self) -> u32 {
         self.at_least[slot(0, 1) as usize]
@@ -416,6 +426,8 @@ pub(super) struct Index {
     common: Vec<Common>,
     /// The profiles of a pair task's ends.
     pair: (Profile, Profile),
+    /// Complete maps found by a survey.
+    maps: Vec<Option<u32>>,
 }
 
 /// Finds `item` in `list`, appending it if new; its position.
@@ -533,6 +545,7 @@ impl Index {
             search: Search::default(),
             common: Vec::new(),
             pair: (Profile::default(), Profile::default()),
+            maps: Vec::new(),
         }
     }
 
@@ -583,10 +596,24 @@ impl Index {
         self.fresh[x as usize] = true;
     }
 
-    /// The profile of node `x` (a current node).
+    /// The profile of node `x` (a current node); for a body of more than
+    /// [`LARGE`] neighbours one that admits everything, so its list, which
+    /// changes with most merges, is built only when walked.
     pub fn profile(&mut self, state: &mut State, x: u32) -> Profile {
+        if !self.fresh[x as usize] && state.class(x).is_some() && state.degree(x) > LARGE {
+            return Profile::ANY;
+        }
         self.refresh(state, x);
         self.profile[x as usize]
+    }
+
+    /// Scratch for complete maps, handed back with [`Index::give_maps`].
+    pub fn take_maps(&mut self) -> Vec<Option<u32>> {
+        std::mem::take(&mut self.maps)
+    }
+
+    pub fn give_maps(&mut self, maps: Vec<Option<u32>>) {
+        self.maps = maps;
     }
 
     /// The number of neighbours of node `x`, caching its list.
@@ -760,12 +787,12 @@ impl Index {
     pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32, m: usize) {
         let (px, py) = (self.profile(state, x), self.profile(state, y));
         self.pair = (px, py);
-        let (small, large, flip) =
-            if self.adjacency[x as usize].len() <= self.adjacency[y as usize].len() {
-                (x, y, false)
-            } else {
-                (y, x, true)
-            };
+        let (small, large, flip) = if state.degree(x) <= state.degree(y) {
+            (x, y, false)
+        } else {
+            (y, x, true)
+        };
+        self.refresh(state, small);
         self.common.clear();
         for n in &self.adjacency[small as usize] {
             if n.node == large {

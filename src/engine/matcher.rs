@@ -402,7 +402,7 @@ impl State<'_> {
     }
 
     /// Number of contacts or neighbouring nodes of node `x`, the cost of listing its neighbours.
-    fn degree(&self, x: u32) -> usize {
+    pub(super) fn degree(&self, x: u32) -> usize {
         if self.class(x).is_some() {
             self.nodes[x as usize].adj.len()
         } else {
@@ -464,14 +464,15 @@ impl State<'_> {
             }
             map[b] = Some(y);
         }
-        let found = match (index, b) {
-            (Some(ix), None) => rule.plans[a]
-                .as_ref()
-                .is_some_and(|plan| self.extend_indexed(ix, rule, plan, map, rules)),
-            (Some(ix), Some((b, _))) => rule.pair_plans[a][b]
-                .as_ref()
-                .is_some_and(|plan| self.extend_indexed(ix, rule, plan, map, rules)),
-            (None, _) => self.extend(rule, map, rules),
+        let found = match index {
+            Some(ix) => {
+                let plan = match b {
+                    None => rule.plans[a].as_ref(),
+                    Some((b, _)) => rule.pair_plans[a][b].as_ref(),
+                };
+                plan.is_some_and(|plan| self.search_indexed(ix, rule, plan, map, rules))
+            }
+            None => self.extend(rule, map, rules),
         };
         if !found {
             return None;
@@ -603,6 +604,110 @@ impl State<'_> {
         false
     }
 
+    /// [`State::extend`] with the index: the complete maps are first
+    /// counted, up to two, in the cheapest order (the plain order may walk a
+    /// body's thousands of neighbours where another reaches the same nodes
+    /// through a rod). None: no match. One: the plain search would check
+    /// that one alone. More: the plain order decides which is met first.
+    fn search_indexed(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        plan: &[Step],
+        map: &mut [Option<u32>],
+        rules: RuleSet,
+    ) -> bool {
+        let mut found = ix.take_maps();
+        found.clear();
+        self.survey(ix, rule, map, 2, &mut found);
+        let n = map.len();
+        let matched = match found.len() / n {
+            0 => false,
+            1 => {
+                map.copy_from_slice(&found);
+                self.complete(rule, map, rules)
+            }
+            _ => self.extend_indexed(ix, rule, plan, map, rules),
+        };
+        ix.give_maps(found);
+        matched
+    }
+
+    /// Appends the complete maps extending `map` to `out` until it holds
+    /// `limit` of them (then true), mapping next, among the pattern nodes
+    /// with the most mapped neighbours, one with a host among them of the
+    /// fewest neighbours, whose list is walked.
+    fn survey(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        map: &mut [Option<u32>],
+        limit: usize,
+        out: &mut Vec<Option<u32>>,
+    ) -> bool {
+        let n = map.len();
+        let mut degrees = [0usize; 16];
+        for (w, m) in map.iter().enumerate().take(16) {
+            if let Some(h) = m {
+                degrees[w] = self.degree(*h);
+            }
+        }
+        let mut best: Option<((usize, usize), usize, usize)> = None;
+        for v in (0..n).filter(|&v| map[v].is_none()) {
+            let (mut m, mut d, mut at) = (0, usize::MAX, 0);
+            for &w in &rule.neighbours[v] {
+                if let Some(h) = map[w] {
+                    m += 1;
+                    let dw = degrees.get(w).copied().unwrap_or_else(|| self.degree(h));
+                    if dw < d {
+                        (d, at) = (dw, w);
+                    }
+                }
+            }
+            if m == 0 {
+                continue;
+            }
+            let key = (usize::MAX - m, d);
+            if best.is_none_or(|(c, _, _)| key < c) {
+                best = Some((key, v, at));
+            }
+        }
+        let Some((_, v, w)) = best else {
+            if map.iter().all(Option::is_some) {
+                out.extend_from_slice(map);
+            }
+            return out.len() >= limit * n;
+        };
+        let anchor = map[w].expect("mapped");
+        let fits_v = accepts(rule.kinds[v]);
+        let (need, degree) = (rule.between[v][w].len(), rule.neighbours[v].len());
+        for i in 0..ix.n_neighbours(self, anchor) {
+            let y = ix.neighbour(anchor, i);
+            if !fits_v[y.class as usize] || (y.mult as usize) < need {
+                continue;
+            }
+            let y = y.node;
+            if self.degree(y) < degree
+                || map.contains(&Some(y))
+                || rule.neighbours[v].iter().any(|&u| {
+                    u != w
+                        && map[u]
+                            .is_some_and(|hu| self.multiplicity(y, hu) < rule.between[v][u].len())
+                })
+                || !ix.profile(self, y).admits(&rule.needs[v])
+            {
+                continue;
+            }
+            map[v] = Some(y);
+            let full = self.survey(ix, rule, map, limit, out);
+            map[v] = None;
+            if full {
+                return true;
+            }
+        }
+        false
+    }
+
     /// [`State::extend`] on the index's cached neighbour lists, along the
     /// steps it would take (`plan`): the same candidates in the same order,
     /// so the same complete maps in the same order, except under a
@@ -670,18 +775,19 @@ impl State<'_> {
     ) -> bool {
         rest.iter().all(|step| {
             let v = step.node;
-            let Some((w, h, len)) = step
+            let Some((w, h, degree)) = step
                 .back
                 .iter()
-                .filter_map(|&w| map[w].map(|h| (w, h)))
-                .map(|(w, h)| (w, h, ix.n_neighbours(self, h)))
+                .filter_map(|&w| map[w].map(|h| (w, h, self.degree(h))))
                 .min_by_key(|t| t.2)
             else {
                 return true;
             };
-            if len > LOOK_AHEAD {
+            // A rod's contacts bound its neighbours: long lists stay unbuilt.
+            if degree > LOOK_AHEAD {
                 return true;
             }
+            let len = ix.n_neighbours(self, h);
             let fits_v = accepts(rule.kinds[v]);
             (0..len).any(|i| {
                 let y = ix.neighbour(h, i);
