@@ -251,8 +251,15 @@ struct Ball {
     near: Vec<Bits>,
     /// By `k`: the rods with at least `k` neighbours in the ball.
     wide: [Bits; MAX_DEGREE + 1],
+    /// By distance `d` and `k` up to [`MAX_CORE`], once needed: the
+    /// `k`-core of the rods within `d` of the root (a match with no node
+    /// of fewer than `k` neighbours, within `d`, lies there).
+    core: Vec<[Option<Bits>; MAX_CORE + 1]>,
     root: usize,
 }
+
+/// The largest core order a [`Ball`] computes.
+const MAX_CORE: usize = 4;
 
 /// A set of ball rods.
 type Bits = u128;
@@ -266,6 +273,8 @@ const MAX_BALL: usize = Bits::BITS as usize;
 struct Search {
     local: Vec<usize>,
     used: Bits,
+    /// The rods a match can use.
+    within: Bits,
     map: Vec<Option<u32>>,
 }
 
@@ -276,12 +285,33 @@ impl Ball {
     /// least its neighbours in the ball (all of a complete map is).
     fn candidates(&self, step: &Step, s: &Search) -> Bits {
         let mut bits = !s.used
+            & s.within
             & self.near[step.distance as usize]
             & self.wide[(step.degree as usize).min(MAX_DEGREE)];
         for &b in &step.back {
             bits &= self.rows[s.local[b]];
         }
         bits
+    }
+
+    /// The `k`-core of the ball rods `set`: its rods with at least `k`
+    /// neighbours in it, repeatedly.
+    fn peel(&self, mut set: Bits, k: u32) -> Bits {
+        loop {
+            let mut kept = set;
+            let mut bits = set;
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if (self.rows[i] & set).count_ones() < k {
+                    kept &= !(1 << i);
+                }
+            }
+            if kept == set {
+                return set;
+            }
+            set = kept;
+        }
     }
 
     /// Calls `complete` on every complete map (host rods by pattern node)
@@ -295,6 +325,9 @@ impl Ball {
         s: &mut Search,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> bool {
+        if s.within & (1 << self.root) == 0 {
+            return false;
+        }
         s.local.clear();
         s.local.resize(n, usize::MAX);
         s.local[start] = self.root;
@@ -406,6 +439,10 @@ pub(super) struct Index {
     radius: usize,
     /// The rods-only rules, by number.
     rods_only: Vec<usize>,
+    /// Each rod's core number (up to the rods-only rules' largest least
+    /// degree) among the rods free when the index was made: rods only
+    /// leave the free rods, so a core of theirs now lies in that core.
+    core: Vec<u8>,
     /// Per rod task: the rod, its free neighbours' numbers of free
     /// neighbours (largest first), and, once measured, the cyclomatic
     /// number (contacts − rods + 1) of the free rods within each distance
@@ -416,6 +453,8 @@ pub(super) struct Index {
     /// Per rod task: each rod's distance from the task's rod when `seen` is
     /// the task's stamp, and the rods by distance.
     distance: Vec<u8>,
+    /// Each rod's place in the rod task's [`Ball`], when built.
+    slot: Vec<u8>,
     seen: Vec<u32>,
     stamp: u32,
     /// A rod task's rod, then the free rods around it in breadth-first order.
@@ -426,6 +465,9 @@ pub(super) struct Index {
     common: Vec<Common>,
     /// The profiles of a pair task's ends.
     pair: (Profile, Profile),
+    /// A pair task's ends, and whether `common` lists their common neighbours.
+    pair_nodes: (u32, u32),
+    common_known: bool,
     /// Complete maps found by a survey.
     maps: Vec<Option<u32>>,
 }
@@ -439,7 +481,14 @@ fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
 }
 
 impl Index {
-    pub fn new(n_rods: usize, rules: &[CompiledRule], audit: bool) -> Self {
+    pub fn new(state: &mut State, rules: &[CompiledRule], audit: bool) -> Self {
+        let n_rods = state.g.n_nodes();
+        let max_core = rules
+            .iter()
+            .filter(|r| r.rods_only())
+            .map(|r| r.min_degree)
+            .max()
+            .unwrap_or(0);
         let (mut needs, mut commons) = (Vec::new(), Vec::new());
         let entries = rules
             .iter()
@@ -534,10 +583,12 @@ impl Index {
                 .max()
                 .unwrap_or(0),
             rods_only: (0..rules.len()).filter(|&k| rules[k].rods_only()).collect(),
+            core: free_cores(state, max_core.min(u8::MAX as usize) as u8),
             rod: 0,
             free_degrees: Vec::new(),
             cycles: None,
             distance: vec![0; n_rods],
+            slot: vec![0; n_rods],
             seen: vec![0; n_rods],
             stamp: 0,
             around: Vec::new(),
@@ -545,6 +596,8 @@ impl Index {
             search: Search::default(),
             common: Vec::new(),
             pair: (Profile::default(), Profile::default()),
+            pair_nodes: (0, 0),
+            common_known: false,
             maps: Vec::new(),
         }
     }
@@ -661,6 +714,9 @@ impl Index {
     /// eccentricity have at least the pattern's independent cycles (checked
     /// up to [`MAX_RADIUS`]).
     pub fn rod_could_match(&mut self, state: &mut State, rule: &CompiledRule, v: usize) -> bool {
+        if (self.core[self.rod as usize] as usize) < rule.min_degree {
+            return false;
+        }
         let want = &rule.neighbour_degrees[v];
         let f = &self.free_degrees;
         if want.len() > f.len() || want.iter().zip(f).any(|(w, f)| w > f) {
@@ -740,15 +796,15 @@ impl Index {
         ball.near.clear();
         ball.near.resize(self.radius + 1, 0);
         ball.wide = [0; MAX_DEGREE + 1];
-        let position = |rods: &[u32], r: u32| rods.binary_search(&r).ok();
+        // Ball rods by host rod, as `distance` (stamped by `seen`) is kept.
+        for (i, &u) in ball.rods.iter().enumerate() {
+            self.slot[u as usize] = i as u8;
+        }
         for (i, &u) in ball.rods.iter().enumerate() {
             let mut row: Bits = 0;
             for nb in &self.adjacency[u as usize] {
-                if nb.class == 0
-                    && self.seen[nb.node as usize] == self.stamp
-                    && let Some(j) = position(&ball.rods, nb.node)
-                {
-                    row |= 1 << j;
+                if nb.class == 0 && self.seen[nb.node as usize] == self.stamp {
+                    row |= 1 << self.slot[nb.node as usize];
                 }
             }
             ball.rows.push(row);
@@ -759,7 +815,9 @@ impl Index {
                 ball.wide[k] |= 1 << i;
             }
         }
-        ball.root = position(&ball.rods, self.around[0]).expect("the root is in its ball");
+        ball.core.clear();
+        ball.core.resize(self.radius + 1, [None; MAX_CORE + 1]);
+        ball.root = self.slot[self.around[0] as usize] as usize;
         ball.built = true;
         true
     }
@@ -772,6 +830,7 @@ impl Index {
         &mut self,
         start: usize,
         eccentricity: usize,
+        min_degree: usize,
         plan: &[Step],
         n: usize,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
@@ -779,6 +838,17 @@ impl Index {
         if eccentricity > self.radius || self.cycles.is_none() || !self.build_ball() {
             return None;
         }
+        let (d, k) = (eccentricity, min_degree.min(MAX_CORE));
+        let ball = &mut self.ball;
+        let within = match ball.core[d][k] {
+            Some(core) => core,
+            None => {
+                let core = ball.peel(ball.near[d], k as u32);
+                ball.core[d][k] = Some(core);
+                core
+            }
+        };
+        self.search.within = within;
         Some(self.ball.search(start, plan, n, &mut self.search, complete))
     }
 
@@ -787,26 +857,8 @@ impl Index {
     pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32, m: usize) {
         let (px, py) = (self.profile(state, x), self.profile(state, y));
         self.pair = (px, py);
-        let (small, large, flip) = if state.degree(x) <= state.degree(y) {
-            (x, y, false)
-        } else {
-            (y, x, true)
-        };
-        self.refresh(state, small);
-        self.common.clear();
-        for n in &self.adjacency[small as usize] {
-            if n.node == large {
-                continue;
-            }
-            let m_large = state.multiplicity(large, n.node) as u32;
-            if m_large > 0 {
-                self.common.push(if flip {
-                    (n.class, m_large, n.mult)
-                } else {
-                    (n.class, n.mult, m_large)
-                });
-            }
-        }
+        self.pair_nodes = (x, y);
+        self.common_known = false;
         self.said_x.fill(0);
         self.said_y.fill(0);
         self.said_common.fill(0);
@@ -826,9 +878,7 @@ impl Index {
             }) {
                 i = s.skip_b;
             } else {
-                if ask(&mut self.said_common, e.common, || {
-                    self.commons[e.common].admitted_by(&self.common)
-                }) {
+                if self.common_admits(state, e.common) {
                     for (w, bits) in self.candidates.iter_mut().zip(&s.rules) {
                         *w |= bits;
                     }
@@ -867,16 +917,92 @@ impl Index {
     }
 
     /// Whether the started pair can carry `e` (given enough contacts between them).
-    pub fn pair_could_match(&mut self, e: &PairEntry) -> bool {
+    pub fn pair_could_match(&mut self, state: &mut State, e: &PairEntry) -> bool {
         let (px, py) = self.pair;
         ask(&mut self.said_x, e.need_a, || {
             px.admits(&self.needs[e.need_a])
         }) && ask(&mut self.said_y, e.need_b, || {
             py.admits(&self.needs[e.need_b])
-        }) && ask(&mut self.said_common, e.common, || {
-            self.commons[e.common].admitted_by(&self.common)
+        }) && self.common_admits(state, e.common)
+    }
+
+    /// Whether the started pair's common neighbours admit [`CommonNeeds`]
+    /// `k`; they are listed when first needed (most pairs fail on their ends).
+    fn common_admits(&mut self, state: &mut State, k: usize) -> bool {
+        if self.said_common[k] == 0 && !self.common_known {
+            let (x, y) = self.pair_nodes;
+            let (small, large, flip) = if state.degree(x) <= state.degree(y) {
+                (x, y, false)
+            } else {
+                (y, x, true)
+            };
+            self.refresh(state, small);
+            self.common.clear();
+            for n in &self.adjacency[small as usize] {
+                if n.node == large {
+                    continue;
+                }
+                let m_large = state.multiplicity(large, n.node) as u32;
+                if m_large > 0 {
+                    self.common.push(if flip {
+                        (n.class, m_large, n.mult)
+                    } else {
+                        (n.class, n.mult, m_large)
+                    });
+                }
+            }
+            self.common_known = true;
+        }
+        ask(&mut self.said_common, k, || {
+            self.commons[k].admitted_by(&self.common)
         })
     }
+}
+
+/// Each rod's core number among the free rods, up to `max`.
+fn free_cores(state: &State, max: u8) -> Vec<u8> {
+    let g = state.g;
+    let n = g.n_nodes();
+    let mut core = vec![0u8; n];
+    if max == 0 {
+        return core;
+    }
+    let mut alive: Vec<bool> = (0..n as u32).map(|r| state.is_free_rod(r)).collect();
+    // The contact graph is simple: a rod's free neighbours are its degree.
+    let mut degree: Vec<u32> = (0..n as u32)
+        .map(|r| {
+            g.neighbors(r)
+                .iter()
+                .filter(|&&(x, _)| alive[x as usize])
+                .count() as u32
+        })
+        .collect();
+    let mut stack = Vec::new();
+    for k in 1..=max {
+        stack.extend((0..n).filter(|&r| alive[r] && degree[r] < u32::from(k)));
+        while let Some(r) = stack.pop() {
+            if !alive[r] {
+                continue;
+            }
+            alive[r] = false;
+            core[r] = k - 1;
+            for &(x, _) in g.neighbors(r as u32) {
+                let x = x as usize;
+                if alive[x] {
+                    degree[x] -= 1;
+                    if degree[x] < u32::from(k) {
+                        stack.push(x);
+                    }
+                }
+            }
+        }
+    }
+    for (c, a) in core.iter_mut().zip(alive) {
+        if a {
+            *c = max;
+        }
+    }
+    core
 }
 
 /// Condition `k`'s answer for the current task, asking `answer` once

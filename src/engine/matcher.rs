@@ -48,6 +48,9 @@ pub struct CompiledRule {
     pub(super) eccentricity: Vec<usize>,
     /// Adjacent pairs of pattern nodes − nodes + 1: the independent cycles.
     pub(super) cycles: i64,
+    /// The fewest neighbours of a pattern node: a rods-only match lies in
+    /// the free rods' core of that order.
+    pub(super) min_degree: usize,
     /// The plain matcher's search from each pattern node, and from each
     /// pattern contact (by its ends), if it reaches every node.
     plans: Vec<Option<Vec<Step>>>,
@@ -148,6 +151,7 @@ impl CompiledRule {
             .collect();
         let pairs: usize = neighbours.iter().map(Vec::len).sum::<usize>() / 2;
         let cycles = pairs as i64 - n as i64 + 1;
+        let min_degree = neighbours.iter().map(Vec::len).min().unwrap_or(0);
         let mut compiled = CompiledRule {
             id: rule.id.clone(),
             motif,
@@ -160,6 +164,7 @@ impl CompiledRule {
             neighbour_degrees,
             eccentricity,
             cycles,
+            min_degree,
             plans: Vec::new(),
             pair_plans: Vec::new(),
             orbit: (0..n).collect(),
@@ -499,6 +504,7 @@ impl State<'_> {
         let searched = ix.search_ball(
             v,
             rule.eccentricity[v],
+            rule.min_degree,
             plan,
             rule.kinds.len(),
             &mut |map| {

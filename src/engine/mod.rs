@@ -314,7 +314,7 @@ fn compress_engine(
         tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
     let mut index = (matching != Matching::Unindexed && !engine.extra.is_empty())
-        .then(|| Index::new(graph.n_nodes(), engine.extra, matching == Matching::Audited));
+        .then(|| Index::new(&mut state, engine.extra, matching == Matching::Audited));
     tasks.extend(
         (0..graph.n_nodes() as u32)
             .filter(|&r| graph.degree(r) >= 2)
@@ -574,7 +574,7 @@ fn pair_rules(
             if e.mult > m {
                 continue;
             }
-            if rule.pair_orbit[a][b] < (a, b) || !ix.pair_could_match(&e) {
+            if rule.pair_orbit[a][b] < (a, b) || !ix.pair_could_match(state, &e) {
                 assert!(
                     !ix.audit
                         || state
