@@ -236,8 +236,9 @@ pub(super) struct Step {
 /// Ball rods are told apart by their neighbours in the ball up to this many.
 const MAX_DEGREE: usize = 8;
 
-/// The free rods within the index's radius of a rod task's rod, sorted, as
-/// bits of one integer, with their contacts among them as bit rows: a match of
+/// The free rods within the index's radius of a rod task's rod (through
+/// rods of the least core the rods-only rules need), sorted, as bits of one
+/// integer, with their contacts among them as bit rows: a match of
 /// a rods-only rule lies there, and bit operations list a pattern node's
 /// candidates in the plain matcher's order (by node). Larger balls (none at
 /// density 40, box 10) are searched on the cached lists instead.
@@ -443,10 +444,13 @@ pub(super) struct Index {
     /// degree) among the rods free when the index was made: rods only
     /// leave the free rods, so a core of theirs now lies in that core.
     core: Vec<u8>,
+    /// The least core order of the rods-only rules.
+    min_core: u8,
     /// Per rod task: the rod, its free neighbours' numbers of free
     /// neighbours (largest first), and, once measured, the cyclomatic
-    /// number (contacts − rods + 1) of the free rods within each distance
-    /// of it (0 to [`MAX_RADIUS`]).
+    /// number (contacts − rods + 1) of the free rods of the least core
+    /// within each distance of it there (0 to [`MAX_RADIUS`]): a match
+    /// lies in that core, at most its pattern distances apart.
     rod: u32,
     free_degrees: Vec<u32>,
     cycles: Option<[i64; MAX_RADIUS + 1]>,
@@ -457,7 +461,8 @@ pub(super) struct Index {
     slot: Vec<u8>,
     seen: Vec<u32>,
     stamp: u32,
-    /// A rod task's rod, then the free rods around it in breadth-first order.
+    /// A rod task's rod, then the free rods of the least core around it in
+    /// breadth-first order.
     around: Vec<u32>,
     ball: Ball,
     search: Search,
@@ -584,6 +589,12 @@ impl Index {
                 .unwrap_or(0),
             rods_only: (0..rules.len()).filter(|&k| rules[k].rods_only()).collect(),
             core: free_cores(state, max_core.min(u8::MAX as usize) as u8),
+            min_core: rules
+                .iter()
+                .filter(|r| r.rods_only())
+                .map(|r| r.min_degree.min(u8::MAX as usize) as u8)
+                .min()
+                .unwrap_or(0),
             rod: 0,
             free_degrees: Vec::new(),
             cycles: None,
@@ -710,8 +721,8 @@ impl Index {
 
     /// Whether the started rod task's rod can carry pattern node `v` of
     /// rods-only `rule`: its free neighbours, by their own free neighbours,
-    /// can carry `v`'s neighbours, and the free rods within `v`'s
-    /// eccentricity have at least the pattern's independent cycles (checked
+    /// can carry `v`'s neighbours, and the free rods of the least core
+    /// within `v`'s eccentricity have at least the pattern's independent cycles (checked
     /// up to [`MAX_RADIUS`]).
     pub fn rod_could_match(&mut self, state: &mut State, rule: &CompiledRule, v: usize) -> bool {
         if (self.core[self.rod as usize] as usize) < rule.min_degree {
@@ -751,7 +762,8 @@ impl Index {
             self.refresh(state, u);
             for i in 0..self.adjacency[u as usize].len() {
                 let w = self.adjacency[u as usize][i];
-                if w.class != 0 {
+                // Rods outside the least core a rule needs are in no match.
+                if w.class != 0 || self.core[w.node as usize] < self.min_core {
                     continue;
                 }
                 let w = w.node as usize;
