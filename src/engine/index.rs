@@ -44,39 +44,69 @@ pub(super) fn accepts(k: NodeKind) -> [bool; 3] {
     }
 }
 
-/// A host node's neighbours: `at_least[c][m - 1]` of them are of class `c`
-/// and share at least `m` contacts with it.
-#[derive(Clone, Copy, Debug, Default)]
+/// A host node's neighbours: `at_least[slot(c, m)]` of them are of class
+/// `c` and share at least `m` contacts with it; the last slot is always 0.
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Profile {
-    at_least: [[u32; CAP]; 3],
+    at_least: [u32; 3 * CAP + 1],
 }
 
+impl Default for Profile {
+    fn default() -> Self {
+        Profile {
+            at_least: [0; 3 * CAP + 1],
+        }
+    }
+}
+
+/// The slot of class `c` and at least `m` contacts (1 to [`CAP`]) in a [`Profile`].
+fn slot(c: usize, m: usize) -> u8 {
+    (c * CAP + m - 1) as u8
+}
+
+/// The slot that is always 0.
+const NONE: u8 = 3 * CAP as u8;
+
+/// Bodies with more neighbours than this are not profiled.
+const LARGE: usize = 256;
+
 impl Profile {
+    /// A profile every [`Needs`] admits.
+    const ANY: Profile = {
+        let mut at_least = [u32::MAX / 4; 3 * CAP + 1];
+        at_least[NONE as usize] = 0;
+        Profile { at_least }
+    };
+
     /// Free rods among the neighbours.
     pub fn free_rods(&self) -> u32 {
-        self.at_least[0][0]
+        self.at_least[slot(0, 1) as usize]
+    }
+
+    /// Counts a neighbour of class `c` sharing `m` contacts.
+    fn add(&mut self, c: usize, m: usize) {
+        for k in 1..=m.min(CAP) {
+            self.at_least[slot(c, k) as usize] += 1;
+        }
     }
 
     /// Whether every Hall condition of `needs` holds.
     pub fn admits(&self, needs: &Needs) -> bool {
+        let p = &self.at_least;
         needs.0.iter().all(|h| {
-            let fitting: u32 = (0..3)
-                .filter(|&c| h.min[c] > 0)
-                .map(|c| self.at_least[c][h.min[c] as usize - 1])
-                .sum();
-            fitting >= h.need
+            p[h.slots[0] as usize] + p[h.slots[1] as usize] + p[h.slots[2] as usize] >= h.need
         })
     }
 }
 
 /// One Hall condition: the host neighbours that fit some demand of a set
-/// must number at least the set's size. A neighbour of class `c` fits when
-/// it shares at least `min[c]` contacts with the host (0: no demand of the
-/// set accepts class `c`).
+/// must number at least the set's size. `slots[c]` counts the neighbours
+/// of class `c` that fit (the [`Profile`] slot of the least contacts a
+/// demand of the set accepts from class `c`, or [`NONE`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 struct Hall {
     need: u32,
-    min: [u8; 3],
+    slots: [u8; 3],
 }
 
 /// The Hall conditions of one pattern node's neighbours on its host's [`Profile`].
@@ -104,27 +134,47 @@ impl Needs {
                 None => types.push((key, 1)),
             }
         }
-        let halls = hall_sets(types.len())
+        let halls: Vec<Hall> = hall_sets(types.len())
             .into_iter()
             .map(|set| {
-                let mut h = Hall {
-                    need: 0,
-                    min: [0; 3],
-                };
+                let mut need = 0;
+                let mut least = [usize::MAX; 3];
                 for (i, &((k, m), n)) in types.iter().enumerate() {
                     if set & (1 << i) == 0 {
                         continue;
                     }
-                    h.need += n;
+                    need += n;
                     for (c, ok) in accepts(k).into_iter().enumerate() {
-                        if ok && (h.min[c] == 0 || (m as u8) < h.min[c]) {
-                            h.min[c] = m as u8;
+                        if ok {
+                            least[c] = least[c].min(m);
                         }
                     }
                 }
-                h
+                let slots = [0, 1, 2].map(|c| match least[c] {
+                    usize::MAX => NONE,
+                    m => slot(c, m),
+                });
+                Hall { need, slots }
             })
             .collect();
+        // A condition is implied by one that needs as many and accepts no
+        // more from any class (a higher slot of a class counts fewer).
+        let implies = |b: &Hall, a: &Hall| {
+            b.need >= a.need
+                && (0..3)
+                    .all(|c| b.slots[c] == NONE || (a.slots[c] != NONE && a.slots[c] <= b.slots[c]))
+        };
+        let mut kept: Vec<Hall> = Vec::new();
+        for (i, a) in halls.iter().enumerate() {
+            let implied = halls
+                .iter()
+                .enumerate()
+                .any(|(j, b)| j != i && implies(b, a) && (b != a || j < i));
+            if !implied {
+                kept.push(a.clone());
+            }
+        }
+        let halls = kept;
         Needs(halls)
     }
 }
@@ -168,55 +218,103 @@ impl CommonNeeds {
     }
 }
 
-/// The largest pattern eccentricity whose ball [`RodView`] measures.
+/// The largest pattern eccentricity whose ball a rod task measures.
 pub(super) const MAX_RADIUS: usize = 4;
 
-/// What a rods-only rule needs to know of a free rod `r`'s surroundings in
-/// the free rods: a match with `r` on a pattern node of eccentricity `k`
-/// lies in the ball of radius `k` around `r`, and the pattern's cycles are
-/// cycles there.
-#[derive(Clone, Debug, Default)]
-pub(super) struct RodView {
-    /// The free neighbours' numbers of free neighbours, largest first.
-    pub free_degrees: Vec<u32>,
-    /// The cyclomatic number (contacts − rods + 1) of the free rods within
-    /// each distance of `r` (0 to [`MAX_RADIUS`]).
-    pub cycles: [i64; MAX_RADIUS + 1],
-}
-
-/// One step of a rods-only rule's search from a start node: the pattern
-/// node the plain matcher maps next, its mapped neighbours, its degree and
-/// its distance from the start.
+/// One step of the plain matcher's search: the pattern node it maps next,
+/// its mapped neighbours, its degree, its distance from the start, and how
+/// many steps are done when all its neighbours in `back` are mapped.
 #[derive(Clone, Debug)]
 pub(super) struct Step {
     pub node: usize,
     pub back: Vec<usize>,
     pub degree: u32,
     pub distance: u8,
+    pub ready: usize,
 }
 
-/// The free rods within the index's radius of a rod task's rod, sorted, with
-/// their contacts among them as bit rows: a match of a rods-only rule lies
-/// there, and bit operations list a pattern node's candidates in the plain
-/// matcher's order (by node).
+/// Ball rods are told apart by their neighbours in the ball up to this many.
+const MAX_DEGREE: usize = 8;
+
+/// The free rods within the index's radius of a rod task's rod (through
+/// rods of the least core the rods-only rules need), sorted, as bits of one
+/// integer, with their contacts among them as bit rows: a match of
+/// a rods-only rule lies there, and bit operations list a pattern node's
+/// candidates in the plain matcher's order (by node). Larger balls (none at
+/// density 40, box 10) are searched on the cached lists instead.
 #[derive(Default)]
 struct Ball {
     /// Whether the rows are those of the current rod task.
     built: bool,
     rods: Vec<u32>,
-    distance: Vec<u8>,
-    /// Neighbours within the ball.
-    degree: Vec<u32>,
-    words: usize,
-    rows: Vec<u64>,
+    rows: Vec<Bits>,
+    /// By distance `d`: the rods within `d` of the root.
+    near: Vec<Bits>,
+    /// By `k`: the rods with at least `k` neighbours in the ball.
+    wide: [Bits; MAX_DEGREE + 1],
+    /// By distance `d` and `k` up to [`MAX_CORE`], once needed: the
+    /// `k`-core of the rods within `d` of the root (a match with no node
+    /// of fewer than `k` neighbours, within `d`, lies there).
+    core: Vec<[Option<Bits>; MAX_CORE + 1]>,
     root: usize,
 }
 
-/// Balls larger than this are not built; the matcher then searches the
-/// cached lists instead.
-const MAX_BALL: usize = 1024;
+/// The largest core order a [`Ball`] computes.
+const MAX_CORE: usize = 4;
+
+/// A set of ball rods.
+type Bits = u128;
+
+/// The largest ball built: one set of bits.
+const MAX_BALL: usize = Bits::BITS as usize;
+
+/// The state of one search in a [`Ball`]: ball rods by pattern node, the
+/// rods used, and the map in host rods.
+#[derive(Default)]
+struct Search {
+    local: Vec<usize>,
+    used: Bits,
+    /// The rods a match can use.
+    within: Bits,
+    map: Vec<Option<u32>>,
+}
 
 impl Ball {
+    /// The rods that can carry `step`, given the map so far: not used,
+    /// touching the rods its mapped neighbours are on, within its pattern
+    /// distance of the root (a complete map is a homomorphism), and with at
+    /// least its neighbours in the ball (all of a complete map is).
+    fn candidates(&self, step: &Step, s: &Search) -> Bits {
+        let mut bits = !s.used
+            & s.within
+            & self.near[step.distance as usize]
+            & self.wide[(step.degree as usize).min(MAX_DEGREE)];
+        for &b in &step.back {
+            bits &= self.rows[s.local[b]];
+        }
+        bits
+    }
+
+    /// The `k`-core of the ball rods `set`: its rods with at least `k`
+    /// neighbours in it, repeatedly.
+    fn peel(&self, mut set: Bits, k: u32) -> Bits {
+        loop {
+            let mut kept = set;
+            let mut bits = set;
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if (self.rows[i] & set).count_ones() < k {
+                    kept &= !(1 << i);
+                }
+            }
+            if kept == set {
+                return set;
+            }
+            set = kept;
+        }
+    }
+
     /// Calls `complete` on every complete map (host rods by pattern node)
     /// of the plain matcher's search from pattern node `start` on the root,
     /// in its order, until it returns true; whether it did.
@@ -225,52 +323,53 @@ impl Ball {
         start: usize,
         plan: &[Step],
         n: usize,
+        s: &mut Search,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> bool {
-        let mut local = vec![usize::MAX; n];
-        local[start] = self.root;
-        let mut used = vec![0u64; self.words];
-        used[self.root / 64] |= 1 << (self.root % 64);
-        let mut map = vec![None; n];
-        map[start] = Some(self.rods[self.root]);
-        self.extend(plan, &mut local, &mut used, &mut map, complete)
+        if s.within & (1 << self.root) == 0 {
+            return false;
+        }
+        s.local.clear();
+        s.local.resize(n, usize::MAX);
+        s.local[start] = self.root;
+        s.used = 1 << self.root;
+        s.map.clear();
+        s.map.resize(n, None);
+        s.map[start] = Some(self.rods[self.root]);
+        self.viable(plan, s) && self.extend(plan, 0, s, complete)
+    }
+
+    /// Whether every step of `plan` whose mapped neighbours are all among
+    /// the starts has a candidate (else no map can be completed; checking
+    /// again deeper in the search costs more than it saves).
+    fn viable(&self, plan: &[Step], s: &Search) -> bool {
+        plan.iter()
+            .all(|step| step.ready != 0 || self.candidates(step, s) != 0)
     }
 
     fn extend(
         &self,
         plan: &[Step],
-        local: &mut [usize],
-        used: &mut [u64],
-        map: &mut [Option<u32>],
+        done: usize,
+        s: &mut Search,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> bool {
-        let Some((step, rest)) = plan.split_first() else {
-            return complete(map);
+        let Some(step) = plan.get(done) else {
+            return complete(&s.map);
         };
-        for k in 0..self.words {
-            let mut bits = !used[k];
-            for &w in &step.back {
-                bits &= self.rows[local[w] * self.words + k];
+        let mut bits = self.candidates(step, s);
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            s.local[step.node] = i;
+            s.map[step.node] = Some(self.rods[i]);
+            s.used |= 1 << i;
+            if self.extend(plan, done + 1, s, complete) {
+                return true;
             }
-            while bits != 0 {
-                let b = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let i = 64 * k + b;
-                // A complete map puts the node within its pattern distance
-                // of the root, with its neighbours in the ball.
-                if self.distance[i] > step.distance || self.degree[i] < step.degree {
-                    continue;
-                }
-                local[step.node] = i;
-                map[step.node] = Some(self.rods[i]);
-                used[k] |= 1 << b;
-                if self.extend(rest, local, used, map, complete) {
-                    return true;
-                }
-                used[k] &= !(1 << b);
-            }
+            s.used &= !(1 << i);
         }
-        map[step.node] = None;
+        s.map[step.node] = None;
         false
     }
 }
@@ -339,18 +438,43 @@ pub(super) struct Index {
     said_common: Vec<u8>,
     /// The largest ball a rod task measures.
     radius: usize,
+    /// The rods-only rules, by number.
+    rods_only: Vec<usize>,
+    /// Each rod's core number (up to the rods-only rules' largest least
+    /// degree) among the rods free when the index was made: rods only
+    /// leave the free rods, so a core of theirs now lies in that core.
+    core: Vec<u8>,
+    /// The least core order of the rods-only rules.
+    min_core: u8,
+    /// Per rod task: the rod, its free neighbours' numbers of free
+    /// neighbours (largest first), and, once measured, the cyclomatic
+    /// number (contacts − rods + 1) of the free rods of the least core
+    /// within each distance of it there (0 to [`MAX_RADIUS`]): a match
+    /// lies in that core, at most its pattern distances apart.
+    rod: u32,
+    free_degrees: Vec<u32>,
+    cycles: Option<[i64; MAX_RADIUS + 1]>,
     /// Per rod task: each rod's distance from the task's rod when `seen` is
     /// the task's stamp, and the rods by distance.
     distance: Vec<u8>,
+    /// Each rod's place in the rod task's [`Ball`], when built.
+    slot: Vec<u8>,
     seen: Vec<u32>,
     stamp: u32,
-    /// A rod task's rod, then the free rods around it in breadth-first order.
+    /// A rod task's rod, then the free rods of the least core around it in
+    /// breadth-first order.
     around: Vec<u32>,
     ball: Ball,
+    search: Search,
     /// The common neighbours of a pair task.
     common: Vec<Common>,
     /// The profiles of a pair task's ends.
     pair: (Profile, Profile),
+    /// A pair task's ends, and whether `common` lists their common neighbours.
+    pair_nodes: (u32, u32),
+    common_known: bool,
+    /// Complete maps found by a survey.
+    maps: Vec<Option<u32>>,
 }
 
 /// Finds `item` in `list`, appending it if new; its position.
@@ -362,7 +486,14 @@ fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
 }
 
 impl Index {
-    pub fn new(n_rods: usize, rules: &[CompiledRule], audit: bool) -> Self {
+    pub fn new(state: &mut State, rules: &[CompiledRule], audit: bool) -> Self {
+        let n_rods = state.g.n_nodes();
+        let max_core = rules
+            .iter()
+            .filter(|r| r.rods_only())
+            .map(|r| r.min_degree)
+            .max()
+            .unwrap_or(0);
         let (mut needs, mut commons) = (Vec::new(), Vec::new());
         let entries = rules
             .iter()
@@ -456,13 +587,29 @@ impl Index {
                 .filter(|&e| e <= MAX_RADIUS)
                 .max()
                 .unwrap_or(0),
+            rods_only: (0..rules.len()).filter(|&k| rules[k].rods_only()).collect(),
+            core: free_cores(state, max_core.min(u8::MAX as usize) as u8),
+            min_core: rules
+                .iter()
+                .filter(|r| r.rods_only())
+                .map(|r| r.min_degree.min(u8::MAX as usize) as u8)
+                .min()
+                .unwrap_or(0),
+            rod: 0,
+            free_degrees: Vec::new(),
+            cycles: None,
             distance: vec![0; n_rods],
+            slot: vec![0; n_rods],
             seen: vec![0; n_rods],
             stamp: 0,
             around: Vec::new(),
             ball: Ball::default(),
+            search: Search::default(),
             common: Vec::new(),
             pair: (Profile::default(), Profile::default()),
+            pair_nodes: (0, 0),
+            common_known: false,
+            maps: Vec::new(),
         }
     }
 
@@ -506,20 +653,31 @@ impl Index {
         }
         let mut p = Profile::default();
         for n in &list {
-            let row = &mut p.at_least[n.class as usize];
-            for slot in row.iter_mut().take((n.mult as usize).min(CAP)) {
-                *slot += 1;
-            }
+            p.add(n.class as usize, n.mult as usize);
         }
         self.profile[x as usize] = p;
         self.adjacency[x as usize] = list;
         self.fresh[x as usize] = true;
     }
 
-    /// The profile of node `x` (a current node).
+    /// The profile of node `x` (a current node); for a body of more than
+    /// [`LARGE`] neighbours one that admits everything, so its list, which
+    /// changes with most merges, is built only when walked.
     pub fn profile(&mut self, state: &mut State, x: u32) -> Profile {
+        if !self.fresh[x as usize] && state.class(x).is_some() && state.degree(x) > LARGE {
+            return Profile::ANY;
+        }
         self.refresh(state, x);
         self.profile[x as usize]
+    }
+
+    /// Scratch for complete maps, handed back with [`Index::give_maps`].
+    pub fn take_maps(&mut self) -> Vec<Option<u32>> {
+        std::mem::take(&mut self.maps)
+    }
+
+    pub fn give_maps(&mut self, maps: Vec<Option<u32>>) {
+        self.maps = maps;
     }
 
     /// The number of neighbours of node `x`, caching its list.
@@ -533,18 +691,58 @@ impl Index {
         self.adjacency[x as usize][i]
     }
 
-    /// What the rods-only rules need to know of free rod `r`.
-    pub fn rod_view(&mut self, state: &mut State, r: u32) -> RodView {
-        let mut view = RodView::default();
+    /// Starts rod task `r` (a free rod): its free neighbours' numbers of
+    /// free neighbours; the ball around it is measured when first needed.
+    pub fn start_rod(&mut self, state: &mut State, r: u32) {
         self.refresh(state, r);
+        self.rod = r;
+        self.cycles = None;
+        self.ball.built = false;
+        let mut free = std::mem::take(&mut self.free_degrees);
+        free.clear();
         for i in 0..self.adjacency[r as usize].len() {
             let n = self.adjacency[r as usize][i];
             if n.class == 0 {
-                view.free_degrees
-                    .push(self.profile(state, n.node).free_rods());
+                free.push(self.profile(state, n.node).free_rods());
             }
         }
-        view.free_degrees.sort_unstable_by(|a, b| b.cmp(a));
+        free.sort_unstable_by(|a, b| b.cmp(a));
+        self.free_degrees = free;
+    }
+
+    /// The rods-only rules, from rule `start` on, cyclically.
+    pub fn rods_only_from(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
+        let split = self.rods_only.partition_point(|&k| k < start);
+        self.rods_only[split..]
+            .iter()
+            .chain(&self.rods_only[..split])
+            .copied()
+    }
+
+    /// Whether the started rod task's rod can carry pattern node `v` of
+    /// rods-only `rule`: its free neighbours, by their own free neighbours,
+    /// can carry `v`'s neighbours, and the free rods of the least core
+    /// within `v`'s eccentricity have at least the pattern's independent cycles (checked
+    /// up to [`MAX_RADIUS`]).
+    pub fn rod_could_match(&mut self, state: &mut State, rule: &CompiledRule, v: usize) -> bool {
+        if (self.core[self.rod as usize] as usize) < rule.min_degree {
+            return false;
+        }
+        let want = &rule.neighbour_degrees[v];
+        let f = &self.free_degrees;
+        if want.len() > f.len() || want.iter().zip(f).any(|(w, f)| w > f) {
+            return false;
+        }
+        let e = rule.eccentricity[v];
+        e > MAX_RADIUS || self.cycles(state)[e] >= rule.cycles
+    }
+
+    /// The started rod task's cycles by distance, measured now if not yet.
+    fn cycles(&mut self, state: &mut State) -> [i64; MAX_RADIUS + 1] {
+        if let Some(c) = self.cycles {
+            return c;
+        }
+        let r = self.rod;
         // Breadth first through free rods; a contact counts at the larger
         // distance of its rods, once.
         self.stamp += 1;
@@ -564,7 +762,8 @@ impl Index {
             self.refresh(state, u);
             for i in 0..self.adjacency[u as usize].len() {
                 let w = self.adjacency[u as usize][i];
-                if w.class != 0 {
+                // Rods outside the least core a rule needs are in no match.
+                if w.class != 0 || self.core[w.node as usize] < self.min_core {
                     continue;
                 }
                 let w = w.node as usize;
@@ -582,14 +781,15 @@ impl Index {
             }
         }
         self.around = ball;
-        self.ball.built = false;
+        let mut cycles = [0; MAX_RADIUS + 1];
         let (mut n, mut e) = (0, 0);
         for k in 0..=MAX_RADIUS {
             n += rods[k];
             e += contacts[k];
-            view.cycles[k] = e - n + 1;
+            cycles[k] = e - n + 1;
         }
-        view
+        self.cycles = Some(cycles);
+        cycles
     }
 
     /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
@@ -604,29 +804,32 @@ impl Index {
         ball.rods.clear();
         ball.rods.extend_from_slice(&self.around);
         ball.rods.sort_unstable();
-        let n = ball.rods.len();
-        ball.words = n.div_ceil(64);
         ball.rows.clear();
-        ball.rows.resize(n * ball.words, 0);
-        ball.distance.clear();
-        ball.distance
-            .extend(ball.rods.iter().map(|&u| self.distance[u as usize]));
-        ball.degree.clear();
-        let position = |rods: &[u32], w: u32| rods.binary_search(&w).ok();
+        ball.near.clear();
+        ball.near.resize(self.radius + 1, 0);
+        ball.wide = [0; MAX_DEGREE + 1];
+        // Ball rods by host rod, as `distance` (stamped by `seen`) is kept.
         for (i, &u) in ball.rods.iter().enumerate() {
-            let mut degree = 0;
+            self.slot[u as usize] = i as u8;
+        }
+        for (i, &u) in ball.rods.iter().enumerate() {
+            let mut row: Bits = 0;
             for nb in &self.adjacency[u as usize] {
-                if nb.class != 0 || self.seen[nb.node as usize] != self.stamp {
-                    continue;
-                }
-                if let Some(j) = position(&ball.rods, nb.node) {
-                    ball.rows[i * ball.words + j / 64] |= 1 << (j % 64);
-                    degree += 1;
+                if nb.class == 0 && self.seen[nb.node as usize] == self.stamp {
+                    row |= 1 << self.slot[nb.node as usize];
                 }
             }
-            ball.degree.push(degree);
+            ball.rows.push(row);
+            for d in self.distance[u as usize] as usize..=self.radius {
+                ball.near[d] |= 1 << i;
+            }
+            for k in 0..=(row.count_ones() as usize).min(MAX_DEGREE) {
+                ball.wide[k] |= 1 << i;
+            }
         }
-        ball.root = position(&ball.rods, self.around[0]).expect("the root is in its ball");
+        ball.core.clear();
+        ball.core.resize(self.radius + 1, [None; MAX_CORE + 1]);
+        ball.root = self.slot[self.around[0] as usize] as usize;
         ball.built = true;
         true
     }
@@ -639,14 +842,26 @@ impl Index {
         &mut self,
         start: usize,
         eccentricity: usize,
+        min_degree: usize,
         plan: &[Step],
         n: usize,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> Option<bool> {
-        if eccentricity > self.radius || !self.build_ball() {
+        if eccentricity > self.radius || self.cycles.is_none() || !self.build_ball() {
             return None;
         }
-        Some(self.ball.search(start, plan, n, complete))
+        let (d, k) = (eccentricity, min_degree.min(MAX_CORE));
+        let ball = &mut self.ball;
+        let within = match ball.core[d][k] {
+            Some(core) => core,
+            None => {
+                let core = ball.peel(ball.near[d], k as u32);
+                ball.core[d][k] = Some(core);
+                core
+            }
+        };
+        self.search.within = within;
+        Some(self.ball.search(start, plan, n, &mut self.search, complete))
     }
 
     /// Starts pair task `x`, `y`, with `m` contacts between them: their
@@ -654,26 +869,8 @@ impl Index {
     pub fn start_pair(&mut self, state: &mut State, x: u32, y: u32, m: usize) {
         let (px, py) = (self.profile(state, x), self.profile(state, y));
         self.pair = (px, py);
-        let (small, large, flip) =
-            if self.adjacency[x as usize].len() <= self.adjacency[y as usize].len() {
-                (x, y, false)
-            } else {
-                (y, x, true)
-            };
-        self.common.clear();
-        for n in &self.adjacency[small as usize] {
-            if n.node == large {
-                continue;
-            }
-            let m_large = state.multiplicity(large, n.node) as u32;
-            if m_large > 0 {
-                self.common.push(if flip {
-                    (n.class, m_large, n.mult)
-                } else {
-                    (n.class, n.mult, m_large)
-                });
-            }
-        }
+        self.pair_nodes = (x, y);
+        self.common_known = false;
         self.said_x.fill(0);
         self.said_y.fill(0);
         self.said_common.fill(0);
@@ -693,9 +890,7 @@ impl Index {
             }) {
                 i = s.skip_b;
             } else {
-                if ask(&mut self.said_common, e.common, || {
-                    self.commons[e.common].admitted_by(&self.common)
-                }) {
+                if self.common_admits(state, e.common) {
                     for (w, bits) in self.candidates.iter_mut().zip(&s.rules) {
                         *w |= bits;
                     }
@@ -734,16 +929,92 @@ impl Index {
     }
 
     /// Whether the started pair can carry `e` (given enough contacts between them).
-    pub fn pair_could_match(&mut self, e: &PairEntry) -> bool {
+    pub fn pair_could_match(&mut self, state: &mut State, e: &PairEntry) -> bool {
         let (px, py) = self.pair;
         ask(&mut self.said_x, e.need_a, || {
             px.admits(&self.needs[e.need_a])
         }) && ask(&mut self.said_y, e.need_b, || {
             py.admits(&self.needs[e.need_b])
-        }) && ask(&mut self.said_common, e.common, || {
-            self.commons[e.common].admitted_by(&self.common)
+        }) && self.common_admits(state, e.common)
+    }
+
+    /// Whether the started pair's common neighbours admit [`CommonNeeds`]
+    /// `k`; they are listed when first needed (most pairs fail on their ends).
+    fn common_admits(&mut self, state: &mut State, k: usize) -> bool {
+        if self.said_common[k] == 0 && !self.common_known {
+            let (x, y) = self.pair_nodes;
+            let (small, large, flip) = if state.degree(x) <= state.degree(y) {
+                (x, y, false)
+            } else {
+                (y, x, true)
+            };
+            self.refresh(state, small);
+            self.common.clear();
+            for n in &self.adjacency[small as usize] {
+                if n.node == large {
+                    continue;
+                }
+                let m_large = state.multiplicity(large, n.node) as u32;
+                if m_large > 0 {
+                    self.common.push(if flip {
+                        (n.class, m_large, n.mult)
+                    } else {
+                        (n.class, n.mult, m_large)
+                    });
+                }
+            }
+            self.common_known = true;
+        }
+        ask(&mut self.said_common, k, || {
+            self.commons[k].admitted_by(&self.common)
         })
     }
+}
+
+/// Each rod's core number among the free rods, up to `max`.
+fn free_cores(state: &State, max: u8) -> Vec<u8> {
+    let g = state.g;
+    let n = g.n_nodes();
+    let mut core = vec![0u8; n];
+    if max == 0 {
+        return core;
+    }
+    let mut alive: Vec<bool> = (0..n as u32).map(|r| state.is_free_rod(r)).collect();
+    // The contact graph is simple: a rod's free neighbours are its degree.
+    let mut degree: Vec<u32> = (0..n as u32)
+        .map(|r| {
+            g.neighbors(r)
+                .iter()
+                .filter(|&&(x, _)| alive[x as usize])
+                .count() as u32
+        })
+        .collect();
+    let mut stack = Vec::new();
+    for k in 1..=max {
+        stack.extend((0..n).filter(|&r| alive[r] && degree[r] < u32::from(k)));
+        while let Some(r) = stack.pop() {
+            if !alive[r] {
+                continue;
+            }
+            alive[r] = false;
+            core[r] = k - 1;
+            for &(x, _) in g.neighbors(r as u32) {
+                let x = x as usize;
+                if alive[x] {
+                    degree[x] -= 1;
+                    if degree[x] < u32::from(k) {
+                        stack.push(x);
+                    }
+                }
+            }
+        }
+    }
+    for (c, a) in core.iter_mut().zip(alive) {
+        if a {
+            *c = max;
+        }
+    }
+    core
 }
 
 /// Condition `k`'s answer for the current task, asking `answer` once

@@ -13,13 +13,17 @@
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
 
-use super::index::{CommonNeeds, Index, MAX_RADIUS, Needs, RodView, Step, accepts};
+use super::index::{CommonNeeds, Index, Needs, Step, accepts};
 use super::state::{Link, NO_PLANE, State};
 use super::{Motif, RuleSet};
 use crate::body::BodyClass;
 use crate::pattern::{NodeKind, Pattern};
 use crate::rigidity::incidence::{Grouping, Incidence};
 use crate::rule_file::Rule;
+
+/// Neighbour lists longer than this are walked only after the later steps
+/// are checked on shorter ones.
+const LOOK_AHEAD: usize = 16;
 
 /// A rule prepared for matching.
 #[derive(Clone, Debug)]
@@ -39,14 +43,23 @@ pub struct CompiledRule {
     /// What each pattern node's neighbours demand of its host's neighbours.
     pub(super) needs: Vec<Needs>,
     /// Each pattern node's neighbours' degrees, largest first.
-    neighbour_degrees: Vec<Vec<u32>>,
+    pub(super) neighbour_degrees: Vec<Vec<u32>>,
     /// Each pattern node's largest distance to another.
     pub(super) eccentricity: Vec<usize>,
     /// Adjacent pairs of pattern nodes − nodes + 1: the independent cycles.
-    cycles: i64,
-    /// Rods-only rules: the plain matcher's search from each pattern node,
-    /// if it reaches every node.
+    pub(super) cycles: i64,
+    /// The fewest neighbours of a pattern node: a rods-only match lies in
+    /// the free rods' core of that order.
+    pub(super) min_degree: usize,
+    /// The plain matcher's search from each pattern node, and from each
+    /// pattern contact (by its ends), if it reaches every node.
     plans: Vec<Option<Vec<Step>>>,
+    pair_plans: Vec<Vec<Option<Vec<Step>>>>,
+    /// The least pattern node an automorphism maps each node to, and the
+    /// least pattern contact (ends in order) each contact: a search from an
+    /// automorphic start finds the matches of the earlier one, permuted.
+    pub(super) orbit: Vec<usize>,
+    pub(super) pair_orbit: Vec<Vec<(usize, usize)>>,
     /// What the pattern nodes touching both `a` and `b` demand of the
     /// common neighbours of their hosts, for each pattern contact `a`, `b`.
     pub(super) common: Vec<Vec<CommonNeeds>>,
@@ -138,6 +151,7 @@ impl CompiledRule {
             .collect();
         let pairs: usize = neighbours.iter().map(Vec::len).sum::<usize>() / 2;
         let cycles = pairs as i64 - n as i64 + 1;
+        let min_degree = neighbours.iter().map(Vec::len).min().unwrap_or(0);
         let mut compiled = CompiledRule {
             id: rule.id.clone(),
             motif,
@@ -150,12 +164,34 @@ impl CompiledRule {
             neighbour_degrees,
             eccentricity,
             cycles,
+            min_degree,
             plans: Vec::new(),
+            pair_plans: Vec::new(),
+            orbit: (0..n).collect(),
+            pair_orbit: (0..n).map(|a| (0..n).map(|b| (a, b)).collect()).collect(),
             common,
         };
-        if compiled.rods_only {
-            compiled.plans = (0..n).map(|v| compiled.plan(v)).collect();
+        for sigma in compiled.automorphisms() {
+            for a in 0..n {
+                compiled.orbit[a] = compiled.orbit[a].min(sigma[a]);
+                for b in 0..n {
+                    let image = (sigma[a], sigma[b]);
+                    compiled.pair_orbit[a][b] = compiled.pair_orbit[a][b].min(image);
+                }
+            }
         }
+        compiled.plans = (0..n).map(|v| compiled.plan(&[v])).collect();
+        compiled.pair_plans = (0..n)
+            .map(|a| {
+                (0..n)
+                    .map(|b| {
+                        (!compiled.between[a][b].is_empty())
+                            .then(|| compiled.plan(&[a, b]))
+                            .flatten()
+                    })
+                    .collect()
+            })
+            .collect();
         compiled
     }
 
@@ -174,33 +210,104 @@ impl CompiledRule {
             .map(|t| t.2.0)
     }
 
-    /// The steps of the plain matcher's search from pattern node `start`
-    /// (the order depends on the pattern alone), if it reaches every node.
-    fn plan(&self, start: usize) -> Option<Vec<Step>> {
+    /// The automorphisms of the pattern that keep every rod label (node `a`
+    /// goes to `sigma[a]`), or only the identity if there are too many to
+    /// list cheaply. Matches map to matches under them.
+    fn automorphisms(&self) -> Vec<Vec<usize>> {
+        fn place(
+            rule: &CompiledRule,
+            between: &[Vec<Vec<(u8, u8)>>],
+            a: usize,
+            sigma: &mut Vec<usize>,
+            used: &mut [bool],
+            found: &mut Vec<Vec<usize>>,
+            budget: &mut usize,
+        ) -> bool {
+            let n = rule.kinds.len();
+            if a == n {
+                found.push(sigma.clone());
+                return true;
+            }
+            for b in 0..n {
+                if *budget == 0 {
+                    return false;
+                }
+                *budget -= 1;
+                let fits = !used[b]
+                    && rule.kinds[a] == rule.kinds[b]
+                    && rule.neighbours[a].len() == rule.neighbours[b].len()
+                    && (0..a).all(|c| between[a][c] == between[b][sigma[c]]);
+                if fits {
+                    sigma.push(b);
+                    used[b] = true;
+                    let ok = place(rule, between, a + 1, sigma, used, found, budget);
+                    used[b] = false;
+                    sigma.pop();
+                    if !ok {
+                        return false;
+                    }
+                }
+            }
+            true
+        }
         let n = self.kinds.len();
-        let mut mapped = vec![false; n];
-        mapped[start] = true;
-        let mut steps = Vec::new();
-        while let Some(v) = self.next_node(|w| mapped[w]) {
+        // Contacts as label multisets, comparable whatever their order.
+        let mut between = self.between.clone();
+        between.iter_mut().flatten().for_each(|v| v.sort_unstable());
+        let mut found = Vec::new();
+        let mut budget = 100_000;
+        let (mut sigma, mut used) = (Vec::new(), vec![false; n]);
+        if place(
+            self,
+            &between,
+            0,
+            &mut sigma,
+            &mut used,
+            &mut found,
+            &mut budget,
+        ) {
+            found
+        } else {
+            vec![(0..n).collect()]
+        }
+    }
+
+    /// The steps of the plain matcher's search from the pattern nodes
+    /// `starts` (the order depends on the pattern alone), if it reaches
+    /// every node.
+    fn plan(&self, starts: &[usize]) -> Option<Vec<Step>> {
+        let n = self.kinds.len();
+        // The number of steps done when each node is mapped.
+        let mut done = vec![None; n];
+        for &v in starts {
+            done[v] = Some(0);
+        }
+        let mut steps: Vec<Step> = Vec::new();
+        while let Some(v) = self.next_node(|w| done[w].is_some()) {
+            let back: Vec<usize> = self.neighbours[v]
+                .iter()
+                .copied()
+                .filter(|&w| done[w].is_some())
+                .collect();
             steps.push(Step {
                 node: v,
-                back: self.neighbours[v]
-                    .iter()
-                    .copied()
-                    .filter(|&w| mapped[w])
-                    .collect(),
+                ready: back.iter().filter_map(|&w| done[w]).max().unwrap_or(0),
+                back,
                 degree: self.neighbours[v].len() as u32,
                 distance: 0,
             });
-            mapped[v] = true;
+            done[v] = Some(steps.len());
         }
-        if mapped.contains(&false) {
+        if done.contains(&None) {
             return None;
         }
-        // Pattern distances from the start, by breadth first.
+        // Pattern distances from the starts, by breadth first.
         let mut dist = vec![u8::MAX; n];
-        dist[start] = 0;
-        let mut queue = std::collections::VecDeque::from([start]);
+        let mut queue = std::collections::VecDeque::new();
+        for &v in starts {
+            dist[v] = 0;
+            queue.push_back(v);
+        }
         while let Some(u) = queue.pop_front() {
             for &w in &self.neighbours[u] {
                 if dist[w] == u8::MAX {
@@ -213,20 +320,6 @@ impl CompiledRule {
             step.distance = dist[step.node];
         }
         Some(steps)
-    }
-
-    /// Whether a free rod seen as `view` can carry pattern node `v` of this
-    /// rods-only rule: its free neighbours, by their own free neighbours,
-    /// can carry `v`'s neighbours, and the free rods within `v`'s
-    /// eccentricity have at least the pattern's independent cycles (checked
-    /// up to [`MAX_RADIUS`]).
-    pub(super) fn rod_could_match(&self, v: usize, view: &RodView) -> bool {
-        let want = &self.neighbour_degrees[v];
-        let f = &view.free_degrees;
-        let e = self.eccentricity[v];
-        want.len() <= f.len()
-            && want.iter().zip(f).all(|(w, f)| w <= f)
-            && (e > MAX_RADIUS || view.cycles[e] >= self.cycles)
     }
 
     pub fn rods_only(&self) -> bool {
@@ -314,7 +407,7 @@ impl State<'_> {
     }
 
     /// Number of contacts or neighbouring nodes of node `x`, the cost of listing its neighbours.
-    fn degree(&self, x: u32) -> usize {
+    pub(super) fn degree(&self, x: u32) -> usize {
         if self.class(x).is_some() {
             self.nodes[x as usize].adj.len()
         } else {
@@ -357,21 +450,34 @@ impl State<'_> {
         if self.degree(x) < rule.neighbours[a].len() {
             return None;
         }
-        let mut map: Vec<Option<u32>> = vec![None; n];
+        // Small patterns map on the stack: attempts are many, matches few.
+        let (mut small, mut large) = ([None; 16], Vec::new());
+        let map: &mut [Option<u32>] = if n <= small.len() {
+            &mut small[..n]
+        } else {
+            large.resize(n, None);
+            &mut large
+        };
         map[a] = Some(x);
         if let Some((b, y)) = b {
             if b == a
                 || x == y
                 || !fits(rule.kinds[b], self.class(y))
-                || !self.counts_fit(rule, &map, b, y)
+                || !self.counts_fit(rule, map, b, y)
             {
                 return None;
             }
             map[b] = Some(y);
         }
         let found = match index {
-            Some(ix) => self.extend_indexed(ix, rule, &mut map, rules),
-            None => self.extend(rule, &mut map, rules),
+            Some(ix) => {
+                let plan = match b {
+                    None => rule.plans[a].as_ref(),
+                    Some((b, _)) => rule.pair_plans[a][b].as_ref(),
+                };
+                plan.is_some_and(|plan| self.search_indexed(ix, rule, plan, map, rules))
+            }
+            None => self.extend(rule, map, rules),
         };
         if !found {
             return None;
@@ -398,6 +504,7 @@ impl State<'_> {
         let searched = ix.search_ball(
             v,
             rule.eccentricity[v],
+            rule.min_degree,
             plan,
             rule.kinds.len(),
             &mut |map| {
@@ -444,7 +551,7 @@ impl State<'_> {
         rule: &CompiledRule,
         parts: &[u32],
         v: usize,
-        map: &mut Vec<Option<u32>>,
+        map: &mut [Option<u32>],
         rules: RuleSet,
     ) -> bool {
         if v == map.len() {
@@ -481,7 +588,7 @@ impl State<'_> {
 
     /// Maps the remaining pattern nodes by backtracking over host neighbours,
     /// then assigns contacts.
-    fn extend(&mut self, rule: &CompiledRule, map: &mut Vec<Option<u32>>, rules: RuleSet) -> bool {
+    fn extend(&mut self, rule: &CompiledRule, map: &mut [Option<u32>], rules: RuleSet) -> bool {
         let Some(v) = rule.next_node(|v| map[v].is_some()) else {
             return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
         };
@@ -503,26 +610,80 @@ impl State<'_> {
         false
     }
 
-    /// [`State::extend`] on the index's cached neighbour lists: the same
-    /// candidates in the same order, so the same complete maps in the same
-    /// order, except under a candidate whose neighbours cannot carry its
-    /// pattern node's (no complete map there).
-    fn extend_indexed(
+    /// [`State::extend`] with the index: the complete maps are first
+    /// counted, up to two, in the cheapest order (the plain order may walk a
+    /// body's thousands of neighbours where another reaches the same nodes
+    /// through a rod). None: no match. One: the plain search would check
+    /// that one alone. More: the plain order decides which is met first.
+    fn search_indexed(
         &mut self,
         ix: &mut Index,
         rule: &CompiledRule,
-        map: &mut Vec<Option<u32>>,
+        plan: &[Step],
+        map: &mut [Option<u32>],
         rules: RuleSet,
     ) -> bool {
-        let Some(v) = rule.next_node(|v| map[v].is_some()) else {
-            return map.iter().all(|m| m.is_some()) && self.complete(rule, map, rules);
+        let mut found = ix.take_maps();
+        found.clear();
+        self.survey(ix, rule, map, 2, &mut found);
+        let n = map.len();
+        let matched = match found.len() / n {
+            0 => false,
+            1 => {
+                map.copy_from_slice(&found);
+                self.complete(rule, map, rules)
+            }
+            _ => self.extend_indexed(ix, rule, plan, map, rules),
         };
-        // The anchor as `extend` picks it: the first mapped neighbour of least degree.
-        let w = *rule.neighbours[v]
-            .iter()
-            .filter(|&&w| map[w].is_some())
-            .min_by_key(|&&w| self.degree(map[w].expect("mapped")))
-            .expect("v touches a mapped node");
+        ix.give_maps(found);
+        matched
+    }
+
+    /// Appends the complete maps extending `map` to `out` until it holds
+    /// `limit` of them (then true), mapping next, among the pattern nodes
+    /// with the most mapped neighbours, one with a host among them of the
+    /// fewest neighbours, whose list is walked.
+    fn survey(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        map: &mut [Option<u32>],
+        limit: usize,
+        out: &mut Vec<Option<u32>>,
+    ) -> bool {
+        let n = map.len();
+        let mut degrees = [0usize; 16];
+        for (w, m) in map.iter().enumerate().take(16) {
+            if let Some(h) = m {
+                degrees[w] = self.degree(*h);
+            }
+        }
+        let mut best: Option<((usize, usize), usize, usize)> = None;
+        for v in (0..n).filter(|&v| map[v].is_none()) {
+            let (mut m, mut d, mut at) = (0, usize::MAX, 0);
+            for &w in &rule.neighbours[v] {
+                if let Some(h) = map[w] {
+                    m += 1;
+                    let dw = degrees.get(w).copied().unwrap_or_else(|| self.degree(h));
+                    if dw < d {
+                        (d, at) = (dw, w);
+                    }
+                }
+            }
+            if m == 0 {
+                continue;
+            }
+            let key = (usize::MAX - m, d);
+            if best.is_none_or(|(c, _, _)| key < c) {
+                best = Some((key, v, at));
+            }
+        }
+        let Some((_, v, w)) = best else {
+            if map.iter().all(Option::is_some) {
+                out.extend_from_slice(map);
+            }
+            return out.len() >= limit * n;
+        };
         let anchor = map[w].expect("mapped");
         let fits_v = accepts(rule.kinds[v]);
         let (need, degree) = (rule.between[v][w].len(), rule.neighbours[v].len());
@@ -544,12 +705,110 @@ impl State<'_> {
                 continue;
             }
             map[v] = Some(y);
-            if self.extend_indexed(ix, rule, map, rules) {
+            let full = self.survey(ix, rule, map, limit, out);
+            map[v] = None;
+            if full {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// [`State::extend`] on the index's cached neighbour lists, along the
+    /// steps it would take (`plan`): the same candidates in the same order,
+    /// so the same complete maps in the same order, except under a
+    /// candidate whose neighbours cannot carry its pattern node's (no
+    /// complete map there).
+    fn extend_indexed(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        plan: &[Step],
+        map: &mut [Option<u32>],
+        rules: RuleSet,
+    ) -> bool {
+        let Some((step, rest)) = plan.split_first() else {
+            return self.complete(rule, map, rules);
+        };
+        let v = step.node;
+        // The anchor as `extend` picks it: the first mapped neighbour of least degree.
+        let w = *step
+            .back
+            .iter()
+            .min_by_key(|&&w| self.degree(map[w].expect("mapped")))
+            .expect("a step has a mapped neighbour");
+        let anchor = map[w].expect("mapped");
+        let fits_v = accepts(rule.kinds[v]);
+        let (need, degree) = (rule.between[v][w].len(), step.degree as usize);
+        let len = ix.n_neighbours(self, anchor);
+        if len > LOOK_AHEAD && !self.later_steps_possible(ix, rule, rest, map) {
+            return false;
+        }
+        for i in 0..len {
+            let y = ix.neighbour(anchor, i);
+            if !fits_v[y.class as usize] || (y.mult as usize) < need {
+                continue;
+            }
+            let y = y.node;
+            if self.degree(y) < degree
+                || map.contains(&Some(y))
+                || step.back.iter().any(|&u| {
+                    u != w
+                        && self.multiplicity(y, map[u].expect("mapped")) < rule.between[v][u].len()
+                })
+                || !ix.profile(self, y).admits(&rule.needs[v])
+            {
+                continue;
+            }
+            map[v] = Some(y);
+            if self.extend_indexed(ix, rule, rest, map, rules) {
                 return true;
             }
             map[v] = None;
         }
         false
+    }
+
+    /// Whether each of the later steps `rest` that touches a mapped node
+    /// on a short list still has a host there (else no map completes);
+    /// checked before a long list is walked.
+    fn later_steps_possible(
+        &mut self,
+        ix: &mut Index,
+        rule: &CompiledRule,
+        rest: &[Step],
+        map: &[Option<u32>],
+    ) -> bool {
+        rest.iter().all(|step| {
+            let v = step.node;
+            let Some((w, h, degree)) = step
+                .back
+                .iter()
+                .filter_map(|&w| map[w].map(|h| (w, h, self.degree(h))))
+                .min_by_key(|t| t.2)
+            else {
+                return true;
+            };
+            // A rod's contacts bound its neighbours: long lists stay unbuilt.
+            if degree > LOOK_AHEAD {
+                return true;
+            }
+            let len = ix.n_neighbours(self, h);
+            let fits_v = accepts(rule.kinds[v]);
+            (0..len).any(|i| {
+                let y = ix.neighbour(h, i);
+                fits_v[y.class as usize]
+                    && y.mult as usize >= rule.between[v][w].len()
+                    && self.degree(y.node) >= step.degree as usize
+                    && !map.contains(&Some(y.node))
+                    && step.back.iter().all(|&u| {
+                        u == w
+                            || map[u].is_none_or(|hu| {
+                                self.multiplicity(y.node, hu) >= rule.between[v][u].len()
+                            })
+                    })
+            })
+        })
     }
 
     /// Whether a complete node mapping is a match: its contacts can be

@@ -314,7 +314,7 @@ fn compress_engine(
         tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
     let mut index = (matching != Matching::Unindexed && !engine.extra.is_empty())
-        .then(|| Index::new(graph.n_nodes(), engine.extra, matching == Matching::Audited));
+        .then(|| Index::new(&mut state, engine.extra, matching == Matching::Audited));
     tasks.extend(
         (0..graph.n_nodes() as u32)
             .filter(|&r| graph.degree(r) >= 2)
@@ -460,26 +460,41 @@ fn rod_rules(
     engine: &Engine,
     r: u32,
     rng: &mut ChaCha8Rng,
-    mut index: Option<&mut Index>,
+    index: Option<&mut Index>,
 ) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
         return None;
     }
     let start = rng.random_range(0..n);
-    let audit = index.as_ref().is_some_and(|ix| ix.audit);
-    let view = index.as_deref_mut().map(|ix| ix.rod_view(state, r));
-    for k in 0..n {
-        let rule = &engine.extra[(start + k) % n];
-        if !rule.rods_only() {
-            continue;
+    let found = |rule: &CompiledRule, (parts, class)| Found {
+        motif: rule.motif,
+        parts,
+        class,
+    };
+    let Some(ix) = index else {
+        for k in 0..n {
+            let rule = &engine.extra[(start + k) % n];
+            if !rule.rods_only() {
+                continue;
+            }
+            for v in 0..rule.n_nodes() {
+                if let Some(hit) = state.match_rule(rule, v, r, None, engine.rules, None) {
+                    return Some(found(rule, hit));
+                }
+            }
         }
+        return None;
+    };
+    ix.start_rod(state, r);
+    let rules: Vec<usize> = ix.rods_only_from(start).collect();
+    for k in rules {
+        let rule = &engine.extra[k];
         for v in 0..rule.n_nodes() {
-            if let Some(view) = &view
-                && !rule.rod_could_match(v, view)
-            {
+            // An automorphic start tried before failed, so does this one.
+            if rule.orbit[v] < v || !ix.rod_could_match(state, rule, v) {
                 assert!(
-                    !audit
+                    !ix.audit
                         || state
                             .match_rule(rule, v, r, None, engine.rules, None)
                             .is_none(),
@@ -488,22 +503,16 @@ fn rod_rules(
                 );
                 continue;
             }
-            let found = match index.as_deref_mut() {
-                Some(ix) => state
-                    .match_in_ball(ix, rule, v, engine.rules)
-                    .unwrap_or_else(|| state.match_rule(rule, v, r, None, engine.rules, Some(ix))),
-                None => state.match_rule(rule, v, r, None, engine.rules, None),
+            let hit = match state.match_in_ball(ix, rule, v, engine.rules) {
+                Some(hit) => hit,
+                None => state.match_rule(rule, v, r, None, engine.rules, Some(&mut *ix)),
             };
-            if audit {
+            if ix.audit {
                 let plain = state.match_rule(rule, v, r, None, engine.rules, None);
-                assert_eq!(found, plain, "rule {} at rod {r}", rule.id);
+                assert_eq!(hit, plain, "rule {} at rod {r}", rule.id);
             }
-            if let Some((parts, class)) = found {
-                return Some(Found {
-                    motif: rule.motif,
-                    parts,
-                    class,
-                });
+            if let Some(hit) = hit {
+                return Some(found(rule, hit));
             }
         }
     }
@@ -565,7 +574,7 @@ fn pair_rules(
             if e.mult > m {
                 continue;
             }
-            if !ix.pair_could_match(&e) {
+            if rule.pair_orbit[a][b] < (a, b) || !ix.pair_could_match(state, &e) {
                 assert!(
                     !ix.audit
                         || state
