@@ -20,6 +20,17 @@ pub(super) struct Found {
     pub class: BodyClass,
 }
 
+impl Found {
+    /// A match of a loaded rule: the host nodes and the merged body's class.
+    pub fn of_rule(rule: &super::CompiledRule, (parts, class): (Vec<u32>, BodyClass)) -> Self {
+        Found {
+            motif: rule.motif,
+            parts,
+            class,
+        }
+    }
+}
+
 /// Exact verdicts of induced patterns, shared by all runs.
 #[derive(Default)]
 struct Verdicts {

@@ -467,11 +467,6 @@ fn rod_rules(
         return None;
     }
     let start = rng.random_range(0..n);
-    let found = |rule: &CompiledRule, (parts, class)| Found {
-        motif: rule.motif,
-        parts,
-        class,
-    };
     let Some(ix) = index else {
         for k in 0..n {
             let rule = &engine.extra[(start + k) % n];
@@ -480,7 +475,7 @@ fn rod_rules(
             }
             for v in 0..rule.n_nodes() {
                 if let Some(hit) = state.match_rule(rule, v, r, None, engine.rules, None) {
-                    return Some(found(rule, hit));
+                    return Some(Found::of_rule(rule, hit));
                 }
             }
         }
@@ -512,7 +507,7 @@ fn rod_rules(
                 assert_eq!(hit, plain, "rule {} at rod {r}", rule.id);
             }
             if let Some(hit) = hit {
-                return Some(found(rule, hit));
+                return Some(Found::of_rule(rule, hit));
             }
         }
     }
@@ -540,11 +535,6 @@ fn pair_rules(
     if let Some(ix) = index.as_deref_mut() {
         ix.start_pair(state, x, y, m);
     }
-    let found = |rule: &CompiledRule, (parts, class)| Found {
-        motif: rule.motif,
-        parts,
-        class,
-    };
     let Some(ix) = index else {
         for k in 0..n {
             let rule = &engine.extra[(start + k) % n];
@@ -555,7 +545,7 @@ fn pair_rules(
                 .contact_pairs(cx, cy, m)
                 .find_map(|(a, b)| state.match_rule(rule, a, x, Some((b, y)), engine.rules, None));
             if let Some(hit) = hit {
-                return Some(found(rule, hit));
+                return Some(Found::of_rule(rule, hit));
             }
         }
         return None;
@@ -591,7 +581,7 @@ fn pair_rules(
                 assert_eq!(hit, plain, "rule {} at nodes {x}, {y}", rule.id);
             }
             if let Some(hit) = hit {
-                return Some(found(rule, hit));
+                return Some(Found::of_rule(rule, hit));
             }
         }
     }
