@@ -710,6 +710,11 @@ impl Index {
         self.free_degrees = free;
     }
 
+    /// Whether some rule has a body: only those are matched on pairs.
+    pub fn has_pair_rules(&self) -> bool {
+        self.rods_only.len() < self.entries.len()
+    }
+
     /// The rods-only rules, from rule `start` on, cyclically.
     pub fn rods_only_from(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
         let split = self.rods_only.partition_point(|&k| k < start);

@@ -13,6 +13,8 @@
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
 
+use std::cell::RefCell;
+
 use super::index::{CommonNeeds, Index, Needs, Step, accepts};
 use super::state::{Link, NO_PLANE, State};
 use super::{Motif, RuleSet};
@@ -366,29 +368,10 @@ fn fits(pattern: NodeKind, host: Option<BodyClass>) -> bool {
 
 impl State<'_> {
     /// Contacts between nodes `x` and `y`, seen from `x`.
-    pub fn links_between(&mut self, x: u32, y: u32) -> Vec<Link> {
-        self.links(x, y)
-    }
-
-    /// Contacts between nodes `x` and `y`, seen from `x`.
-    fn links(&mut self, x: u32, y: u32) -> Vec<Link> {
-        if self.class(x).is_some() {
-            return self.body_links(x, y).to_vec();
-        }
-        if self.class(y).is_some() {
-            return self
-                .body_links(y, x)
-                .iter()
-                .map(|l| Link {
-                    own: l.other,
-                    other: l.own,
-                })
-                .collect();
-        }
-        match self.g.edge_between(x, y) {
-            Some(_) => vec![Link { own: x, other: y }],
-            None => Vec::new(),
-        }
+    pub fn links_between(&self, x: u32, y: u32) -> Vec<Link> {
+        let mut links = Vec::new();
+        self.links_into(x, y, &mut links);
+        links
     }
 
     /// The plane a free rod lies in because it touches two rods of it.
@@ -814,78 +797,30 @@ impl State<'_> {
     /// Whether a complete node mapping is a match: its contacts can be
     /// assigned and, under `sound`, the pattern its nodes induce is rigid.
     fn complete(&mut self, rule: &CompiledRule, map: &[Option<u32>], rules: RuleSet) -> bool {
-        if !self.assign_contacts(rule, map, rules) {
+        let assigned = ASSIGNMENT.with(|a| {
+            let mut a = a.borrow_mut();
+            a.start(self, rule, map);
+            a.assign(self, rule, map, 0, 0, rules)
+        });
+        if !assigned {
             return false;
         }
         let parts: Vec<u32> = map.iter().flatten().copied().collect();
         rules == RuleSet::Paper || self.induced_rigid(&parts)
     }
 
-    /// Finds an injective assignment of pattern contacts to host contacts
-    /// under which the host has no collinearity the pattern did not assume.
-    fn assign_contacts(
-        &mut self,
-        rule: &CompiledRule,
-        map: &[Option<u32>],
-        rules: RuleSet,
-    ) -> bool {
-        let n = map.len();
-        let mut pairs: Vec<(usize, usize, Vec<Link>)> = Vec::new();
-        for a in 0..n {
-            for b in a + 1..n {
-                if !rule.between[a][b].is_empty() {
-                    let links = self.links(map[a].expect("mapped"), map[b].expect("mapped"));
-                    pairs.push((a, b, links));
-                }
-            }
+    /// Appends the contacts between nodes `x` and `y`, seen from `x`, to `out`.
+    fn links_into(&self, x: u32, y: u32, out: &mut Vec<Link>) {
+        if self.class(x).is_some() {
+            out.extend_from_slice(self.body_links(x, y));
+        } else if self.class(y).is_some() {
+            out.extend(self.body_links(y, x).iter().map(|l| Link {
+                own: l.other,
+                other: l.own,
+            }));
+        } else if self.g.edge_between(x, y).is_some() {
+            out.push(Link { own: x, other: y });
         }
-        // For every node, host rod -> pattern label, which must be a function.
-        let mut label: Vec<Vec<(u32, u8)>> = vec![Vec::new(); n];
-        let mut chosen: Vec<Vec<(Link, (u8, u8))>> = vec![Vec::new(); pairs.len()];
-        self.assign_pair(rule, map, &pairs, 0, 0, &mut label, &mut chosen, rules)
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn assign_pair(
-        &self,
-        rule: &CompiledRule,
-        map: &[Option<u32>],
-        pairs: &[(usize, usize, Vec<Link>)],
-        k: usize,
-        i: usize,
-        label: &mut Vec<Vec<(u32, u8)>>,
-        chosen: &mut Vec<Vec<(Link, (u8, u8))>>,
-        rules: RuleSet,
-    ) -> bool {
-        let Some((a, b, links)) = pairs.get(k) else {
-            return rules == RuleSet::Paper || self.no_hidden_lines(map, chosen, pairs);
-        };
-        let wanted = &rule.between[*a][*b];
-        if i == wanted.len() {
-            return self.assign_pair(rule, map, pairs, k + 1, 0, label, chosen, rules);
-        }
-        let (la, lb) = wanted[i];
-        for link in links {
-            if chosen[k].iter().any(|(l, _)| l == link) {
-                continue;
-            }
-            let fits_a = consistent(&label[*a], link.own, la);
-            let fits_b = consistent(&label[*b], link.other, lb);
-            if !(fits_a && fits_b) {
-                continue;
-            }
-            let (pa, pb) = (label[*a].len(), label[*b].len());
-            label[*a].push((link.own, la));
-            label[*b].push((link.other, lb));
-            chosen[k].push((*link, (la, lb)));
-            if self.assign_pair(rule, map, pairs, k, i + 1, label, chosen, rules) {
-                return true;
-            }
-            chosen[k].pop();
-            label[*a].truncate(pa);
-            label[*b].truncate(pb);
-        }
-        false
     }
 
     /// Under `sound`: three or more chosen contacts between one plane and
@@ -893,12 +828,7 @@ impl State<'_> {
     /// assumed it (all on one rod of one pattern node). Planes are the planar
     /// parts of bodies and the rod triangles among the matched free rods
     /// (extra host contacts can close such triangles).
-    fn no_hidden_lines(
-        &self,
-        map: &[Option<u32>],
-        chosen: &[Vec<(Link, (u8, u8))>],
-        pairs: &[(usize, usize, Vec<Link>)],
-    ) -> bool {
+    fn no_hidden_lines(&self, map: &[Option<u32>], a: &Assignment) -> bool {
         let free: Vec<u32> = map
             .iter()
             .flatten()
@@ -919,27 +849,116 @@ impl State<'_> {
         };
         // (plane pair) -> the chosen contacts' (pattern node, label) on each side.
         let mut groups: Vec<((u32, u32), Vec<Sides>)> = Vec::new();
-        for (k, pair) in chosen.iter().enumerate() {
-            let (a, b, _) = pairs[k];
-            for (l, (la, lb)) in pair {
-                let (pa, pb) = (plane_of(l.own), plane_of(l.other));
-                if pa == NO_PLANE || pb == NO_PLANE || pa == pb {
-                    continue;
-                }
-                let (key, ends) = if pa < pb {
-                    ((pa, pb), [(a, *la), (b, *lb)])
-                } else {
-                    ((pb, pa), [(b, *lb), (a, *la)])
-                };
-                match groups.iter_mut().find(|(k, _)| *k == key) {
-                    Some((_, v)) => v.push(ends),
-                    None => groups.push((key, vec![ends])),
-                }
+        for &(k, l, (la, lb)) in &a.chosen {
+            let (a, b, _) = a.pairs[k];
+            let (pa, pb) = (plane_of(l.own), plane_of(l.other));
+            if pa == NO_PLANE || pb == NO_PLANE || pa == pb {
+                continue;
+            }
+            let (key, ends) = if pa < pb {
+                ((pa, pb), [(a, la), (b, lb)])
+            } else {
+                ((pb, pa), [(b, lb), (a, la)])
+            };
+            match groups.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, v)) => v.push(ends),
+                None => groups.push((key, vec![ends])),
             }
         }
         groups.iter().all(|(_, v)| {
             v.len() < 3 || v.iter().all(|e| e[0] == v[0][0]) || v.iter().all(|e| e[1] == v[0][1])
         })
+    }
+}
+
+thread_local! {
+    static ASSIGNMENT: RefCell<Assignment> = RefCell::new(Assignment::default());
+}
+
+/// The search for an injective assignment of pattern contacts to host
+/// contacts under which the host has no collinearity the pattern did not
+/// assume. Its buffers are flat stacks reused from match to match: the
+/// engine completes hundreds of thousands of node maps per system.
+#[derive(Default)]
+struct Assignment {
+    /// The pattern node pairs with contacts, lower node first, and where
+    /// their host contacts are in `links`.
+    pairs: Vec<(usize, usize, std::ops::Range<usize>)>,
+    links: Vec<Link>,
+    /// The labels given so far: (pattern node, host rod, pattern label).
+    labels: Vec<(usize, u32, u8)>,
+    /// The host contacts chosen so far: (pair, contact, labels at its ends).
+    chosen: Vec<(usize, Link, (u8, u8))>,
+}
+
+impl Assignment {
+    /// Lists the host contacts of the pattern's node pairs under `map`.
+    fn start(&mut self, state: &State, rule: &CompiledRule, map: &[Option<u32>]) {
+        self.pairs.clear();
+        self.links.clear();
+        self.labels.clear();
+        self.chosen.clear();
+        let n = map.len();
+        for a in 0..n {
+            for b in a + 1..n {
+                if !rule.between[a][b].is_empty() {
+                    let from = self.links.len();
+                    state.links_into(
+                        map[a].expect("mapped"),
+                        map[b].expect("mapped"),
+                        &mut self.links,
+                    );
+                    self.pairs.push((a, b, from..self.links.len()));
+                }
+            }
+        }
+    }
+
+    /// Assigns pattern contact `i` of pair `k` and everything after it.
+    fn assign(
+        &mut self,
+        state: &State,
+        rule: &CompiledRule,
+        map: &[Option<u32>],
+        k: usize,
+        i: usize,
+        rules: RuleSet,
+    ) -> bool {
+        let Some((a, b, ref range)) = self.pairs.get(k).cloned() else {
+            return rules == RuleSet::Paper || state.no_hidden_lines(map, self);
+        };
+        let wanted = &rule.between[a][b];
+        if i == wanted.len() {
+            return self.assign(state, rule, map, k + 1, 0, rules);
+        }
+        let (la, lb) = wanted[i];
+        for j in range.clone() {
+            let link = self.links[j];
+            if self.chosen.iter().any(|&(kk, l, _)| kk == k && l == link)
+                || !self.consistent(a, link.own, la)
+                || !self.consistent(b, link.other, lb)
+            {
+                continue;
+            }
+            let labels = self.labels.len();
+            self.labels.push((a, link.own, la));
+            self.labels.push((b, link.other, lb));
+            self.chosen.push((k, link, (la, lb)));
+            if self.assign(state, rule, map, k, i + 1, rules) {
+                return true;
+            }
+            self.chosen.pop();
+            self.labels.truncate(labels);
+        }
+        false
+    }
+
+    /// Whether giving host rod `rod` of pattern node `v` label `label` keeps
+    /// each node's labelling a function.
+    fn consistent(&self, v: usize, rod: u32, label: u8) -> bool {
+        self.labels
+            .iter()
+            .all(|&(w, r, l)| w != v || r != rod || l == label)
     }
 }
 
@@ -974,9 +993,4 @@ fn triangle_planes(g: &crate::graph::ContactGraph, rods: &[u32]) -> Vec<(u32, u3
         }
     }
     out
-}
-
-/// Whether mapping host rod `rod` to pattern label `label` keeps the map a function.
-fn consistent(map: &[(u32, u8)], rod: u32, label: u8) -> bool {
-    map.iter().all(|&(r, l)| r != rod || l == label)
 }

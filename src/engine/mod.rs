@@ -533,6 +533,9 @@ fn pair_rules(
     let m = state.multiplicity(x, y);
     let start = rng.random_range(0..n);
     if let Some(ix) = index.as_deref_mut() {
+        if !ix.has_pair_rules() {
+            return None;
+        }
         ix.start_pair(state, x, y, m);
     }
     let Some(ix) = index else {

@@ -1,5 +1,5 @@
 //! A dense row-major matrix over a [`Scalar`], and its exact rank over F_p
-//! by sparse Gaussian elimination.
+//! by fraction-free Gaussian elimination.
 
 use super::field::{Fp, Scalar};
 
@@ -54,45 +54,87 @@ impl<S: Scalar> Matrix<S> {
     }
 }
 
-/// Exact rank over F_p by Gaussian elimination (consumes a copy).
+/// Exact rank over F_p by Gaussian elimination of a copy.
 pub fn rank_fp(m: &Matrix<Fp>) -> usize {
     let mut a = m.data.clone();
-    let (rows, cols) = (m.rows, m.cols);
-    // Rigidity and Jacobian rows have a handful of non-zeros: eliminating
-    // with the pivot row's non-zeros only is several times faster than dense.
-    let mut pivot_row: Vec<(usize, Fp)> = Vec::with_capacity(cols);
+    reduce_fp(
+        &mut a,
+        m.rows,
+        m.cols,
+        &mut Vec::new(),
+        &mut Vec::new(),
+        false,
+    )
+}
+
+/// Row-reduces the dense `rows x cols` matrix `a` in place and returns its
+/// rank, with `pivots` the pivot column of each of the first `rank` rows.
+/// Fraction free: a row is cleared at a pivot column `c` by `q row - x
+/// pivot_row`, with `q` the pivot and `x` its entry at `c`, which scales
+/// the row by a non-zero factor and changes neither rank nor row space. With
+/// `full`, entries above the pivots are cleared too (an echelon form whose
+/// pivots are not 1); else only those below. `nonzero` is scratch space,
+/// passed in so that callers ranking many matrices allocate it once.
+/// Rigidity and Jacobian rows have a handful of non-zeros: each row update
+/// touches the pivot row's non-zeros and only scales the rest.
+pub fn reduce_fp(
+    a: &mut [Fp],
+    rows: usize,
+    cols: usize,
+    pivots: &mut Vec<usize>,
+    nonzero: &mut Vec<(usize, Fp)>,
+    full: bool,
+) -> usize {
+    pivots.clear();
     let mut rank = 0;
     for c in 0..cols {
         if rank == rows {
             break;
         }
-        let Some(pivot) = (rank..rows).find(|&r| !a[r * cols + c].is_zero()) else {
+        let Some(p) = (rank..rows).find(|&r| !a[r * cols + c].is_zero()) else {
             continue;
         };
-        if pivot != rank {
-            let (top, bottom) = a.split_at_mut(pivot * cols);
+        if p != rank {
+            let (top, bottom) = a.split_at_mut(p * cols);
             top[rank * cols..(rank + 1) * cols].swap_with_slice(&mut bottom[..cols]);
         }
-        let inv = a[rank * cols + c].inv().expect("pivot is non-zero");
-        pivot_row.clear();
-        pivot_row.extend(
-            (c + 1..cols)
-                .map(|k| (k, a[rank * cols + k]))
-                .filter(|(_, v)| !v.is_zero()),
+        let q = a[rank * cols + c];
+        nonzero.clear();
+        nonzero.extend(
+            a[rank * cols..(rank + 1) * cols]
+                .iter()
+                .enumerate()
+                .filter(|&(k, x)| k != c && !x.is_zero())
+                .map(|(k, &x)| (k, x)),
         );
-        for r in rank + 1..rows {
-            let f = a[r * cols + c];
-            if f.is_zero() {
+        let first = if full { 0 } else { rank + 1 };
+        for r in first..rows {
+            if r == rank {
                 continue;
             }
-            let f = f * inv;
+            let x = a[r * cols + c];
+            if x.is_zero() {
+                continue;
+            }
             let row = &mut a[r * cols..(r + 1) * cols];
             row[c] = Fp::ZERO;
-            for &(k, v) in &pivot_row {
-                row[k] = row[k] - f * v;
+            // Entries outside the pivot row's support only scale (most are zero).
+            let mut k0 = 0;
+            for &(k, v) in nonzero.iter() {
+                scale_nonzero(&mut row[k0..k], q);
+                row[k] = row[k] * q - x * v;
+                k0 = k + 1;
             }
+            scale_nonzero(&mut row[k0..], q);
         }
+        pivots.push(c);
         rank += 1;
     }
     rank
+}
+
+fn scale_nonzero(row: &mut [Fp], q: Fp) {
+    for y in row.iter_mut().filter(|y| !y.is_zero()) {
+        *y = *y * q;
+    }
 }

@@ -11,4 +11,4 @@ pub mod stats;
 pub mod vec3;
 
 pub use field::{Fp, P, Scalar};
-pub use matrix::{Matrix, rank_fp};
+pub use matrix::{Matrix, rank_fp, reduce_fp};

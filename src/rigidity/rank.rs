@@ -22,8 +22,8 @@
 use std::cell::RefCell;
 
 use super::framework::{Row, Structure};
-use crate::math::Fp;
 use crate::math::vec3::{V3, cross, dot, is_null, sub};
+use crate::math::{Fp, reduce_fp};
 
 /// Buffers a thread reuses across ranks: a verdict takes thousands of small
 /// ranks, and the audit millions of verdicts.
@@ -75,7 +75,7 @@ fn rank_in(s: &Structure<Fp>, w: &mut Work) -> usize {
         }
         fill_affine(s, n, affine, &mut w.a);
     }
-    let rank_a = reduce(&mut w.a, affine, n, &mut w.pivots, &mut w.nonzero, true);
+    let rank_a = reduce_fp(&mut w.a, affine, n, &mut w.pivots, &mut w.nonzero, true);
     // A kernel basis: one vector per free column f. Row r of the reduced
     // matrix reads `q_r x_(p_r) + sum_f a_rf x_f = 0` with its pivot `q_r`
     // not scaled to 1, so the vector with `x_f = D`, `D` the product of the
@@ -132,7 +132,7 @@ fn rank_in(s: &Structure<Fp>, w: &mut Work) -> usize {
             r += 1;
         }
     }
-    let rank_b = reduce(&mut w.b, bars, cols, &mut w.pivots, &mut w.nonzero, false);
+    let rank_b = reduce_fp(&mut w.b, bars, cols, &mut w.pivots, &mut w.nonzero, false);
     3 * rank_a + rank_b
 }
 
@@ -397,73 +397,4 @@ fn mask_bits(mut m: u128) -> impl Iterator<Item = usize> {
             k
         })
     })
-}
-
-/// Row-reduces the dense `rows x cols` matrix `a` in place and returns its
-/// rank, with `pivots` the pivot column of each of the first `rank` rows.
-/// Fraction free: a row is cleared at a pivot column `c` by `q row - x
-/// pivot_row`, with `q` the pivot and `x` its entry at `c`, which scales
-/// the row by a non-zero factor and changes neither rank nor row space. With
-/// `full`, entries above the pivots are cleared too (an echelon form whose
-/// pivots are not 1); else only those below.
-fn reduce(
-    a: &mut [Fp],
-    rows: usize,
-    cols: usize,
-    pivots: &mut Vec<usize>,
-    nonzero: &mut Vec<(usize, Fp)>,
-    full: bool,
-) -> usize {
-    pivots.clear();
-    let mut rank = 0;
-    for c in 0..cols {
-        if rank == rows {
-            break;
-        }
-        let Some(p) = (rank..rows).find(|&r| !a[r * cols + c].is_zero()) else {
-            continue;
-        };
-        if p != rank {
-            let (top, bottom) = a.split_at_mut(p * cols);
-            top[rank * cols..(rank + 1) * cols].swap_with_slice(&mut bottom[..cols]);
-        }
-        let q = a[rank * cols + c];
-        nonzero.clear();
-        nonzero.extend(
-            a[rank * cols..(rank + 1) * cols]
-                .iter()
-                .enumerate()
-                .filter(|&(k, x)| k != c && !x.is_zero())
-                .map(|(k, &x)| (k, x)),
-        );
-        let first = if full { 0 } else { rank + 1 };
-        for r in first..rows {
-            if r == rank {
-                continue;
-            }
-            let x = a[r * cols + c];
-            if x.is_zero() {
-                continue;
-            }
-            let row = &mut a[r * cols..(r + 1) * cols];
-            row[c] = Fp::ZERO;
-            // Entries outside the pivot row's support only scale (most are zero).
-            let mut k0 = 0;
-            for &(k, v) in nonzero.iter() {
-                scale_nonzero(&mut row[k0..k], q);
-                row[k] = row[k] * q - x * v;
-                k0 = k + 1;
-            }
-            scale_nonzero(&mut row[k0..], q);
-        }
-        pivots.push(c);
-        rank += 1;
-    }
-    rank
-}
-
-fn scale_nonzero(row: &mut [Fp], q: Fp) {
-    for y in row.iter_mut().filter(|y| !y.is_zero()) {
-        *y = *y * q;
-    }
 }
