@@ -828,7 +828,7 @@ impl State<'_> {
     /// assumed it (all on one rod of one pattern node). Planes are the planar
     /// parts of bodies and the rod triangles among the matched free rods
     /// (extra host contacts can close such triangles).
-    fn no_hidden_lines(&self, map: &[Option<u32>], a: &Assignment) -> bool {
+    fn no_hidden_lines(&self, map: &[Option<u32>], assignment: &Assignment) -> bool {
         let free: Vec<u32> = map
             .iter()
             .flatten()
@@ -849,8 +849,8 @@ impl State<'_> {
         };
         // (plane pair) -> the chosen contacts' (pattern node, label) on each side.
         let mut groups: Vec<((u32, u32), Vec<Sides>)> = Vec::new();
-        for &(k, l, (la, lb)) in &a.chosen {
-            let (a, b, _) = a.pairs[k];
+        for &(k, l, (la, lb)) in &assignment.chosen {
+            let (a, b, _) = assignment.pairs[k];
             let (pa, pb) = (plane_of(l.own), plane_of(l.other));
             if pa == NO_PLANE || pb == NO_PLANE || pa == pb {
                 continue;
