@@ -284,7 +284,7 @@ fn conic_rank(s: &Structure<Fp>) -> usize {
             d[1] * d[2],
             d[2] * d[2],
         ];
-        // Clear v at each pivot of the basis (fraction free, as in `reduce`).
+        // Clear v at each pivot of the basis (fraction free, as in `reduce_fp`).
         for (b, p) in &basis[..rank] {
             let x = v[*p];
             if !x.is_zero() {
@@ -311,7 +311,7 @@ fn conic_rank(s: &Structure<Fp>) -> usize {
 /// pivot column is the one fewest remaining rows hold (minimum degree, to
 /// keep the fill small), its row the sparsest of them. So it costs what the
 /// non-zeros and their fill cost, not `rows x cols` per pivot. Fraction free
-/// (see [`reduce`]).
+/// (see [`reduce_fp`]).
 fn sparse_rank(a: &mut [Fp], rows: usize, cols: usize, support: &mut Vec<u128>) -> Option<usize> {
     if rows > 128 || cols > 128 {
         return None;
