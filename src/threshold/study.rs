@@ -1,8 +1,10 @@
 //! A threshold study on disk (MODEL §9): what was asked (`study.json`), the
 //! fixed protocol's density grid (`grid.json`), and one JSON line per
 //! finished sequence (`records*.jsonl`). A study killed at any moment
-//! resumes from its records; shards (`--shard i/n`) write their own record
-//! files, in one directory or several, and [`merge`] combines them exactly.
+//! resumes from its records, and a finished one grows by more sequences per
+//! box (`--extend`) without rerunning any; shards (`--shard i/n`) write
+//! their own record files, in one directory or several, and [`merge`]
+//! combines them exactly.
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -336,6 +338,11 @@ fn run_sequence(
 pub struct RunOptions {
     pub out: PathBuf,
     pub shard: Shard,
+    /// Grow a study found in `out` with fewer sequences to the spec's
+    /// count (`--extend`). Its records stay valid: a sequence's seed depends
+    /// only on its box and index. Never implicit, so that a run with other
+    /// parameters cannot silently rewrite a committed study.
+    pub extend: bool,
 }
 
 /// What [`run`] did.
@@ -364,7 +371,7 @@ pub fn run(
     spec.validate()?;
     let dir = &opts.out;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    claim(dir, spec)?;
+    claim(dir, spec, opts.extend)?;
     let setup = Setup {
         kind: spec.kind,
         gamma: spec.gamma,
@@ -454,13 +461,35 @@ fn study_error(path: &Path, reason: impl Into<String>) -> Error {
     }
 }
 
-/// Writes `study.json`, or checks that the one there is the same study.
-fn claim(dir: &Path, spec: &StudySpec) -> Result<()> {
+/// Writes `study.json`, or checks that the one there is the same study;
+/// with `extend`, the same study with fewer sequences is grown to `spec`'s.
+fn claim(dir: &Path, spec: &StudySpec, extend: bool) -> Result<()> {
     let path = dir.join("study.json");
     match std::fs::read_to_string(&path) {
         Ok(text) => {
             let there: StudySpec = serde_json::from_str(&text)
                 .map_err(|e| study_error(&path, format!("unreadable study file: {e}")))?;
+            let grown = StudySpec {
+                sequences: spec.sequences,
+                ..there.clone()
+            };
+            if grown.same(spec) && there.sequences < spec.sequences {
+                if !extend {
+                    return Err(study_error(
+                        &path,
+                        format!(
+                            "this directory holds the same study with {} sequences per box, not {}; add --extend to grow it (its records are kept)",
+                            there.sequences, spec.sequences
+                        ),
+                    ));
+                }
+                let text = serde_json::to_string_pretty(&StudySpec {
+                    motifs: there.motifs,
+                    ..spec.clone()
+                })
+                .expect("specs serialize");
+                return output::write_atomic(&path, text);
+            }
             if !there.same(spec) {
                 return Err(study_error(
                     &path,
@@ -718,7 +747,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(StudySpec, Vec<Record>)> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let same_dir = dirs.iter().any(|d| same_path(d, out));
     if !same_dir {
-        claim(out, &spec)?;
+        claim(out, &spec, false)?;
         // The fixed protocol's grid travels with the records.
         let grid = first.join("grid.json");
         if grid.exists() {
@@ -806,6 +835,7 @@ mod tests {
         let opts = RunOptions {
             out: dir.to_path_buf(),
             shard,
+            extend: false,
         };
         run(spec, &[], &opts, &crate::progress::Silent).unwrap()
     }
@@ -876,6 +906,7 @@ mod tests {
             let opts = RunOptions {
                 out: dir.clone(),
                 shard: Shard::WHOLE,
+                extend: false,
             };
             assert!(run(&spec, &[], &opts, &crate::progress::Silent).is_err());
             std::fs::write(&path, &clean).unwrap();
@@ -1033,6 +1064,7 @@ mod tests {
         let opts = RunOptions {
             out: dir.clone(),
             shard: Shard::WHOLE,
+            extend: false,
         };
         let err = run(&spec, &[], &opts, &crate::progress::Silent)
             .unwrap_err()

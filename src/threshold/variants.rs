@@ -358,6 +358,7 @@ pub fn run_studies(
         let opts = RunOptions {
             out: dir.clone(),
             shard: Shard::WHOLE,
+            extend: false,
         };
         progress.note(&format!("study {}", opts.out.display()));
         study::run(spec, rules, &opts, progress)?;

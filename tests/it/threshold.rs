@@ -36,6 +36,7 @@ fn run_in(spec: &StudySpec, dir: &Path, shard: Shard, threads: usize) -> study::
     let opts = RunOptions {
         out: dir.to_path_buf(),
         shard,
+        extend: false,
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -349,6 +350,51 @@ fn shards_merge_to_the_whole_study() {
 }
 
 #[test]
+fn an_extended_study_equals_the_larger_study_run_at_once() {
+    let big = spec(Kind::Rigid, Protocol::Nested);
+    let small = StudySpec {
+        sequences: 5,
+        ..big.clone()
+    };
+    let whole = scratch("extend-whole");
+    run_in(&big, &whole, Shard::WHOLE, 2);
+    let grown = scratch("extend-grown");
+    run_in(&small, &grown, Shard::WHOLE, 2);
+    let opts = |extend| RunOptions {
+        out: grown.clone(),
+        shard: Shard { index: 1, count: 2 },
+        extend,
+    };
+    // Without --extend the smaller study is not grown, and the message says how.
+    let err = study::run(&big, &[], &opts(false), &Silent)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("5 sequences per box, not 12") && err.contains("--extend"),
+        "{err}"
+    );
+    // Grown by two shards: each runs only its new sequences.
+    let r = study::run(&big, &[], &opts(true), &Silent).unwrap();
+    assert_eq!((r.resumed, r.ran, r.complete), (6, 12, false));
+    let opts0 = RunOptions {
+        shard: Shard::WHOLE,
+        ..opts(false)
+    };
+    let r = study::run(&big, &[], &opts0, &Silent).unwrap();
+    assert_eq!((r.resumed, r.ran, r.complete), (27, 9, true));
+    assert_eq!(results(&big, &whole), results(&big, &grown));
+    assert_eq!(study::read_spec(&grown).unwrap(), big);
+    // A study is never shrunk: its records beyond the smaller count would be orphans.
+    let err = study::run(&small, &[], &opts(true), &Silent)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("realizations 12 vs 5"), "{err}");
+    for d in [whole, grown] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
+}
+
+#[test]
 fn another_study_in_the_same_directory_is_refused() {
     let dir = scratch("other");
     let a = spec(Kind::Rigid, Protocol::Nested);
@@ -360,6 +406,7 @@ fn another_study_in_the_same_directory_is_refused() {
     let opts = RunOptions {
         out: dir.clone(),
         shard: Shard::WHOLE,
+        extend: false,
     };
     let err = study::run(&b, &[], &opts, &Silent).unwrap_err().to_string();
     assert!(

@@ -36,6 +36,9 @@ pub struct ThresholdArgs {
     /// Run only slice i of n (`i/n`, from 0); combine the slices with `rgc merge`.
     #[arg(long)]
     shard: Option<String>,
+    /// Grow the study in --out, made with fewer sequences per box, to --sequences; its records are kept.
+    #[arg(long)]
+    extend: bool,
     /// Study directory: checkpoints, tables and charts. Run the same command again to resume.
     #[arg(long)]
     out: PathBuf,
@@ -70,6 +73,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
     let opts = RunOptions {
         out: a.out.clone(),
         shard,
+        extend: a.extend,
     };
     let compiled: Vec<_> = rules.iter().map(rgc::engine::CompiledRule::new).collect();
     let done = study::run(&spec, &compiled, &opts, &Reporter::new(a.quiet || a.json))?;
