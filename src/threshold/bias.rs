@@ -12,12 +12,12 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use super::fss::{Estimate, Protocol};
+use super::paired::{self, Difference};
 use super::report;
 use super::sequence::{Kind, Record};
 use super::study::StudySpec;
 use super::variants::{self, Design, Pairing, Variant};
 use crate::engine::RuleSet;
-use crate::math::stats;
 use crate::output::{self, cell};
 use crate::progress::Progress;
 use crate::{Error, Result};
@@ -141,7 +141,7 @@ pub fn measure(
             template
                 .boxes
                 .iter()
-                .filter_map(|&l| box_bias(l, &truth, &records))
+                .filter_map(|&l| box_bias(l, template.gamma, &truth, &records))
                 .collect()
         };
         let pairs: Vec<(f64, f64)> = if i == 0 {
@@ -149,7 +149,7 @@ pub fn measure(
         } else {
             paired(&truth, &records)
         };
-        let bias = estimate(&pairs.iter().map(|(t, v)| v - t).collect::<Vec<_>>());
+        let bias = paired::mean_interval(&pairs.iter().map(|(t, v)| v - t).collect::<Vec<_>>());
         let false_span_share = (!pairs.is_empty())
             .then(|| pairs.iter().filter(|(t, v)| v < t).count() as f64 / pairs.len() as f64);
         out.push(VariantBias {
@@ -199,49 +199,22 @@ pub fn check_design(design: &Design) -> Result<()> {
 
 /// `(truth, variant)` critical densities of the sequences both have.
 fn paired(truth: &[Record], records: &[Record]) -> Vec<(f64, f64)> {
-    records
-        .iter()
-        .filter_map(|r| {
-            let t = truth
-                .iter()
-                .find(|t| t.seed == r.seed && t.box_len == r.box_len)?;
-            let v = r.box_len.powi(3);
-            Some((
-                t.critical(Kind::Truth)? as f64 / v,
-                r.critical(Kind::Rigid)? as f64 / v,
-            ))
-        })
-        .collect()
+    paired::pairs((Kind::Truth, truth), (Kind::Rigid, records))
 }
 
-/// Mean with a 95% normal interval, from two values on.
-fn estimate(d: &[f64]) -> Option<Estimate> {
-    if d.len() < 2 {
-        return None;
-    }
-    let (mean, sd) = stats::mean_sd(d);
-    let half = 1.96 * sd / (d.len() as f64).sqrt();
-    Some(Estimate {
-        value: mean,
-        lo: Some(mean - half),
-        hi: Some(mean + half),
-    })
-}
-
-fn box_bias(box_len: f64, truth: &[Record], records: &[Record]) -> Option<BoxBias> {
+fn box_bias(box_len: f64, gamma: f64, truth: &[Record], records: &[Record]) -> Option<BoxBias> {
     let mine: Vec<Record> = records
         .iter()
         .filter(|r| r.box_len == box_len)
         .cloned()
         .collect();
-    let pairs = paired(truth, &mine);
-    let bias = estimate(&pairs.iter().map(|(t, v)| v - t).collect::<Vec<_>>())?;
+    let d = Difference::of(Some(box_len), &paired(truth, &mine), gamma)?;
     Some(BoxBias {
         box_len,
-        sequences: pairs.len(),
-        bias,
-        below: pairs.iter().filter(|(t, v)| v < t).count(),
-        above: pairs.iter().filter(|(t, v)| v > t).count(),
+        sequences: d.sequences,
+        bias: d.mean,
+        below: d.below,
+        above: d.above,
     })
 }
 

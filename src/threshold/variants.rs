@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use super::fss::{Estimate, Protocol};
+use super::paired;
 use super::report;
 use super::sequence::{Kind, Record};
 use super::study::{self, MotifSet, RunOptions, Shard, StudySpec};
@@ -529,26 +530,11 @@ fn difference(a: Estimate, b: Estimate) -> Estimate {
 /// Mean difference of critical densities on the sequences both sets of
 /// records have (nested protocol), with a 95% normal interval.
 fn paired_difference(spec: &StudySpec, first: &[Record], records: &[Record]) -> Option<Estimate> {
-    let diffs: Vec<f64> = records
-        .iter()
-        .filter_map(|r| {
-            let f = first
-                .iter()
-                .find(|f| f.seed == r.seed && f.box_len == r.box_len)?;
-            let v = r.box_len.powi(3);
-            Some((r.critical(spec.kind)? as f64 - f.critical(spec.kind)? as f64) / v)
-        })
-        .collect();
-    if diffs.len() < 2 || spec.method != Protocol::Nested {
+    if spec.method != Protocol::Nested {
         return None;
     }
-    let (mean, sd) = crate::math::stats::mean_sd(&diffs);
-    let half = 1.96 * sd / (diffs.len() as f64).sqrt();
-    Some(Estimate {
-        value: mean,
-        lo: Some(mean - half),
-        hi: Some(mean + half),
-    })
+    let pairs = paired::pairs((spec.kind, first), (spec.kind, records));
+    paired::mean_interval(&pairs.iter().map(|(f, r)| r - f).collect::<Vec<_>>())
 }
 
 /// One variant as both tables show it: every field is a column of the CSV

@@ -562,5 +562,81 @@ fn paired_differences_compare_the_same_sequences() {
         / a.len() as f64;
     assert!((paired.value - mean).abs() < 1e-12);
     assert!(paired.lo.unwrap() <= mean && mean <= paired.hi.unwrap());
+    // `rgc paired` on the two directories: the same mean over all boxes,
+    // each box's mean from its own sequences, and the signs counted.
+    let (sound, paper) = (Path::new(&out[0].study), Path::new(&out[1].study));
+    let p = rgc::threshold::paired::of_dirs(sound, paper).unwrap();
+    let all = &p.comparison.all;
+    assert_eq!(all.sequences, 36);
+    assert!((all.mean.value - mean).abs() < 1e-12);
+    let vex = rgc::rods::excluded_volume(10.0);
+    assert!((all.mean_vex.value - mean * vex).abs() < 1e-12);
+    let shift = |s: &Record, p: &Record| {
+        (p.rigid_critical.unwrap() as f64 - s.rigid_critical.unwrap() as f64) / s.box_len.powi(3)
+    };
+    let signs = |f: fn(f64) -> bool| a.iter().zip(&b).filter(|(s, p)| f(shift(s, p))).count();
+    assert_eq!(
+        (all.below, all.above),
+        (signs(|d| d < 0.0), signs(|d| d > 0.0))
+    );
+    assert_eq!(p.comparison.boxes.len(), 3);
+    for d in &p.comparison.boxes {
+        let l = d.box_len.unwrap();
+        let here: Vec<f64> = a
+            .iter()
+            .zip(&b)
+            .filter(|(s, _)| s.box_len == l)
+            .map(|(s, p)| shift(s, p))
+            .collect();
+        assert_eq!(d.sequences, 12);
+        assert!((d.mean.value - here.iter().sum::<f64>() / 12.0).abs() < 1e-12);
+    }
+    // A study against itself: no shift, no sign.
+    let same = rgc::threshold::paired::of_dirs(sound, sound).unwrap();
+    assert_eq!(same.comparison.all.mean.value, 0.0);
+    assert_eq!(
+        (same.comparison.all.below, same.comparison.all.above),
+        (0, 0)
+    );
+    // Other sequences, or no critical number per sequence, are refused.
+    let (sa, sb) = (template.clone(), a.clone());
+    let other_seed = StudySpec {
+        seed: 8,
+        ..sa.clone()
+    };
+    let err = rgc::threshold::paired::compare((&sa, &sb), (&other_seed, &sb))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("different sequences") && err.contains("seed 7"),
+        "{err}"
+    );
+    let fixed = StudySpec {
+        method: Protocol::Fixed,
+        ..sa.clone()
+    };
+    let err = rgc::threshold::paired::compare((&sa, &sb), (&fixed, &sb))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("need nested studies"), "{err}");
+    // From the command line: pairs only, and no silent replacement.
+    let prefix = root.join("paired");
+    let dirs = [sound.to_str().unwrap(), paper.to_str().unwrap()];
+    let o = crate::cli::rgc(&["paired", dirs[0]]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = crate::cli::rgc(&["paired", dirs[0], dirs[1], dirs[0]]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("in pairs"));
+    let args = [
+        "paired",
+        dirs[0],
+        dirs[1],
+        "--out",
+        prefix.to_str().unwrap(),
+    ];
+    assert!(crate::cli::rgc(&args).status.success());
+    let csv = std::fs::read_to_string(root.join("paired.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 3 + 1);
+    let o = crate::cli::rgc(&args);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
     std::fs::remove_dir_all(root).unwrap();
 }

@@ -52,6 +52,8 @@ enum Command {
     Threshold(cmd::threshold::ThresholdArgs),
     /// Combine the shards of a threshold study and analyse it.
     Merge(cmd::merge::MergeArgs),
+    /// Finished studies of the same sequences compared sequence by sequence: mean shift of the critical density per box.
+    Paired(cmd::paired::PairedArgs),
     /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same sequences.
     Compare(cmd::compare::CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
@@ -100,6 +102,7 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Stability(a) => cmd::stability::run(a, out),
         Command::Threshold(a) => cmd::threshold::run(a, out),
         Command::Merge(a) => cmd::merge::run(a, out),
+        Command::Paired(a) => cmd::paired::run(a, out),
         Command::Compare(a) => cmd::compare::run(a, out),
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),

@@ -23,6 +23,7 @@ pub mod compress;
 pub mod enumerate;
 pub mod merge;
 pub mod mine;
+pub mod paired;
 pub mod planes;
 pub mod rules;
 pub mod sample;

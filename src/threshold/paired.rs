@@ -1,0 +1,240 @@
+//! Two studies of the same sequences compared sequence by sequence.
+//!
+//! Extrapolated thresholds carry intervals wider than the shifts between
+//! rule sets, but two studies with the same seed run the same rods: on each
+//! sequence, the critical density of one minus the other's cancels the
+//! sample-to-sample spread, leaving the shift itself. This is how `bias`
+//! measures every variant against truth, how `compare` reports each variant
+//! against the one before, and what `rgc paired` computes for any two
+//! finished studies.
+
+use rustc_hash::FxHashMap;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+use super::fss::{Estimate, Protocol};
+use super::sequence::{Kind, Record};
+use super::study::{self, StudySpec};
+use crate::math::stats;
+use crate::output::{self, cell};
+use crate::rods::excluded_volume;
+use crate::{Error, Result};
+
+/// `(reference, other)` critical densities of the sequences both have (by
+/// box and seed), in `other`'s order; sequences either left undecided are
+/// left out.
+pub fn pairs(reference: (Kind, &[Record]), other: (Kind, &[Record])) -> Vec<(f64, f64)> {
+    let (rk, rr) = reference;
+    let (ok, or) = other;
+    let critical: FxHashMap<(u64, u64), usize> = rr
+        .iter()
+        .filter_map(|r| Some(((r.box_len.to_bits(), r.seed), r.critical(rk)?)))
+        .collect();
+    or.iter()
+        .filter_map(|r| {
+            let c = critical.get(&(r.box_len.to_bits(), r.seed))?;
+            let v = r.box_len.powi(3);
+            Some((*c as f64 / v, r.critical(ok)? as f64 / v))
+        })
+        .collect()
+}
+
+/// Mean with a 95% normal interval, from two values on.
+pub fn mean_interval(d: &[f64]) -> Option<Estimate> {
+    if d.len() < 2 {
+        return None;
+    }
+    let (mean, sd) = stats::mean_sd(d);
+    let half = 1.96 * sd / (d.len() as f64).sqrt();
+    Some(Estimate {
+        value: mean,
+        lo: Some(mean - half),
+        hi: Some(mean + half),
+    })
+}
+
+/// The paired difference (other minus reference) over some sequences.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Difference {
+    /// The box, or none for all boxes together.
+    #[serde(rename = "box")]
+    pub box_len: Option<f64>,
+    /// Sequences both studies have.
+    pub sequences: usize,
+    /// Mean of (other's critical density - reference's), with a 95% normal interval.
+    pub mean: Estimate,
+    /// The same in mean contact number units (times the excluded volume).
+    pub mean_vex: Estimate,
+    /// Sequences where the other study first spans below the reference, and above it.
+    pub below: usize,
+    pub above: usize,
+}
+
+impl Difference {
+    /// Of the pairs, from two on.
+    pub fn of(box_len: Option<f64>, pairs: &[(f64, f64)], gamma: f64) -> Option<Difference> {
+        let mean = mean_interval(&pairs.iter().map(|(r, o)| o - r).collect::<Vec<_>>())?;
+        let vex = excluded_volume(gamma);
+        let scale = |x: f64| x * vex;
+        Some(Difference {
+            box_len,
+            sequences: pairs.len(),
+            mean_vex: Estimate {
+                value: scale(mean.value),
+                lo: mean.lo.map(scale),
+                hi: mean.hi.map(scale),
+            },
+            mean,
+            below: pairs.iter().filter(|(r, o)| o < r).count(),
+            above: pairs.iter().filter(|(r, o)| o > r).count(),
+        })
+    }
+}
+
+/// Two studies compared: per box they share, then over all their shared sequences.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    pub gamma: f64,
+    pub seed: u64,
+    pub boxes: Vec<Difference>,
+    pub all: Difference,
+}
+
+/// Checks that two studies ran the same sequences and each has one critical
+/// number per sequence, then compares them.
+pub fn compare(
+    reference: (&StudySpec, &[Record]),
+    other: (&StudySpec, &[Record]),
+) -> Result<Comparison> {
+    let (rs, os) = (reference.0, other.0);
+    let bad = |m: String| Err(Error::Parameter(m));
+    for s in [rs, os] {
+        if s.method != Protocol::Nested {
+            return bad(format!(
+                "a study of the {:?} protocol has no critical number per sequence: paired differences need nested studies",
+                s.method
+            ));
+        }
+    }
+    if rs.gamma != os.gamma || rs.seed != os.seed {
+        return bad(format!(
+            "the studies ran different sequences (gamma {} seed {} against gamma {} seed {}): paired differences need the same gamma and seed",
+            rs.gamma, rs.seed, os.gamma, os.seed
+        ));
+    }
+    let shared: Vec<f64> = rs
+        .boxes
+        .iter()
+        .copied()
+        .filter(|l| os.boxes.contains(l))
+        .collect();
+    let boxes: Vec<Difference> = shared
+        .iter()
+        .filter_map(|&l| {
+            let in_box = |records: &[Record]| -> Vec<Record> {
+                records.iter().filter(|r| r.box_len == l).cloned().collect()
+            };
+            let (r, o) = (in_box(reference.1), in_box(other.1));
+            Difference::of(Some(l), &pairs((rs.kind, &r), (os.kind, &o)), rs.gamma)
+        })
+        .collect();
+    let all = pairs((rs.kind, reference.1), (os.kind, other.1));
+    let Some(all) = Difference::of(None, &all, rs.gamma) else {
+        return bad(format!(
+            "the studies share fewer than two decided sequences (boxes {:?} against {:?})",
+            rs.boxes, os.boxes
+        ));
+    };
+    Ok(Comparison {
+        gamma: rs.gamma,
+        seed: rs.seed,
+        boxes,
+        all,
+    })
+}
+
+/// The comparison of two finished study directories (`rgc paired`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pairing {
+    pub reference: String,
+    pub other: String,
+    #[serde(flatten)]
+    pub comparison: Comparison,
+}
+
+/// Reads the studies in `reference` and `other` and compares them.
+pub fn of_dirs(reference: &Path, other: &Path) -> Result<Pairing> {
+    let read = |dir: &Path| -> Result<(StudySpec, Vec<Record>)> {
+        let spec = study::read_spec(dir)?;
+        let records = study::in_study_order(&spec, study::read_records(dir, &spec)?);
+        Ok((spec, records))
+    };
+    let (rs, rr) = read(reference)?;
+    let (os, or) = read(other)?;
+    Ok(Pairing {
+        reference: reference.display().to_string(),
+        other: other.display().to_string(),
+        comparison: compare((&rs, &rr), (&os, &or))?,
+    })
+}
+
+/// One CSV row: a pairing in one box, or over all boxes (`box` empty).
+#[derive(Serialize)]
+struct Row<'a> {
+    reference: &'a str,
+    other: &'a str,
+    gamma: f64,
+    #[serde(rename = "box", serialize_with = "cell::fixed_opt::<1, _>")]
+    box_len: Option<f64>,
+    sequences: usize,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    mean: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    lo: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    hi: Option<f64>,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    mean_vex: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    lo_vex: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    hi_vex: Option<f64>,
+    below: usize,
+    above: usize,
+}
+
+/// Writes `PREFIX.json` (with the command that made it) and `PREFIX.csv`
+/// atomically; the paths written.
+pub fn write(prefix: &Path, pairings: &[Pairing], command: &str) -> Result<Vec<PathBuf>> {
+    let with = |ext: &str| {
+        let mut name = prefix.as_os_str().to_owned();
+        name.push(format!(".{ext}"));
+        PathBuf::from(name)
+    };
+    let (json, csv) = (with("json"), with("csv"));
+    let doc = serde_json::json!({ "command": command, "pairings": pairings });
+    output::write_atomic(
+        &json,
+        serde_json::to_string_pretty(&doc).expect("pairings serialize"),
+    )?;
+    let rows = pairings.iter().flat_map(|p| {
+        let c = &p.comparison;
+        c.boxes.iter().chain([&c.all]).map(move |d| Row {
+            reference: &p.reference,
+            other: &p.other,
+            gamma: c.gamma,
+            box_len: d.box_len,
+            sequences: d.sequences,
+            mean: d.mean.value,
+            lo: d.mean.lo,
+            hi: d.mean.hi,
+            mean_vex: d.mean_vex.value,
+            lo_vex: d.mean_vex.lo,
+            hi_vex: d.mean_vex.hi,
+            below: d.below,
+            above: d.above,
+        })
+    });
+    output::write_csv(&csv, rows)?;
+    Ok(vec![json, csv])
+}
