@@ -28,7 +28,7 @@
 //! * [`stability`] — where float ranks fail against the exact verdict;
 //! * [`threshold`] — rod sequences, studies, finite-size scaling, variants;
 //! * [`plot`] — charts of what the layers above computed;
-//! * [`bench`] — the speed and memory benchmark behind `rgc bench`.
+//! * [`mod@bench`] — the speed and memory benchmark behind `rgc bench`.
 
 pub mod error;
 pub mod math;

@@ -8,7 +8,7 @@
 //! of a threshold study, which grow one finished line at a time.
 //!
 //! [`check_file`] and [`check_dir`] let a command refuse an unwritable
-//! output before it does its work, and [`csv`] writes tables through the
+//! output before it does its work, and [`csv()`] writes tables through the
 //! `csv` crate, so that a field holding a comma or a quote is quoted.
 
 use serde::Serialize;
@@ -95,7 +95,7 @@ pub fn csv<T: Serialize>(rows: impl IntoIterator<Item = T>) -> Vec<u8> {
 
 /// A CSV table whose rows are a struct followed by a varying number of
 /// further cells (one per parameter of the analysis, say): headed by the
-/// struct's field names and then `more` (empty without rows, as [`csv`]).
+/// struct's field names and then `more` (empty without rows, as [`csv()`]).
 pub fn csv_with_more<T, M>(more: &[String], rows: impl IntoIterator<Item = (T, M)>) -> Vec<u8>
 where
     T: Serialize,

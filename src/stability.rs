@@ -78,7 +78,7 @@ pub fn panel() -> Vec<(String, Pattern)> {
 }
 
 /// Where generic float spectra sit against the noise a rank decision allows
-/// for ([`rigidity::float_spectrum`]), in units of that noise.
+/// for ([`crate::rigidity::verdict::float_spectrum`]), in units of that noise.
 #[derive(Clone, Debug, Serialize)]
 pub struct Calibration {
     pub method: Method,

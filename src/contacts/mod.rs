@@ -386,7 +386,7 @@ struct CellRods {
 /// for the conventions).
 ///
 /// Each rod is listed in the cells of a fine periodic grid that its core,
-/// widened by `r`, may meet (see [`Grid`]); pairs sharing a cell are tested
+/// widened by `r`, may meet (cells about a third of a rod long); pairs sharing a cell are tested
 /// there, and a contact is kept in the one cell holding its contact point.
 /// The result does not depend on the number of rayon threads and equals
 /// [`detect_all_pairs`].

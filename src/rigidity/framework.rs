@@ -73,7 +73,7 @@ pub fn trivial_dimension<S: Scalar>(points: &[V3<S>]) -> usize {
 ///
 /// # Panics
 ///
-/// When two points of one part coincide: [`realization::construct_in`] never
+/// When two points of one part coincide: [`super::construction::construct_in`] never
 /// returns such a sample; use [`try_framework`] for samples from elsewhere.
 pub fn framework<S: Scalar>(
     inc: &Incidence,

@@ -326,7 +326,7 @@ pub fn project(inc: &Incidence, grouping: &Grouping, seed: u64) -> Option<Realiz
 
 /// [`project`], and a twin: the projection of the same solution with every
 /// unknown nudged by up to `nudge`, a nearby member of the same family (the
-/// counterpart of [`super::construct_twins`]). The twin is `None` when it
+/// counterpart of [`super::construction::construct_twins`]). The twin is `None` when it
 /// does not converge or comes out special; no twin is sought when `nudge` is 0.
 pub fn project_twins(
     inc: &Incidence,

@@ -604,7 +604,7 @@ impl Bisection {
 }
 
 /// The nested protocol on one sequence: the exact contact critical
-/// number, and for the rigid kind the rigid one by [`Bisection`], each
+/// number, and for the rigid kind the rigid one by bisection, each
 /// compression starting from the bodies of the largest non-spanning system.
 pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<()> {
     let n_c = seq.contact_critical(setup.criterion)?;
