@@ -19,6 +19,14 @@ pub enum Error {
         line: usize,
         reason: String,
     },
+    /// A data file (GraphML, rods) that does not parse: its format, and where.
+    #[error("malformed {format} file {path}: line {line}: {reason}")]
+    Malformed {
+        format: &'static str,
+        path: PathBuf,
+        line: usize,
+        reason: String,
+    },
     /// Data a finite-size-scaling analysis cannot use (all spanning, too few
     /// box sizes, a fit that does not converge ...).
     #[error("cannot analyse: {0}")]

@@ -1,6 +1,7 @@
 //! The contact graph: rods as nodes, contacts as edges, in compressed
 //! adjacency form shared by the whole crate.
 
+pub mod graphml;
 pub mod io;
 mod stats;
 

@@ -73,6 +73,7 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     let dir = crate::scratch("cli-sample-saves");
     let path = dir.join("contacts.txt");
     let bodies_path = dir.join("bodies.json");
+    let graphml_path = dir.join("contacts.graphml");
     let args = |p: &str| {
         vec![
             "sample",
@@ -94,6 +95,8 @@ fn sample_is_reproducible_and_saves_its_contacts() {
             p,
             "--save-bodies",
             bodies_path.to_str().unwrap(),
+            "--save-graphml",
+            graphml_path.to_str().unwrap(),
             "--json",
         ]
         .into_iter()
@@ -112,6 +115,16 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     let g = rgc::graph::io::read_edge_list(&path).unwrap();
     assert_eq!(g.n_nodes() as u64, first["n_rods"].as_u64().unwrap());
     assert_eq!(g.n_edges() as u64, first["n_contacts"].as_u64().unwrap());
+    // The GraphML holds the same graph, with each contact's geometry.
+    let ml = rgc::graph::graphml::read_graphml(&graphml_path).unwrap();
+    assert_eq!(ml.n_rods, g.n_nodes());
+    let ml_edges: Vec<[u32; 2]> = ml.contacts.iter().map(|c| c.rods).collect();
+    assert_eq!(ml_edges, g.edges());
+    assert!(
+        ml.contacts
+            .iter()
+            .all(|c| c.params.iter().all(|s| s.abs() <= 0.5))
+    );
     let bodies: Value =
         serde_json::from_str(&std::fs::read_to_string(&bodies_path).unwrap()).unwrap();
     let list = bodies["bodies"].as_array().unwrap();

@@ -531,3 +531,77 @@ proptest! {
         prop_assert_eq!(back, g);
     }
 }
+
+mod graphml {
+    use std::path::Path;
+
+    use rgc::contacts;
+    use rgc::graph::graphml::{parse_graphml, to_graphml};
+    use rgc::rods::{RodParams, RodSystem};
+
+    fn system() -> (RodSystem, Vec<rgc::contacts::Contact>) {
+        let s = RodSystem::generate(RodParams::new(10.0, 3.0, 12.0).unwrap(), 5);
+        let c = contacts::detect(&s);
+        (s, c)
+    }
+
+    #[test]
+    fn a_graphml_file_reads_back_to_the_same_contacts() {
+        let (s, c) = system();
+        // Contacts through the periodic boundary, so the images are exercised too.
+        assert!(c.iter().any(|c| c.shift != [0, 0, 0]));
+        let text = to_graphml(&s, &c);
+        let back = parse_graphml(&text, Path::new("t.graphml")).unwrap();
+        assert_eq!(back.n_rods, s.len());
+        assert_eq!(back.contacts, c, "bit for bit");
+        // Layout does not matter: one element per line, attributes reordered.
+        let spread = text
+            .replace("><", ">\n<")
+            .replace("<edge source=\"", "<edge\n target_first=\"x\" source=\"");
+        let again = parse_graphml(&spread, Path::new("t.graphml")).unwrap();
+        assert_eq!(again.contacts, c);
+    }
+
+    #[test]
+    fn broken_graphml_is_refused_with_its_line() {
+        let (s, c) = system();
+        let good = to_graphml(&s, &c);
+        let err = |text: &str| {
+            parse_graphml(text, Path::new("bad.graphml"))
+                .unwrap_err()
+                .to_string()
+        };
+        let first_edge = good.lines().position(|l| l.contains("<edge ")).unwrap() + 1;
+        let cases: Vec<(String, String)> = vec![
+            (good[..good.len() / 2].to_string(), "line".to_string()),
+            (
+                good.replacen("<data key=\"s0\">", "<data key=\"s0\">x", 1),
+                format!("line {first_edge}: edge"),
+            ),
+            (
+                good.replacen("<data key=\"kx\">0", "<data key=\"kx\">0.5", 1),
+                "is not an integer".to_string(),
+            ),
+            (
+                good.replacen("<data key=\"pz\">", "<data key=\"qz\">", 1),
+                "has no pz".to_string(),
+            ),
+            (
+                good.replacen("<node id=\"1\">", "<node id=\"7\">", 1),
+                "node 7 where node 1 was expected".to_string(),
+            ),
+            (
+                good.replacen("target=\"", "target=\"9999", 1),
+                "but the file has".to_string(),
+            ),
+        ];
+        for (text, want) in cases {
+            let e = err(&text);
+            assert!(
+                e.starts_with("malformed GraphML file bad.graphml: line ") && e.contains(&want),
+                "{e} (wanted {want:?})"
+            );
+        }
+        assert!(err("<graphml>").contains("ends before </graphml>"));
+    }
+}

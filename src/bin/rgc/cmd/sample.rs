@@ -1,14 +1,13 @@
 //! `rgc sample`: one rod system, its contacts and rigid bodies.
 
-use std::io::Write;
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::graph::io as graphio;
+use rgc::graph::{graphml, io as graphio};
 use rgc::rods::RodParams;
 use rgc::sample::{SampleOptions, sample_with};
 use rgc::spanning::Criterion;
-use rgc::{Error, Result, output};
+use rgc::{Result, output};
 
 use crate::args::EngineArgs;
 
@@ -31,6 +30,9 @@ pub struct SampleArgs {
     /// Write the contact graph as an edge list (`u v` per line) to this file.
     #[arg(long)]
     save_contacts: Option<PathBuf>,
+    /// Write the rods and contacts as GraphML (rod centres and axes; each contact's point, axis parameters and periodic image) to this file.
+    #[arg(long)]
+    save_graphml: Option<PathBuf>,
     /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
     #[arg(long)]
     save_bodies: Option<PathBuf>,
@@ -42,7 +44,12 @@ pub struct SampleArgs {
 pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     let params = RodParams::new(a.gamma, a.box_len, a.density)?;
     // An output that cannot be written fails before the sample is drawn.
-    for path in a.save_contacts.iter().chain(&a.save_bodies) {
+    for path in a
+        .save_contacts
+        .iter()
+        .chain(&a.save_bodies)
+        .chain(&a.save_graphml)
+    {
         output::check_file(path)?;
     }
     let opts = SampleOptions {
@@ -55,16 +62,15 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     let rules = super::load(&a.engine.rules.rule_files)?;
     let s = sample_with(&opts, &rules);
     if let Some(path) = &a.save_contacts {
-        let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-        let mut w = std::io::BufWriter::new(file);
-        graphio::write_edge_list(&s.graph, &mut w)
-            .and_then(|()| w.flush())
-            .map_err(|e| Error::io(path, e))?;
+        graphio::save_edge_list(&s.graph, path)?;
+    }
+    if let Some(path) = &a.save_graphml {
+        graphml::save_graphml(&s.system, &s.contacts, path)?;
     }
     if let Some(path) = &a.save_bodies {
         let text = serde_json::to_string_pretty(&s.reported_bodies(opts.criterion))
             .expect("bodies serialize");
-        std::fs::write(path, text + "\n").map_err(|e| Error::io(path, e))?;
+        output::write_atomic(path, text + "\n")?;
     }
     let r = &s.report;
     if a.json {

@@ -1,0 +1,318 @@
+//! GraphML: a contact graph with its geometry, for networkx
+//! (`nx.read_graphml(path, node_type=int)`), Gephi or yEd.
+//!
+//! Nodes are rods, numbered from 0, with their centre (`cx`, `cy`, `cz`) and
+//! unit axis (`ax`, `ay`, `az`); edges are contacts with the axis parameter
+//! of the contact on each rod (`s0` on the lower-numbered rod, `s1` on the
+//! other, in rod lengths from the centre), the contact point (`px`, `py`,
+//! `pz`, in the primary box) and the periodic image of the second rod that
+//! touches the first (`kx`, `ky`, `kz`, in boxes). The graph carries the
+//! aspect ratio, the radius and the box side. Numbers are written in their
+//! shortest exact form, so a file read back gives the very same contacts.
+//!
+//! The reader is for files of this shape (rgc's own, or another program's
+//! with the same keys): elements and attributes in any order and layout,
+//! without entities, comments inside elements or CDATA.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use nalgebra::Vector3;
+
+use crate::contacts::Contact;
+use crate::output;
+use crate::rods::RodSystem;
+use crate::{Error, Result};
+
+/// Node keys, in file order.
+const NODE_KEYS: [&str; 6] = ["cx", "cy", "cz", "ax", "ay", "az"];
+/// Edge keys of type double, then of type int.
+const EDGE_DOUBLES: [&str; 5] = ["s0", "s1", "px", "py", "pz"];
+const EDGE_INTS: [&str; 3] = ["kx", "ky", "kz"];
+
+/// The GraphML document of a rod system and its contacts.
+pub fn to_graphml(system: &RodSystem, contacts: &[Contact]) -> String {
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    s.push_str("<graphml xmlns=\"http://graphml.graphdrawing.org/xmlns\">\n");
+    let key = |s: &mut String, id: &str, domain: &str, ty: &str| {
+        let _ = writeln!(
+            s,
+            "  <key id=\"{id}\" for=\"{domain}\" attr.name=\"{id}\" attr.type=\"{ty}\"/>"
+        );
+    };
+    for k in ["gamma", "radius", "box"] {
+        key(&mut s, k, "graph", "double");
+    }
+    for k in NODE_KEYS {
+        key(&mut s, k, "node", "double");
+    }
+    for k in EDGE_DOUBLES {
+        key(&mut s, k, "edge", "double");
+    }
+    for k in EDGE_INTS {
+        key(&mut s, k, "edge", "int");
+    }
+    s.push_str("  <graph id=\"contacts\" edgedefault=\"undirected\">\n");
+    let p = &system.params;
+    for (k, v) in [
+        ("gamma", p.gamma),
+        ("radius", system.radius()),
+        ("box", p.box_len),
+    ] {
+        let _ = writeln!(s, "    <data key=\"{k}\">{v}</data>");
+    }
+    let data = |s: &mut String, k: &str, v: &dyn std::fmt::Display| {
+        let _ = write!(s, "<data key=\"{k}\">{v}</data>");
+    };
+    for (i, r) in system.rods.iter().enumerate() {
+        let _ = write!(s, "    <node id=\"{i}\">");
+        for (k, v) in NODE_KEYS.iter().zip(r.center.iter().chain(r.axis.iter())) {
+            data(&mut s, k, v);
+        }
+        s.push_str("</node>\n");
+    }
+    for c in contacts {
+        let _ = write!(
+            s,
+            "    <edge source=\"{}\" target=\"{}\">",
+            c.rods[0], c.rods[1]
+        );
+        for (k, v) in EDGE_DOUBLES
+            .iter()
+            .zip(c.params.iter().chain(c.point.iter()))
+        {
+            data(&mut s, k, v);
+        }
+        for (k, v) in EDGE_INTS.iter().zip(&c.shift) {
+            data(&mut s, k, v);
+        }
+        s.push_str("</edge>\n");
+    }
+    s.push_str("  </graph>\n</graphml>\n");
+    s
+}
+
+/// Writes [`to_graphml`] to `path` atomically.
+pub fn save_graphml(system: &RodSystem, contacts: &[Contact], path: &Path) -> Result<()> {
+    output::write_atomic(path, to_graphml(system, contacts))
+}
+
+/// A GraphML file read back: the rods' number and their contacts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphmlContacts {
+    pub n_rods: usize,
+    pub contacts: Vec<Contact>,
+}
+
+/// The edge being read: its line, its rods, and its data by key.
+type OpenEdge<'a> = (usize, [u32; 2], Vec<(&'a str, &'a str)>);
+
+/// One element's start tag: its name, attributes, and whether it closes itself.
+struct Tag<'a> {
+    name: &'a str,
+    attributes: Vec<(&'a str, &'a str)>,
+    closed: bool,
+    line: usize,
+}
+
+/// Reads the contacts of a GraphML document written by [`to_graphml`] (or
+/// of the same shape); `path` names it in errors, which give the line.
+pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
+    let fail = |line: usize, reason: String| Error::Malformed {
+        format: "GraphML",
+        path: path.to_path_buf(),
+        line,
+        reason,
+    };
+    let mut n_rods = 0usize;
+    let mut contacts = Vec::new();
+    let mut rest = text;
+    let mut line = 1;
+    let mut seen_end = false;
+    let mut edge: Option<OpenEdge> = None;
+    while let Some(at) = rest.find('<') {
+        line += rest[..at].matches('\n').count();
+        rest = &rest[at..];
+        let close = rest
+            .find('>')
+            .ok_or_else(|| fail(line, "a tag is not closed: the file ends inside it".into()))?;
+        let inner = &rest[1..close];
+        let tag_line = line;
+        line += inner.matches('\n').count();
+        rest = &rest[close + 1..];
+        if inner.starts_with('?') || inner.starts_with('!') {
+            continue;
+        }
+        if let Some(name) = inner.strip_prefix('/') {
+            match name.trim() {
+                "edge" => {
+                    let (l, rods, data) = edge
+                        .take()
+                        .ok_or_else(|| fail(tag_line, "</edge> without <edge>".into()))?;
+                    contacts.push(contact(rods, &data).map_err(|r| fail(l, r))?);
+                }
+                "graphml" => seen_end = true,
+                _ => {}
+            }
+            continue;
+        }
+        let tag = parse_tag(inner, tag_line).map_err(|r| fail(tag_line, r))?;
+        let attr = |name: &str| {
+            tag.attributes
+                .iter()
+                .find(|(k, _)| *k == name)
+                .map(|(_, v)| *v)
+                .ok_or_else(|| fail(tag.line, format!("<{}> has no {name} attribute", tag.name)))
+        };
+        let index = |name: &str| -> Result<u32> {
+            let v = attr(name)?;
+            v.parse::<u32>().map_err(|_| {
+                fail(
+                    tag.line,
+                    format!("{name} {v:?} is not a rod number (0, 1, 2 ...)"),
+                )
+            })
+        };
+        match tag.name {
+            "node" => {
+                let id = index("id")? as usize;
+                if id != n_rods {
+                    return Err(fail(
+                        tag.line,
+                        format!(
+                            "node {id} where node {n_rods} was expected: rods are numbered 0, 1, 2 ... in order"
+                        ),
+                    ));
+                }
+                n_rods += 1;
+            }
+            "edge" => {
+                if edge.is_some() {
+                    return Err(fail(tag.line, "an <edge> inside an <edge>".into()));
+                }
+                let (a, b) = (index("source")?, index("target")?);
+                let data = Vec::new();
+                if tag.closed {
+                    return Err(fail(tag.line, "an edge without its contact data".into()));
+                }
+                edge = Some((tag.line, [a, b], data));
+            }
+            "data" => {
+                if let Some((_, _, data)) = edge.as_mut() {
+                    let key = attr("key")?;
+                    let end = rest.find("</data>").ok_or_else(|| {
+                        fail(tag.line, format!("<data key={key:?}> is not closed"))
+                    })?;
+                    data.push((key, rest[..end].trim()));
+                }
+            }
+            _ => {}
+        }
+    }
+    if edge.is_some() || !seen_end {
+        return Err(fail(line, "the file ends before </graphml>".into()));
+    }
+    for c in &contacts {
+        if c.rods[1] as usize >= n_rods {
+            return Err(fail(
+                line,
+                format!(
+                    "a contact names rod {}, but the file has {n_rods} rods",
+                    c.rods[1]
+                ),
+            ));
+        }
+    }
+    Ok(GraphmlContacts { n_rods, contacts })
+}
+
+/// Reads a GraphML file (see [`parse_graphml`]).
+pub fn read_graphml(path: &Path) -> Result<GraphmlContacts> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    parse_graphml(&text, path)
+}
+
+/// A start tag's name and `key="value"` attributes.
+fn parse_tag(inner: &str, line: usize) -> std::result::Result<Tag<'_>, String> {
+    let (inner, closed) = match inner.strip_suffix('/') {
+        Some(i) => (i, true),
+        None => (inner, false),
+    };
+    let inner = inner.trim();
+    let name_end = inner.find(char::is_whitespace).unwrap_or(inner.len());
+    let (name, mut rest) = inner.split_at(name_end);
+    let mut attributes = Vec::new();
+    loop {
+        rest = rest.trim_start();
+        if rest.is_empty() {
+            break;
+        }
+        let eq = rest
+            .find('=')
+            .ok_or_else(|| format!("<{name}>: attribute without a value"))?;
+        let key = rest[..eq].trim();
+        let value = rest[eq + 1..].trim_start();
+        let quote = value
+            .chars()
+            .next()
+            .filter(|c| *c == '"' || *c == '\'')
+            .ok_or_else(|| format!("<{name}>: attribute {key} is not quoted"))?;
+        let end = value[1..]
+            .find(quote)
+            .ok_or_else(|| format!("<{name}>: attribute {key} is not closed"))?;
+        attributes.push((key, &value[1..1 + end]));
+        rest = &value[end + 2..];
+    }
+    Ok(Tag {
+        name,
+        attributes,
+        closed,
+        line,
+    })
+}
+
+/// An edge's contact from its data.
+fn contact(rods: [u32; 2], data: &[(&str, &str)]) -> std::result::Result<Contact, String> {
+    if rods[0] >= rods[1] {
+        return Err(format!(
+            "edge {} {}: the source must be the lower-numbered rod",
+            rods[0], rods[1]
+        ));
+    }
+    let value = |key: &str| {
+        data.iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| format!("edge {} {} has no {key}", rods[0], rods[1]))
+    };
+    let double = |key: &str| -> std::result::Result<f64, String> {
+        let v = value(key)?;
+        v.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| {
+                format!(
+                    "edge {} {}: {key} {v:?} is not a finite number",
+                    rods[0], rods[1]
+                )
+            })
+    };
+    let int = |key: &str| -> std::result::Result<i32, String> {
+        let v = value(key)?;
+        v.parse::<i32>().map_err(|_| {
+            format!(
+                "edge {} {}: {key} {v:?} is not an integer",
+                rods[0], rods[1]
+            )
+        })
+    };
+    let [s0, s1, px, py, pz] = EDGE_DOUBLES.map(double);
+    let [kx, ky, kz] = EDGE_INTS.map(int);
+    Ok(Contact {
+        rods,
+        params: [s0?, s1?],
+        point: Vector3::new(px?, py?, pz?),
+        shift: [kx?, ky?, kz?],
+    })
+}
