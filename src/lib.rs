@@ -23,6 +23,7 @@
 //! * [`rule_file`] — motif rule files, verified by exact rank on load;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC);
 //! * [`sample`] — one Monte Carlo system from rods to rigid bodies;
+//! * [`vtk`] — rod systems as VTK PolyData, with their bodies, for ParaView;
 //! * [`audit`] — which rigid motifs the engine misses; extended rule sets;
 //! * [`mine`] — the motifs the engine misses in generated systems, found by truth;
 //! * [`stability`] — where float ranks fail against the exact verdict;
@@ -53,6 +54,7 @@ pub mod rule_file;
 
 pub mod engine;
 pub mod sample;
+pub mod vtk;
 
 pub mod audit;
 pub mod mine;

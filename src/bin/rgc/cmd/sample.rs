@@ -33,6 +33,9 @@ pub struct SampleArgs {
     /// Write the rods and contacts as GraphML (rod centres and axes; each contact's point, axis parameters and periodic image) to this file.
     #[arg(long)]
     save_graphml: Option<PathBuf>,
+    /// Write the rods as VTK PolyData (.vtp: line cells with their radius; per rod the body of the reported run, -1 if free, whether it spans, and the degree) to this file.
+    #[arg(long)]
+    save_vtk: Option<PathBuf>,
     /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
     #[arg(long)]
     save_bodies: Option<PathBuf>,
@@ -66,6 +69,9 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     }
     if let Some(path) = &a.save_graphml {
         graphml::save_graphml(&s.system, &s.contacts, path)?;
+    }
+    if let Some(path) = &a.save_vtk {
+        rgc::vtk::save_sample(&s, opts.criterion, path)?;
     }
     if let Some(path) = &a.save_bodies {
         let text = serde_json::to_string_pretty(&s.reported_bodies(opts.criterion))
