@@ -1,6 +1,6 @@
 //! Charts (SVG, and PNG with an embedded font): the float-rank stability
 //! study, the finite-size scaling of the thresholds, variants of a study
-//! against each other, and the forced-plane scan.
+//! against each other, the forced-plane scan, and rod systems themselves.
 //!
 //! Text is rendered with a font compiled into the binary (Ubuntu Light from
 //! `epaint_default_fonts`, through plotters' `ab_glyph` feature), so PNG
@@ -20,6 +20,7 @@ use crate::{Error, Result};
 mod bias;
 mod compare;
 mod planes;
+pub mod rods;
 mod stability;
 mod threshold;
 

@@ -150,3 +150,96 @@ fn a_single_variant_without_intervals_still_charts() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+mod rods {
+    use rgc::plot::rods::{SIZE, View, rods_pixels};
+    use rgc::rods::RodParams;
+    use rgc::sample::{SampleOptions, sample};
+    use rgc::spanning::Criterion;
+
+    /// The README's example at a quarter of its rods: gamma 23, box 4, density 40.
+    fn example() -> rgc::sample::Sample {
+        sample(&SampleOptions {
+            params: RodParams::new(23.0, 4.0, 40.0).unwrap(),
+            seed: 2,
+            runs: 1,
+            rules: rgc::engine::RuleSet::Sound,
+            criterion: Criterion::Wrap,
+        })
+    }
+
+    #[test]
+    fn a_rod_picture_shows_its_rods_and_highlights_one_body() {
+        let s = example();
+        let bodies = s.reported_bodies(Criterion::Wrap);
+        let px = rods_pixels(&s.system, &bodies, View::default()).unwrap();
+        assert_eq!(px.len(), (SIZE.0 * SIZE.1 * 3) as usize);
+        let pixels: Vec<&[u8]> = px.chunks(3).collect();
+        let white = pixels.iter().filter(|p| p == &&[255, 255, 255]).count();
+        let red = pixels.iter().filter(|p| p == &&[214, 39, 40]).count();
+        // Not blank, not filled: rods cover some of the picture, and the
+        // highlighted body's colour is there.
+        let inked = pixels.len() - white;
+        assert!(
+            inked > pixels.len() / 20 && inked < pixels.len() * 9 / 10,
+            "{inked} of {} pixels inked",
+            pixels.len()
+        );
+        assert!(red > 1000, "{red} pixels of the highlighted body");
+        // Without bodies nothing is red: the colour means the chosen body.
+        let none = rgc::sample::ReportedBodies {
+            bodies: vec![],
+            ..bodies.clone()
+        };
+        let px = rods_pixels(&s.system, &none, View::default()).unwrap();
+        assert_eq!(px.chunks(3).filter(|p| p == &[214, 39, 40]).count(), 0);
+        // A view that cannot be is refused.
+        let bad = View {
+            azimuth: 0.0,
+            elevation: 120.0,
+        };
+        let err = rods_pixels(&s.system, &bodies, bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("elevation within -90..90"), "{err}");
+    }
+
+    #[test]
+    fn render_writes_a_png_and_an_svg_of_the_picture_size() {
+        let dir = super::scratch("render");
+        let prefix = dir.join("rods");
+        let out = crate::cli::rgc(&[
+            "render",
+            "--gamma",
+            "23",
+            "--box",
+            "4",
+            "--density",
+            "40",
+            "--seed",
+            "2",
+            "--out",
+            prefix.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let png = std::fs::read(dir.join("rods.png")).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+        // IHDR: width and height, big-endian, after the chunk length and type.
+        let dim = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+        assert_eq!((dim(16), dim(20)), SIZE);
+        let svg = std::fs::read_to_string(dir.join("rods.svg")).unwrap();
+        assert!(svg.contains("spanning body") || svg.contains("largest body"));
+        let s = example();
+        let lines = svg.matches("<polyline").count() + svg.matches("<path").count();
+        assert!(
+            lines >= s.system.len(),
+            "{lines} lines for {} rods",
+            s.system.len()
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}

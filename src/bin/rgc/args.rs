@@ -5,6 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 use rgc::engine::RuleSet;
+use rgc::rods::RodParams;
+use rgc::sample::SampleOptions;
 use rgc::spanning::Criterion;
 use rgc::threshold::study::StudySpec;
 
@@ -30,6 +32,38 @@ pub struct EngineArgs {
     pub runs: u64,
     #[command(flatten)]
     pub rules: RuleArgs,
+}
+
+/// One generated rod system and how to compress it (`sample`, `render`).
+#[derive(Args)]
+pub struct SystemArgs {
+    /// Aspect ratio l / (2r).
+    #[arg(long, allow_hyphen_values = true)]
+    gamma: f64,
+    /// Side of the periodic box, in rod lengths.
+    #[arg(long = "box", allow_hyphen_values = true)]
+    box_len: f64,
+    /// Number density N / L^3.
+    #[arg(long, allow_hyphen_values = true)]
+    density: f64,
+    #[command(flatten)]
+    pub engine: EngineArgs,
+    /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
+    #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
+    pub criterion: Criterion,
+}
+
+impl SystemArgs {
+    /// The sample these arguments ask for, checked.
+    pub fn options(&self) -> rgc::Result<SampleOptions> {
+        Ok(SampleOptions {
+            params: RodParams::new(self.gamma, self.box_len, self.density)?,
+            seed: self.engine.seed,
+            runs: self.engine.runs as usize,
+            rules: self.engine.rules.rules,
+            criterion: self.criterion,
+        })
+    }
 }
 
 /// What a threshold study is measured on: `threshold`, and the variants of

@@ -34,6 +34,8 @@ struct Cli {
 enum Command {
     /// Generate one rod system, find its contacts and rigid bodies.
     Sample(cmd::sample::SampleArgs),
+    /// Draw one rod system (PNG and SVG): an orthographic view, rods coloured by body, the spanning or largest one highlighted.
+    Render(cmd::render::RenderArgs),
     /// Compress a rods-only contact graph given as graph6 or as an edge list.
     Compress(cmd::compress::CompressArgs),
     /// Audit the engine against every small rigid motif (exact rank) and write the missed ones as rule files.
@@ -93,6 +95,7 @@ fn main() -> ExitCode {
 fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
     match cli.command {
         Command::Sample(a) => cmd::sample::run(a, out),
+        Command::Render(a) => cmd::render::run(a, out),
         Command::Compress(a) => cmd::compress::run(a, out),
         Command::Audit(a) => cmd::audit::run(a, out),
         Command::Bench(a) => cmd::bench::run(a, out),

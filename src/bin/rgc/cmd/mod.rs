@@ -25,6 +25,7 @@ pub mod merge;
 pub mod mine;
 pub mod paired;
 pub mod planes;
+pub mod render;
 pub mod rules;
 pub mod sample;
 pub mod stability;

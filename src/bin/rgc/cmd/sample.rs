@@ -4,29 +4,15 @@ use std::path::PathBuf;
 
 use clap::Args;
 use rgc::graph::{graphml, io as graphio};
-use rgc::rods::RodParams;
-use rgc::sample::{SampleOptions, sample_with};
-use rgc::spanning::Criterion;
+use rgc::sample::sample_with;
 use rgc::{Result, output};
 
-use crate::args::EngineArgs;
+use crate::args::SystemArgs;
 
 #[derive(Args)]
 pub struct SampleArgs {
-    /// Aspect ratio l / (2r).
-    #[arg(long, allow_hyphen_values = true)]
-    gamma: f64,
-    /// Side of the periodic box, in rod lengths.
-    #[arg(long = "box", allow_hyphen_values = true)]
-    box_len: f64,
-    /// Number density N / L^3.
-    #[arg(long, allow_hyphen_values = true)]
-    density: f64,
     #[command(flatten)]
-    engine: EngineArgs,
-    /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
-    #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
-    criterion: Criterion,
+    system: SystemArgs,
     /// Write the contact graph as an edge list (`u v` per line) to this file.
     #[arg(long)]
     save_contacts: Option<PathBuf>,
@@ -45,24 +31,18 @@ pub struct SampleArgs {
 }
 
 pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
-    let params = RodParams::new(a.gamma, a.box_len, a.density)?;
+    let opts = a.system.options()?;
     // An output that cannot be written fails before the sample is drawn.
     for path in a
         .save_contacts
         .iter()
         .chain(&a.save_bodies)
         .chain(&a.save_graphml)
+        .chain(&a.save_vtk)
     {
         output::check_file(path)?;
     }
-    let opts = SampleOptions {
-        params,
-        seed: a.engine.seed,
-        runs: a.engine.runs as usize,
-        rules: a.engine.rules.rules,
-        criterion: a.criterion,
-    };
-    let rules = super::load(&a.engine.rules.rule_files)?;
+    let rules = super::load(&a.system.engine.rules.rule_files)?;
     let s = sample_with(&opts, &rules);
     if let Some(path) = &a.save_contacts {
         graphio::save_edge_list(&s.graph, path)?;
