@@ -113,7 +113,6 @@ struct Tag<'a> {
     name: &'a str,
     attributes: Vec<(&'a str, &'a str)>,
     closed: bool,
-    line: usize,
 }
 
 /// Reads the contacts of a GraphML document written by [`to_graphml`] (or
@@ -157,19 +156,19 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
             }
             continue;
         }
-        let tag = parse_tag(inner, tag_line).map_err(|r| fail(tag_line, r))?;
+        let tag = parse_tag(inner).map_err(|r| fail(tag_line, r))?;
         let attr = |name: &str| {
             tag.attributes
                 .iter()
                 .find(|(k, _)| *k == name)
                 .map(|(_, v)| *v)
-                .ok_or_else(|| fail(tag.line, format!("<{}> has no {name} attribute", tag.name)))
+                .ok_or_else(|| fail(tag_line, format!("<{}> has no {name} attribute", tag.name)))
         };
         let index = |name: &str| -> Result<u32> {
             let v = attr(name)?;
             v.parse::<u32>().map_err(|_| {
                 fail(
-                    tag.line,
+                    tag_line,
                     format!("{name} {v:?} is not a rod number (0, 1, 2 ...)"),
                 )
             })
@@ -179,7 +178,7 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
                 let id = index("id")? as usize;
                 if id != n_rods {
                     return Err(fail(
-                        tag.line,
+                        tag_line,
                         format!(
                             "node {id} where node {n_rods} was expected: rods are numbered 0, 1, 2 ... in order"
                         ),
@@ -189,20 +188,20 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
             }
             "edge" => {
                 if edge.is_some() {
-                    return Err(fail(tag.line, "an <edge> inside an <edge>".into()));
+                    return Err(fail(tag_line, "an <edge> inside an <edge>".into()));
                 }
                 let (a, b) = (index("source")?, index("target")?);
                 let data = Vec::new();
                 if tag.closed {
-                    return Err(fail(tag.line, "an edge without its contact data".into()));
+                    return Err(fail(tag_line, "an edge without its contact data".into()));
                 }
-                edge = Some((tag.line, [a, b], data));
+                edge = Some((tag_line, [a, b], data));
             }
             "data" => {
                 if let Some((_, _, data)) = edge.as_mut() {
                     let key = attr("key")?;
                     let end = rest.find("</data>").ok_or_else(|| {
-                        fail(tag.line, format!("<data key={key:?}> is not closed"))
+                        fail(tag_line, format!("<data key={key:?}> is not closed"))
                     })?;
                     data.push((key, rest[..end].trim()));
                 }
@@ -234,7 +233,7 @@ pub fn read_graphml(path: &Path) -> Result<GraphmlContacts> {
 }
 
 /// A start tag's name and `key="value"` attributes.
-fn parse_tag(inner: &str, line: usize) -> std::result::Result<Tag<'_>, String> {
+fn parse_tag(inner: &str) -> std::result::Result<Tag<'_>, String> {
     let (inner, closed) = match inner.strip_suffix('/') {
         Some(i) => (i, true),
         None => (inner, false),
@@ -268,7 +267,6 @@ fn parse_tag(inner: &str, line: usize) -> std::result::Result<Tag<'_>, String> {
         name,
         attributes,
         closed,
-        line,
     })
 }
 
