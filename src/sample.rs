@@ -1,20 +1,41 @@
 //! One Monte Carlo sample: rods, contacts, statistics, K compressions, spanning.
 
 use serde::Serialize;
+use std::path::PathBuf;
 use std::time::Instant;
 
+use crate::Result;
 use crate::body::BodyClass;
 use crate::contacts::{self, Contact};
 use crate::engine::{self, Compression, MotifCounts, RuleSet, certify};
 use crate::graph::{self, ContactGraph, ContactStats};
-use crate::rods::{RodParams, RodSystem};
+use crate::rods::ensemble::{Ensemble, Orientation};
+use crate::rods::file::Loaded;
+use crate::rods::{Periodic, RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
 use crate::truth::Topology;
 
+/// Where a sample's rods come from.
+#[derive(Clone, Debug)]
+pub enum Rods {
+    /// Drawn from an ensemble with the sample's seed.
+    Generated(Ensemble),
+    /// Read from a file and checked ([`crate::rods::file::read`]).
+    Read { path: PathBuf, loaded: Loaded },
+}
+
+impl From<RodParams> for Rods {
+    /// The paper's ensemble.
+    fn from(params: RodParams) -> Self {
+        Rods::Generated(Ensemble::paper(params))
+    }
+}
+
 /// What to sample and how to compress it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SampleOptions {
-    pub params: RodParams,
+    pub rods: Rods,
+    /// Seed of the rods (when generated) and of the motif orders.
     pub seed: u64,
     /// Independent compressions (random motif orders); a system is
     /// rigid-spanning if any of them finds a spanning body.
@@ -26,10 +47,22 @@ pub struct SampleOptions {
 /// The figures of one sample, as printed by `rgc sample --json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SampleReport {
-    pub gamma: f64,
+    /// `generated`, or the rods file.
+    pub source: String,
+    /// The recipe of generated rods.
+    pub ensemble: Option<Ensemble>,
+    /// The aspect ratio `l / (2r)` when every rod has the same length and radius.
+    pub gamma: Option<f64>,
+    pub mean_length: f64,
+    pub mean_radius: f64,
+    /// The box sides.
     #[serde(rename = "box")]
-    pub box_len: f64,
+    pub sides: [f64; 3],
+    pub periodic: Periodic,
+    /// Rods per unit volume, `N / V`.
     pub density: f64,
+    /// Rods of a file whose cores were cut at a wall.
+    pub cut: usize,
     pub seed: u64,
     pub runs: usize,
     pub rules: RuleSet,
@@ -37,8 +70,11 @@ pub struct SampleReport {
     pub n_rods: usize,
     pub n_contacts: usize,
     pub c0: f64,
-    /// Philipse's expectation `rho V_ex (N-1)/N` for comparison with `c0`.
-    pub c0_expected: f64,
+    /// The expected `c0` of isotropic rods with these sizes in a periodic
+    /// box (the pair average of the excluded volume over the volume; for
+    /// equal rods Philipse's `rho V_ex (N-1)/N`), for generated isotropic
+    /// systems in a periodic box; otherwise none is known in closed form.
+    pub c0_expected: Option<f64>,
     pub c1: f64,
     pub c2: f64,
     pub clustering: f64,
@@ -118,15 +154,20 @@ impl Sample {
     }
 }
 
-/// Generates, detects, compresses and measures one rod system.
-pub fn sample(opts: &SampleOptions) -> Sample {
+/// Generates (or takes), detects, compresses and measures one rod system.
+/// Fails only when generated rods are too long for the box (see
+/// [`Ensemble::generate`]).
+pub fn sample(opts: &SampleOptions) -> Result<Sample> {
     sample_with(opts, &[])
 }
 
 /// [`sample`] with loaded motif rules in addition to the base motifs.
-pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Sample {
+pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Result<Sample> {
     let start = Instant::now();
-    let system = RodSystem::generate(opts.params, opts.seed);
+    let system = match &opts.rods {
+        Rods::Generated(e) => e.generate(opts.seed)?,
+        Rods::Read { loaded, .. } => loaded.system.clone(),
+    };
     let contacts = contacts::detect(&system);
     let graph = ContactGraph::from_contacts(system.len(), &contacts);
     let seconds_contacts = start.elapsed().as_secs_f64();
@@ -142,7 +183,7 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
         let runs: Vec<Compression> = if opts.rules == RuleSet::Certified {
             // Certified against the truth of this box, not of the bare graph.
             let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-            let topo = Topology::periodic(&graph, &shifts).expect("one shift per contact");
+            let topo = Topology::of_domain(&graph, &shifts, &system.domain);
             engine::Engine::with_rules(RuleSet::Sound, extra)
                 .runs(&graph, opts.seed, opts.runs)
                 .into_iter()
@@ -176,10 +217,31 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
             .unwrap_or(0)
     });
     let reported = runs.get(reported_run);
+    let n = system.len().max(1) as f64;
+    let first = system.rods.first();
+    let equal = first.is_some_and(|f| {
+        system
+            .rods
+            .iter()
+            .all(|r| r.length == f.length && r.radius == f.radius)
+    });
+    let (source, ensemble, cut) = match &opts.rods {
+        Rods::Generated(e) => ("generated".to_string(), Some(*e), 0),
+        Rods::Read { path, loaded } => (path.display().to_string(), None, loaded.cut),
+    };
+    let c0_expected = ensemble
+        .filter(|e| e.orientation == Orientation::Isotropic && e.domain.periodic == Periodic::Xyz)
+        .map(|_| system.expected_isotropic_c0());
     let report = SampleReport {
-        gamma: opts.params.gamma,
-        box_len: opts.params.box_len,
-        density: opts.params.density,
+        source,
+        ensemble,
+        gamma: first.filter(|_| equal).map(|f| f.length / (2.0 * f.radius)),
+        mean_length: system.rods.iter().map(|r| r.length).sum::<f64>() / n,
+        mean_radius: system.rods.iter().map(|r| r.radius).sum::<f64>() / n,
+        sides: system.domain.sides,
+        periodic: system.domain.periodic,
+        density: system.density(),
+        cut,
         seed: opts.seed,
         runs: opts.runs,
         rules: opts.rules,
@@ -187,7 +249,7 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
         n_rods: system.len(),
         n_contacts: contacts.len(),
         c0,
-        c0_expected: opts.params.expected_c0(),
+        c0_expected,
         c1,
         c2,
         clustering,
@@ -207,12 +269,12 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Samp
         seconds_contacts,
         seconds_compression,
     };
-    Sample {
+    Ok(Sample {
         system,
         contacts,
         graph,
         runs,
         spans,
         report,
-    }
+    })
 }

@@ -1,4 +1,4 @@
-//! Whether a cluster of rods spans the periodic box (MODEL §1).
+//! Whether a cluster of rods spans the box (MODEL §1).
 //!
 //! A periodic box has no walls, so "spanning" needs a definition; both in use
 //! give the same threshold as `L -> inf` and different finite-size curves, so
@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::contacts::Contact;
 use crate::graph::ContactGraph;
-use crate::rods::RodSystem;
+use crate::rods::{Periodic, RodSystem};
 
 /// Which definition of spanning to use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -19,7 +19,9 @@ use crate::rods::RodSystem;
 pub enum Criterion {
     /// A cluster spans if it connects a rod to one of its own periodic images:
     /// following its contacts with unwrapped image offsets reaches some rod
-    /// twice at different offsets. Natural for periodic boxes.
+    /// twice at different offsets. Natural for periodic boxes. Along an axis
+    /// with walls, where nothing wraps, it spans if it joins the two walls
+    /// (as under `Faces`).
     #[default]
     Wrap,
     /// The paper's wording, "contacts both system boundaries along one
@@ -79,12 +81,15 @@ impl Member {
         let Some(rod) = system.rods.get(rod as usize) else {
             return m;
         };
-        let l = system.box_len();
-        let r = system.radius();
         for d in 0..3 {
-            let image = (rod.center[d] / l).floor();
+            let l = system.domain.sides[d];
+            let image = if system.domain.wraps(d) {
+                (rod.center[d] / l).floor()
+            } else {
+                0.0
+            };
             let c = rod.center[d] - image * l;
-            let reach = 0.5 * rod.axis[d].abs() + r;
+            let reach = 0.5 * rod.length * rod.axis[d].abs() + rod.radius;
             m.low[d] = c - reach < 0.0;
             m.high[d] = c + reach > l;
             m.image[d] = image as i32;
@@ -108,8 +113,11 @@ impl SpanChecker {
         criterion: Criterion,
     ) -> bool {
         match criterion {
-            Criterion::Wrap => self.wraps(contacts, graph, rods),
-            Criterion::Faces => self.faces(system, contacts, graph, rods),
+            Criterion::Wrap => {
+                self.wraps(contacts, graph, rods)
+                    || self.faces(system, contacts, graph, rods, walls(system))
+            }
+            Criterion::Faces => self.faces(system, contacts, graph, rods, [true; 3]),
         }
     }
 
@@ -119,13 +127,18 @@ impl SpanChecker {
             .extend(rods.iter().enumerate().map(|(k, &r)| (r, k as u32)));
     }
 
+    /// The faces test along the axes in `axes`.
     fn faces(
         &mut self,
         system: &RodSystem,
         contacts: &[Contact],
         graph: &ContactGraph,
         rods: &[u32],
+        axes: [bool; 3],
     ) -> bool {
+        if !axes.contains(&true) {
+            return false;
+        }
         debug_assert_eq!(
             graph.n_edges(),
             contacts.len(),
@@ -135,7 +148,7 @@ impl SpanChecker {
         self.members.clear();
         self.members
             .extend(rods.iter().map(|&r| Member::of(system, r)));
-        for d in 0..3 {
+        for d in (0..3).filter(|&d| axes[d]) {
             let low = self.members.iter().any(|m| m.low[d]);
             let high = self.members.iter().any(|m| m.high[d]);
             if !(low && high) {
@@ -221,6 +234,11 @@ impl SpanChecker {
         }
         false
     }
+}
+
+/// The axes of a system's box that are walls, not periodic.
+fn walls(system: &RodSystem) -> [bool; 3] {
+    system.domain.periodic.axes().map(|p| !p)
 }
 
 /// Image offset of the other rod of `contact`, reached from `rod` at offset `here`.
@@ -321,8 +339,10 @@ fn for_each_cluster(
             }
         }
         let spans = match criterion {
-            Criterion::Wrap => wraps,
-            Criterion::Faces => checker.faces(system, contacts, graph, &members),
+            Criterion::Wrap => {
+                wraps || checker.faces(system, contacts, graph, &members, walls(system))
+            }
+            Criterion::Faces => checker.faces(system, contacts, graph, &members, [true; 3]),
         };
         if !visit(&members, spans) {
             return;
@@ -387,8 +407,13 @@ impl Sweep {
     }
 
     /// Adds the next rod of `system` (rods must come in index order) and
-    /// returns whether some cluster spans.
+    /// returns whether some cluster spans. Under `Wrap` the box must be
+    /// periodic on every axis (the sweep serves the paper's sequences).
     pub fn add_rod(&mut self, system: &RodSystem) -> bool {
+        debug_assert!(
+            self.criterion == Criterion::Faces || system.domain.periodic == Periodic::Xyz,
+            "the wrap sweep needs a fully periodic box"
+        );
         let rod = self.len() as u32;
         match self.criterion {
             Criterion::Wrap => {

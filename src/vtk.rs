@@ -83,7 +83,7 @@ pub fn to_vtp(system: &RodSystem, fields: &[Field]) -> String {
         .rods
         .iter()
         .flat_map(|r| {
-            let (a, b) = (r.at(-0.5), r.at(0.5));
+            let (a, b) = (r.at(-0.5 * r.length), r.at(0.5 * r.length));
             [a.x, a.y, a.z, b.x, b.y, b.z]
         })
         .collect();
@@ -106,12 +106,13 @@ pub fn to_vtp(system: &RodSystem, fields: &[Field]) -> String {
         &(1..=n).map(|i| 2 * i).collect::<Vec<_>>(),
     );
     s.push_str("      </Lines>\n");
-    let r = system.radius();
+    let radii: Vec<f64> = system.rods.iter().map(|r| r.radius).collect();
+    let per_point: Vec<f64> = radii.iter().flat_map(|&r| [r, r]).collect();
     s.push_str("      <PointData Scalars=\"radius\">\n");
-    array(&mut s, "Float64", "radius", 1, &vec![r; 2 * n]);
+    array(&mut s, "Float64", "radius", 1, &per_point);
     s.push_str("      </PointData>\n");
     s.push_str("      <CellData>\n");
-    array(&mut s, "Float64", "radius", 1, &vec![r; n]);
+    array(&mut s, "Float64", "radius", 1, &radii);
     for f in fields {
         match &f.values {
             Values::Int(v) => array(&mut s, "Int64", &f.name, 1, v),

@@ -18,82 +18,121 @@ const FILTER_SLACK: f64 = 1e-9;
 pub struct Contact {
     /// The two rods, `rods[0] < rods[1]`.
     pub rods: [u32; 2],
-    /// Axis parameter of the closest point on each rod, in `[-1/2, 1/2]`.
+    /// Arc length from each rod's centre to its closest point, in
+    /// `[-length / 2, length / 2]`.
     pub params: [f64; 2],
-    /// Contact point: midpoint of the two closest points, wrapped into the primary box.
+    /// Contact point, wrapped into the box along periodic axes: on the
+    /// segment of the two closest points, splitting it in the ratio of the
+    /// radii (the midpoint for equal rods), so that it lies within each
+    /// rod's radius of its core.
     pub point: Vector3<f64>,
     /// Periodic image of `rods[1]` that touches `rods[0]`: its center is
-    /// shifted by `shift * L`.
+    /// shifted by `shift[k] * L_k` along each axis (0 along walls).
     pub shift: [i32; 3],
 }
 
-/// A center wrapped into the primary box, and which image of the box the
-/// stored center lies in (`center = wrapped + image * L`).
-fn wrap_center(center: &Vector3<f64>, l: f64) -> (Vector3<f64>, [i32; 3]) {
-    let mut out = *center;
-    let mut image = [0i32; 3];
-    for k in 0..3 {
-        let x = center[k];
-        if (0.0..l).contains(&x) {
-            continue;
+/// The box as the detectors see it.
+#[derive(Clone, Copy)]
+struct Space {
+    sides: [f64; 3],
+    wraps: [bool; 3],
+}
+
+impl Space {
+    /// A center wrapped into the primary box along periodic axes, and which
+    /// image of the box the stored center lies in (`center = wrapped + image * L`).
+    fn wrap_center(&self, center: &Vector3<f64>) -> (Vector3<f64>, [i32; 3]) {
+        let mut out = *center;
+        let mut image = [0i32; 3];
+        for k in 0..3 {
+            let (x, l) = (center[k], self.sides[k]);
+            if !self.wraps[k] || (0.0..l).contains(&x) {
+                continue;
+            }
+            let m = (x / l).floor();
+            let mut y = x - m * l;
+            let mut m = m as i32;
+            if y >= l {
+                y -= l;
+                m = m.saturating_add(1);
+            } else if y < 0.0 {
+                y += l;
+                m = m.saturating_sub(1);
+            }
+            out[k] = y.clamp(0.0, l);
+            image[k] = m;
         }
-        let m = (x / l).floor();
-        let mut y = x - m * l;
-        let mut m = m as i32;
-        if y >= l {
-            y -= l;
-            m = m.saturating_add(1);
-        } else if y < 0.0 {
-            y += l;
-            m = m.saturating_sub(1);
-        }
-        out[k] = y.clamp(0.0, l);
-        image[k] = m;
+        (out, image)
     }
-    (out, image)
+
+    /// `x mod L_k` in `[0, L_k)` along a periodic axis, `x` along a wall axis.
+    fn wrap_coord(&self, x: f64, k: usize) -> f64 {
+        if !self.wraps[k] {
+            return x;
+        }
+        let l = self.sides[k];
+        let y = x - (x / l).floor() * l;
+        if y >= l || y < 0.0 { 0.0 } else { y }
+    }
+
+    /// The image of a (wrapped) center shifted by `shift` boxes. Both
+    /// detectors build it with this one expression so that they agree to the last bit.
+    fn image(&self, center: &Vector3<f64>, shift: [i32; 3]) -> Vector3<f64> {
+        let l = self.sides;
+        center
+            + Vector3::new(
+                shift[0] as f64 * l[0],
+                shift[1] as f64 * l[1],
+                shift[2] as f64 * l[2],
+            )
+    }
 }
 
-/// `x mod L` in `[0, L)`.
-fn wrap_coord(x: f64, l: f64) -> f64 {
-    let y = x - (x / l).floor() * l;
-    if y >= l || y < 0.0 { 0.0 } else { y }
-}
-
-/// The image of a (wrapped) center shifted by `shift` boxes. Both detectors
-/// build it with this one expression so that they agree to the last bit.
-fn image(center: &Vector3<f64>, shift: [i32; 3], l: f64) -> Vector3<f64> {
-    center + Vector3::new(shift[0] as f64, shift[1] as f64, shift[2] as f64) * l
-}
-
-/// What the detectors need per rod: wrapped center, axis, and the image of
-/// the stored center.
+/// What the detectors need per rod: wrapped center, axis, the image of the
+/// stored center, half the core length and the radius.
 #[derive(Clone, Copy)]
 struct Placed {
     center: Vector3<f64>,
     axis: Vector3<f64>,
     image: [i32; 3],
+    half: f64,
+    radius: f64,
 }
 
 /// Geometry shared by the detectors.
 #[derive(Clone, Copy)]
 struct Geometry {
-    box_len: f64,
-    /// `(2r)^2`: rods touch iff the core distance squared is below this.
-    touch2: f64,
-    /// Squared largest center distance of touching rods, `(l + 2r)^2`, with slack.
-    reach2: f64,
+    space: Space,
+    /// Twice the largest radius: no two rods touch farther apart than this.
     two_r: f64,
+    /// The largest core length.
+    max_len: f64,
+    /// The mean core length, which sets the grid's cells.
+    mean_len: f64,
 }
 
 impl Geometry {
     fn of(system: &RodSystem) -> Self {
-        let r = system.radius();
-        let reach = 1.0 + 2.0 * r;
+        let n = system.len().max(1) as f64;
         Geometry {
-            box_len: system.box_len(),
-            touch2: 4.0 * r * r,
-            reach2: reach * reach * (1.0 + FILTER_SLACK),
-            two_r: 2.0 * r,
+            space: Space {
+                sides: system.domain.sides,
+                wraps: system.domain.periodic.axes(),
+            },
+            two_r: 2.0 * system.max_radius(),
+            max_len: system.max_length(),
+            mean_len: system.rods.iter().map(|r| r.length).sum::<f64>() / n,
+        }
+    }
+
+    fn place(&self, rod: &Rod) -> Placed {
+        let (center, image) = self.space.wrap_center(&rod.center);
+        Placed {
+            center,
+            axis: rod.axis,
+            image,
+            half: 0.5 * rod.length,
+            radius: rod.radius,
         }
     }
 
@@ -101,11 +140,13 @@ impl Geometry {
     /// the image of `hi` that can touch `lo`. The single decision procedure of
     /// both detectors, so their outputs are identical.
     fn touch(&self, lo: u32, a: &Placed, hi: u32, b: &Placed, shift: [i32; 3]) -> Option<Contact> {
-        let l = self.box_len;
         let p = a.center;
-        let q = image(&b.center, shift, l);
+        let q = self.space.image(&b.center, shift);
         let w = q - p;
-        if w.norm_squared() > self.reach2 {
+        // Rods touch iff their cores come within the sum of the radii.
+        let two_r = a.radius + b.radius;
+        let reach = a.half + b.half + two_r;
+        if w.norm_squared() > reach * reach * (1.0 + FILTER_SLACK) {
             return None;
         }
         // The distance of the infinite lines bounds the segment distance from
@@ -114,20 +155,24 @@ impl Geometry {
         let n2 = n.norm_squared();
         if n2 > 1e-6 {
             let wn = w.dot(&n);
-            if wn * wn > self.two_r * self.two_r * n2 * (1.0 + FILTER_SLACK) {
+            if wn * wn > two_r * two_r * n2 * (1.0 + FILTER_SLACK) {
                 return None;
             }
         }
-        let cp = closest_points(&p, &a.axis, &q, &b.axis);
-        let touching = cp.dist2 < self.touch2;
-        if !touching {
+        let cp = closest_points(&p, &a.axis, a.half, &q, &b.axis, b.half);
+        if cp.dist2 >= two_r * two_r {
             return None;
         }
-        let mid = (p + a.axis * cp.s + q + b.axis * cp.t) * 0.5;
+        let (pa, pb) = (p + a.axis * cp.s, q + b.axis * cp.t);
+        let mid = if a.radius == b.radius {
+            (pa + pb) * 0.5
+        } else {
+            pa + (pb - pa) * (a.radius / two_r)
+        };
         let point = Vector3::new(
-            wrap_coord(mid.x, l),
-            wrap_coord(mid.y, l),
-            wrap_coord(mid.z, l),
+            self.space.wrap_coord(mid.x, 0),
+            self.space.wrap_coord(mid.y, 1),
+            self.space.wrap_coord(mid.z, 2),
         );
         // Translate the shift between wrapped centers into one between stored centers.
         let shift = std::array::from_fn(|k| {
@@ -141,15 +186,6 @@ impl Geometry {
             point,
             shift,
         })
-    }
-}
-
-fn place(rod: &Rod, l: f64) -> Placed {
-    let (center, image) = wrap_center(&rod.center, l);
-    Placed {
-        center,
-        axis: rod.axis,
-        image,
     }
 }
 
@@ -168,23 +204,28 @@ const CELL_SIDE: f64 = 1.0 / 3.0;
 /// huge nearly empty box does not allocate an enormous empty grid.
 const CELLS_PER_ROD: f64 = 8.0;
 
-/// A uniform periodic grid of `m^3` cubic cells of side `h = L / m`, each
-/// listing the rods whose core, widened by `pad`, may meet it.
+/// A uniform grid of `m_x m_y m_z` cells of sides `h_k = L_k / m_k`, each
+/// listing the rods whose core, widened by the rod's radius (plus a rounding
+/// slack), may meet it. Along a periodic axis the grid wraps; along a wall
+/// axis it stops at the walls, since cores lie inside them (see
+/// [`crate::rods::Domain::cut`]) and so do the contact points between them.
 ///
-/// Two rods touch only where their cores come within `2r`, and the midpoint
-/// of the closest points is then within `r` of both cores: every cell that
-/// holds that midpoint lists both rods. Each pair is therefore tested in a
-/// cell it shares, and a contact is kept only in the cell holding its contact
-/// point, so it is kept exactly once.
+/// Two rods touch only where their cores come within `r_a + r_b`, and the
+/// contact point (see [`Contact::point`]) is then within `r_a` of one core and
+/// `r_b` of the other: every cell that holds that point lists both rods. Each
+/// pair is therefore tested in a cell it shares, and a contact is kept only in
+/// the cell holding its contact point, so it is kept exactly once.
 #[derive(Clone, Copy)]
 struct Grid {
-    m: usize,
-    h: f64,
-    /// `r` plus a rounding slack: the core is widened to a square tube of this
-    /// half-side, which contains the round one of radius `r`.
-    pad: f64,
-    /// Absolute slack for rounding, in lengths.
+    m: [usize; 3],
+    h: [f64; 3],
+    wraps: [bool; 3],
+    /// Absolute slack for rounding, in lengths, added to each rod's radius:
+    /// the core is widened to a square tube of this half-side, which contains
+    /// the round one.
     slack: f64,
+    /// The largest widening, for the bound on a contact's distance from a cell.
+    max_pad: f64,
 }
 
 /// Bits of a cover entry that hold the image code, below the rod index.
@@ -192,108 +233,149 @@ const IMAGE_BITS: u32 = 6;
 const IMAGE_MASK: u32 = (1 << IMAGE_BITS) - 1;
 
 impl Grid {
-    /// The grid for a system, or `None` when the box is too small for a rod's
-    /// cover to miss the same cell twice (or there are too many rods to pack).
+    /// The grid for a system, or `None` when a periodic side is too small for
+    /// a rod's cover to miss the same cell twice (or there are too many rods to pack).
     fn of(geo: &Geometry, n: usize) -> Option<Self> {
-        let l = geo.box_len;
+        let sides = geo.space.sides;
         if n > (u32::MAX >> IMAGE_BITS) as usize {
             return None;
         }
+        let big = sides.iter().copied().fold(0.0, f64::max);
         // Rounding of coordinates up to about L is orders of magnitude below this.
-        let slack = 1e-9 * (1.0 + l);
-        let pad = 0.5 * geo.two_r + slack;
-        let by_size = (l / CELL_SIDE).floor();
-        let by_count = (CELLS_PER_ROD * n as f64).cbrt().ceil();
-        let m = by_size.min(by_count).max(1.0);
-        // Cell numbers are stored as u32.
-        if !m.is_finite() || m.powi(3) > u32::MAX as f64 {
-            return None;
+        let slack = 1e-9 * (1.0 + big);
+        let max_pad = 0.5 * geo.two_r + slack;
+        let volume: f64 = sides.iter().product();
+        let per_length = (CELLS_PER_ROD * n as f64 / volume).cbrt();
+        let side = CELL_SIDE * geo.mean_len;
+        let mut m = [1usize; 3];
+        let mut h = [0.0; 3];
+        for k in 0..3 {
+            let l = sides[k];
+            let by_size = (l / side).floor();
+            let by_count = (l * per_length).ceil();
+            let mk = by_size.min(by_count).max(1.0);
+            if !mk.is_finite() || mk > u32::MAX as f64 {
+                return None;
+            }
+            m[k] = mk as usize;
+            h[k] = l / mk;
+            // A rod's cover spans at most (l + 2 pad) / h + 2 cells along an
+            // axis; fewer than m + 1 keeps each wrapped cell at most once per rod.
+            if geo.space.wraps[k] && (geo.max_len + 2.0 * max_pad + h[k]) * (1.0 + 1e-9) >= l {
+                return None;
+            }
         }
-        let h = l / m;
-        // A rod's cover spans at most (1 + 2 pad) / h + 2 cells along an axis;
-        // fewer than m + 1 keeps each wrapped cell at most once per rod.
-        if (1.0 + 2.0 * pad + h) * (1.0 + 1e-9) >= l {
+        // Cell numbers are stored as u32.
+        if (m[0] as f64) * (m[1] as f64) * (m[2] as f64) > u32::MAX as f64 {
             return None;
         }
         Some(Grid {
-            m: m as usize,
+            m,
             h,
-            pad,
+            wraps: geo.space.wraps,
             slack,
+            max_pad,
         })
     }
 
     fn n_cells(&self) -> usize {
-        self.m * self.m * self.m
+        self.m.iter().product()
     }
 
-    /// The wrapped cell of a point in the primary box.
+    fn index(&self, i: [usize; 3]) -> usize {
+        (i[0] * self.m[1] + i[1]) * self.m[2] + i[2]
+    }
+
+    /// The cell of a point in the box.
     fn cell_of(&self, p: &Vector3<f64>) -> usize {
-        let idx = |x: f64| ((x / self.h) as usize).min(self.m - 1);
-        (idx(p.x) * self.m + idx(p.y)) * self.m + idx(p.z)
+        let idx = |k: usize| ((p[k] / self.h[k]) as usize).min(self.m[k] - 1);
+        self.index([idx(0), idx(1), idx(2)])
     }
 
-    /// Unwrapped cell indices whose slabs meet `[lo, hi]`, at most `m` of them.
-    fn cells(&self, lo: f64, hi: f64) -> std::ops::RangeInclusive<i64> {
-        let a = floor_i64(lo / self.h);
-        let b = floor_i64(hi / self.h).min(a.saturating_add(self.m as i64 - 1));
-        a..=b
+    /// The center of a cell.
+    fn center(&self, cell: usize) -> Vector3<f64> {
+        let (m, h) = (self.m, self.h);
+        let i = [cell / (m[1] * m[2]), cell / m[2] % m[1], cell % m[2]];
+        Vector3::from_fn(|k, _| (i[k] as f64 + 0.5) * h[k])
+    }
+
+    /// Unwrapped cell indices along axis `k` whose slabs meet `[lo, hi]`, at
+    /// most `m_k` of them; along a wall axis, only the box's own cells.
+    fn cells(&self, k: usize, lo: f64, hi: f64) -> std::ops::RangeInclusive<i64> {
+        let m = self.m[k] as i64;
+        let a = floor_i64(lo / self.h[k]);
+        let b = floor_i64(hi / self.h[k]);
+        if self.wraps[k] {
+            a..=b.min(a.saturating_add(m - 1))
+        } else {
+            a.max(0)..=b.min(m - 1)
+        }
     }
 
     /// The parameters in `t` where the coordinate `c + t u` lies in the
-    /// unwrapped slab `i`, widened by `pad`.
-    fn clip(&self, c: f64, u: f64, i: i64, t: (f64, f64)) -> (f64, f64) {
+    /// unwrapped slab `i` of axis `k`, widened by `pad`.
+    fn clip(&self, k: usize, c: f64, u: f64, i: i64, pad: f64, t: (f64, f64)) -> (f64, f64) {
         if u == 0.0 {
             return t;
         }
-        let a = (i as f64 * self.h - self.pad - c) / u;
-        let b = ((i + 1) as f64 * self.h + self.pad - c) / u;
+        let h = self.h[k];
+        let a = (i as f64 * h - pad - c) / u;
+        let b = ((i + 1) as f64 * h + pad - c) / u;
         (t.0.max(a.min(b)), t.1.min(a.max(b)))
     }
 
     /// Radius of a ball about a cell's center that holds the cell widened by
-    /// `pad`, with slack.
+    /// the largest pad, with slack.
     fn ball(&self) -> f64 {
-        (0.5 * self.h + self.pad) * 3f64.sqrt() * (1.0 + 1e-9)
+        let half = Vector3::from_fn(|k, _| 0.5 * self.h[k] + self.max_pad);
+        half.norm() * (1.0 + 1e-9)
     }
 
     /// Calls `f(cell, image code)` for every cell that the rod with wrapped
-    /// center `c` and axis `u`, widened by `pad`, may meet. Slab by slab
-    /// along x, then y, then z, each slab clipping the axis parameter, so the
-    /// work is proportional to the cells covered.
-    fn cover(&self, c: &Vector3<f64>, u: &Vector3<f64>, mut f: impl FnMut(usize, u32)) {
-        let (pad, m) = (self.pad, self.m as i64);
+    /// center `c`, axis `u`, half-length `half` and radius `r` may meet,
+    /// widened. Slab by slab along x, then y, then z, each slab clipping the
+    /// axis parameter, so the work is proportional to the cells covered.
+    fn cover(
+        &self,
+        c: &Vector3<f64>,
+        u: &Vector3<f64>,
+        half: f64,
+        r: f64,
+        mut f: impl FnMut(usize, u32),
+    ) {
+        let pad = r + self.slack;
         // Coordinate range of axis k over parameters [t0, t1], widened by pad.
         let span = |k: usize, t0: f64, t1: f64| {
             let (a, b) = (c[k] + t0 * u[k], c[k] + t1 * u[k]);
             (a.min(b) - pad, a.max(b) + pad)
         };
-        let clip = |k: usize, i: i64, t0: f64, t1: f64| self.clip(c[k], u[k], i, (t0, t1));
+        let clip = |k: usize, i: i64, t0: f64, t1: f64| self.clip(k, c[k], u[k], i, pad, (t0, t1));
         // Wrapped index and image (-1, 0 or 1) of an unwrapped cell index.
-        let wrap = |i: i64| {
+        let wrap = |k: usize, i: i64| {
+            let m = self.m[k] as i64;
             (
                 i.rem_euclid(m) as usize,
                 (i.div_euclid(m) + 1).clamp(0, 2) as u32,
             )
         };
-        let (x0, x1) = span(0, -0.5, 0.5);
-        for ix in self.cells(x0, x1) {
-            let (ta, tb) = clip(0, ix, -0.5, 0.5);
+        let (x0, x1) = span(0, -half, half);
+        for ix in self.cells(0, x0, x1) {
+            let (ta, tb) = clip(0, ix, -half, half);
             if ta > tb {
                 continue;
             }
-            let (wx, kx) = wrap(ix);
+            let (wx, kx) = wrap(0, ix);
             let (y0, y1) = span(1, ta, tb);
-            for iy in self.cells(y0, y1) {
+            for iy in self.cells(1, y0, y1) {
                 let (tc, td) = clip(1, iy, ta, tb);
                 if tc > td {
                     continue;
                 }
-                let (wy, ky) = wrap(iy);
+                let (wy, ky) = wrap(1, iy);
                 let (z0, z1) = span(2, tc, td);
-                for iz in self.cells(z0, z1) {
-                    let (wz, kz) = wrap(iz);
-                    f((wx * self.m + wy) * self.m + wz, kx << 4 | ky << 2 | kz);
+                for iz in self.cells(2, z0, z1) {
+                    let (wz, kz) = wrap(2, iz);
+                    f(self.index([wx, wy, wz]), kx << 4 | ky << 2 | kz);
                 }
             }
         }
@@ -385,14 +467,14 @@ struct CellRods {
 /// All contacts of a rod system in O(N), sorted by rod pair (see [`Contact`]
 /// for the conventions).
 ///
-/// Each rod is listed in the cells of a fine periodic grid that its core,
-/// widened by `r`, may meet (cells about a third of a rod long); pairs sharing a cell are tested
-/// there, and a contact is kept in the one cell holding its contact point.
+/// Each rod is listed in the cells of a fine grid that its core, widened by
+/// its radius, may meet (cells about a third of a mean rod long); pairs
+/// sharing a cell are tested there, and a contact is kept in the one cell
+/// holding its contact point.
 /// The result does not depend on the number of rayon threads and equals
 /// [`detect_all_pairs`].
 pub fn detect(system: &RodSystem) -> Vec<Contact> {
     let geo = Geometry::of(system);
-    let l = geo.box_len;
     let n = system.len();
     if n < 2 {
         return Vec::new();
@@ -403,7 +485,7 @@ pub fn detect(system: &RodSystem) -> Vec<Contact> {
     let n_cells = grid.n_cells();
     // Rods renumbered in the order of their centers' cells, so that the rods
     // of a cell, and of the cells visited next, lie close in memory.
-    let placed: Vec<Placed> = system.rods.iter().map(|r| place(r, l)).collect();
+    let placed: Vec<Placed> = system.rods.iter().map(|r| geo.place(r)).collect();
     let homes: Vec<(u32, u32)> = placed
         .iter()
         .enumerate()
@@ -419,7 +501,7 @@ pub fn detect(system: &RodSystem) -> Vec<Contact> {
         .par_iter()
         .enumerate()
         .fold(Vec::new, |mut out, (i, p)| {
-            grid.cover(&p.center, &p.axis, |cell, image| {
+            grid.cover(&p.center, &p.axis, p.half, p.radius, |cell, image| {
                 out.push((cell as u32, (i as u32) << IMAGE_BITS | image));
             });
             out
@@ -437,12 +519,7 @@ pub fn detect(system: &RodSystem) -> Vec<Contact> {
         if here.len() < 2 {
             return;
         }
-        let m = grid.m;
-        let centre = Vector3::new(
-            ((cell / (m * m)) as f64 + 0.5) * grid.h,
-            ((cell / m % m) as f64 + 0.5) * grid.h,
-            ((cell % m) as f64 + 0.5) * grid.h,
-        );
+        let centre = grid.center(cell);
         // Each rod's image that meets this cell, as coordinate arrays so that
         // the pair loop streams through memory.
         let CellRods {
@@ -458,7 +535,9 @@ pub fn detect(system: &RodSystem) -> Vec<Contact> {
         }
         for &e in here {
             let p = &placed[(e >> IMAGE_BITS) as usize];
-            let c = image(&p.center, image_of(e & IMAGE_MASK).map(|s| -s), l);
+            let c = geo
+                .space
+                .image(&p.center, image_of(e & IMAGE_MASK).map(|s| -s));
             x.push(c.x);
             y.push(c.y);
             z.push(c.z);
@@ -508,16 +587,16 @@ pub fn detect(system: &RodSystem) -> Vec<Contact> {
                     // of the cell's center.
                     let from_a = Vector3::new(x[a], y[a], z[a]);
                     let from_b = Vector3::new(x[b], y[b], z[b]);
-                    let piece = |from: &Vector3<f64>, axis: &Vector3<f64>| {
-                        let mid = axis.dot(&(centre - from));
-                        ((mid - ball).max(-0.5), (mid + ball).min(0.5))
+                    let piece = |from: &Vector3<f64>, p: &Placed| {
+                        let mid = p.axis.dot(&(centre - from));
+                        ((mid - ball).max(-p.half), (mid + ball).min(p.half))
                     };
                     if !pieces_may_touch(
                         &pa.axis,
                         &pb.axis,
                         &(from_b - from_a),
-                        piece(&from_a, &pa.axis),
-                        piece(&from_b, &pb.axis),
+                        piece(&from_a, pa),
+                        piece(&from_b, pb),
                         piece_cut2,
                     ) {
                         continue;
@@ -562,14 +641,21 @@ pub fn detect(system: &RodSystem) -> Vec<Contact> {
 /// with the same conventions and bit-identical output.
 pub fn detect_all_pairs(system: &RodSystem) -> Vec<Contact> {
     let geo = Geometry::of(system);
-    let l = geo.box_len;
-    let placed: Vec<Placed> = system.rods.iter().map(|r| place(r, l)).collect();
+    let Space { sides, wraps } = geo.space;
+    let placed: Vec<Placed> = system.rods.iter().map(|r| geo.place(r)).collect();
     let mut contacts = Vec::new();
     for (i, a) in placed.iter().enumerate() {
         for (j, b) in placed.iter().enumerate().skip(i + 1) {
             let d = b.center - a.center;
-            // Minimum image: the only image of j that can touch i (L > 2(l + 2r)).
-            let shift = std::array::from_fn(|k| -(d[k] / l).round() as i32);
+            // Minimum image along periodic axes: the only image of j that can
+            // touch i (L > 2(l + 2r)).
+            let shift = std::array::from_fn(|k| {
+                if wraps[k] {
+                    -(d[k] / sides[k]).round() as i32
+                } else {
+                    0
+                }
+            });
             contacts.extend(geo.touch(i as u32, a, j as u32, b, shift));
         }
     }

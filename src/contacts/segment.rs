@@ -1,5 +1,5 @@
-//! Closest points of two unit-length segments, robust for (nearly)
-//! parallel ones, where the textbook 2x2 solve breaks down.
+//! Closest points of two segments, robust for (nearly) parallel ones, where
+//! the textbook 2x2 solve breaks down.
 
 use nalgebra::Vector3;
 
@@ -14,29 +14,28 @@ pub struct Closest {
     pub t: f64,
 }
 
-/// Half the core length: segment parameters run over `[-HALF, HALF]`.
-const HALF: f64 = 0.5;
-
 /// Below this `|u x v|^2 / (|u|^2 |v|^2)` (an angle under 1e-10 rad) the
 /// interior critical point is not evaluated: the boundary then misses the true
 /// minimum by at most about the angle itself, far below any length that matters.
 const PARALLEL_SIN2: f64 = 1e-20;
 
-/// Closest points of the segments `p + s u` and `q + t v`, `s, t` in
-/// `[-1/2, 1/2]`, for unit vectors `u` and `v`.
+/// Closest points of the segments `p + s u`, `s` in `[-hu, hu]`, and
+/// `q + t v`, `t` in `[-hv, hv]`, for unit vectors `u` and `v`.
 ///
 /// Robust for (nearly) parallel segments, where the textbook 2x2 solve breaks
-/// down: the four edges of the parameter square are each an exact 1-D clamp,
+/// down: the four edges of the parameter rectangle are each an exact 1-D clamp,
 /// the interior critical point is tried only when the system is well
 /// conditioned (and then only for `s`, with `t` re-minimized exactly), and the
 /// candidate with the smallest directly computed distance wins. Exactly
 /// parallel overlapping segments have many minimizers; the first candidate in
-/// the fixed order (interior, `s = -1/2`, `s = 1/2`, `t = -1/2`, `t = 1/2`) wins.
+/// the fixed order (interior, `s = -hu`, `s = hu`, `t = -hv`, `t = hv`) wins.
 pub fn closest_points(
     p: &Vector3<f64>,
     u: &Vector3<f64>,
+    hu: f64,
     q: &Vector3<f64>,
     v: &Vector3<f64>,
+    hv: f64,
 ) -> Closest {
     // f(s, t) = |s u - t v - w|^2 with w = q - p.
     let w = q - p;
@@ -50,8 +49,8 @@ pub fn closest_points(
         s,
         t,
     };
-    let t_for = |s: f64| ((s * b - e) / c).clamp(-HALF, HALF);
-    let s_for = |t: f64| ((t * b + d) / a).clamp(-HALF, HALF);
+    let t_for = |s: f64| ((s * b - e) / c).clamp(-hv, hv);
+    let s_for = |t: f64| ((t * b + d) / a).clamp(-hu, hu);
 
     let mut best: Option<Closest> = None;
     let mut offer = |cand: Closest| {
@@ -66,13 +65,13 @@ pub fn closest_points(
         // s of the lines' common perpendicular. Its error grows like
         // eps / angle but lies along the near-flat valley of f, and taking t
         // exactly from s keeps the distance error at rounding level.
-        let s = (w.cross(v).dot(&n) / n2).clamp(-HALF, HALF);
+        let s = (w.cross(v).dot(&n) / n2).clamp(-hu, hu);
         offer(eval(s, t_for(s)));
     }
-    for s in [-HALF, HALF] {
+    for s in [-hu, hu] {
         offer(eval(s, t_for(s)));
     }
-    for t in [-HALF, HALF] {
+    for t in [-hv, hv] {
         offer(eval(s_for(t), t));
     }
     best.unwrap_or(Closest {

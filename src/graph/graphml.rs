@@ -1,14 +1,15 @@
 //! GraphML: a contact graph with its geometry, for networkx
 //! (`nx.read_graphml(path, node_type=int)`), Gephi or yEd.
 //!
-//! Nodes are rods, numbered from 0, with their centre (`cx`, `cy`, `cz`) and
-//! unit axis (`ax`, `ay`, `az`); edges are contacts with the axis parameter
-//! of the contact on each rod (`s0` on the lower-numbered rod, `s1` on the
-//! other, in rod lengths from the centre), the contact point (`px`, `py`,
-//! `pz`, in the primary box) and the periodic image of the second rod that
-//! touches the first (`kx`, `ky`, `kz`, in boxes). The graph carries the
-//! aspect ratio, the radius and the box side. Numbers are written in their
-//! shortest exact form, so a file read back gives the very same contacts.
+//! Nodes are rods, numbered from 0, with their centre (`cx`, `cy`, `cz`),
+//! unit axis (`ax`, `ay`, `az`), core `length` and `radius`; edges are
+//! contacts with the axis parameter of the contact on each rod (`s0` on the
+//! lower-numbered rod, `s1` on the other, as arc length from the centre), the
+//! contact point (`px`, `py`, `pz`, in the primary box) and the periodic image
+//! of the second rod that touches the first (`kx`, `ky`, `kz`, in boxes). The
+//! graph carries the box sides (`box_x`, `box_y`, `box_z`) and which axes are
+//! `periodic` (`xyz`, `xy` or `none`). Numbers are written in their shortest
+//! exact form, so a file read back gives the very same contacts.
 //!
 //! The reader is for files of this shape (rgc's own, or another program's
 //! with the same keys): elements and attributes in any order and layout,
@@ -25,7 +26,7 @@ use crate::rods::RodSystem;
 use crate::{Error, Result};
 
 /// Node keys, in file order.
-const NODE_KEYS: [&str; 6] = ["cx", "cy", "cz", "ax", "ay", "az"];
+const NODE_KEYS: [&str; 8] = ["cx", "cy", "cz", "ax", "ay", "az", "length", "radius"];
 /// Edge keys of type double, then of type int.
 const EDGE_DOUBLES: [&str; 5] = ["s0", "s1", "px", "py", "pz"];
 const EDGE_INTS: [&str; 3] = ["kx", "ky", "kz"];
@@ -41,9 +42,10 @@ pub fn to_graphml(system: &RodSystem, contacts: &[Contact]) -> String {
             "  <key id=\"{id}\" for=\"{domain}\" attr.name=\"{id}\" attr.type=\"{ty}\"/>"
         );
     };
-    for k in ["gamma", "radius", "box"] {
+    for k in ["box_x", "box_y", "box_z"] {
         key(&mut s, k, "graph", "double");
     }
+    key(&mut s, "periodic", "graph", "string");
     for k in NODE_KEYS {
         key(&mut s, k, "node", "double");
     }
@@ -54,20 +56,21 @@ pub fn to_graphml(system: &RodSystem, contacts: &[Contact]) -> String {
         key(&mut s, k, "edge", "int");
     }
     s.push_str("  <graph id=\"contacts\" edgedefault=\"undirected\">\n");
-    let p = &system.params;
-    for (k, v) in [
-        ("gamma", p.gamma),
-        ("radius", system.radius()),
-        ("box", p.box_len),
-    ] {
+    let d = &system.domain;
+    for (k, v) in ["box_x", "box_y", "box_z"].iter().zip(d.sides) {
         let _ = writeln!(s, "    <data key=\"{k}\">{v}</data>");
     }
+    let _ = writeln!(s, "    <data key=\"periodic\">{}</data>", d.periodic.name());
     let data = |s: &mut String, k: &str, v: &dyn std::fmt::Display| {
         let _ = write!(s, "<data key=\"{k}\">{v}</data>");
     };
     for (i, r) in system.rods.iter().enumerate() {
         let _ = write!(s, "    <node id=\"{i}\">");
-        for (k, v) in NODE_KEYS.iter().zip(r.center.iter().chain(r.axis.iter())) {
+        let sizes = [r.length, r.radius];
+        for (k, v) in NODE_KEYS
+            .iter()
+            .zip(r.center.iter().chain(r.axis.iter()).chain(&sizes))
+        {
             data(&mut s, k, v);
         }
         s.push_str("</node>\n");

@@ -111,7 +111,10 @@ impl Scene {
             .or((!bodies.bodies.is_empty()).then_some(0));
         let segment = |r: usize| {
             let rod = &system.rods[r];
-            [view.project(&rod.at(-0.5)), view.project(&rod.at(0.5))]
+            [
+                view.project(&rod.at(-0.5 * rod.length)),
+                view.project(&rod.at(0.5 * rod.length)),
+            ]
         };
         let (mut free, mut faded, mut highlight) = (Vec::new(), Vec::new(), Vec::new());
         for (r, &k) in owner.iter().enumerate() {
@@ -131,12 +134,12 @@ impl Scene {
             ),
             None => format!("no body among {n} rods"),
         };
-        let l = system.box_len();
+        let l = system.domain.sides;
         let corner = |i: usize| {
             Vector3::new(
-                l * (i & 1) as f64,
-                l * ((i >> 1) & 1) as f64,
-                l * ((i >> 2) & 1) as f64,
+                l[0] * (i & 1) as f64,
+                l[1] * ((i >> 1) & 1) as f64,
+                l[2] * ((i >> 2) & 1) as f64,
             )
         };
         let frame: Vec<Segment> = (0..8usize)

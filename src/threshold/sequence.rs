@@ -58,6 +58,7 @@ pub struct Sequence {
     pub contacts: Vec<Contact>,
     /// `ends[n]`: how many contacts the first `n` rods have among themselves.
     ends: Vec<usize>,
+    params: RodParams,
     seed: u64,
 }
 
@@ -80,6 +81,7 @@ impl Sequence {
             system,
             contacts,
             ends,
+            params,
             seed,
         })
     }
@@ -97,7 +99,7 @@ impl Sequence {
     /// from the same seed, half again as long as asked, so growth is rare).
     pub fn reach(&mut self, n: usize) -> Result<()> {
         if n > self.len() {
-            let p = self.system.params;
+            let p = self.params;
             *self = Sequence::new(p.gamma, p.box_len, n + n / 2, self.seed)?;
         }
         Ok(())
@@ -128,7 +130,7 @@ impl Sequence {
     pub fn contact_point(&self, n: usize) -> ContactPoint {
         let s = graph::stats(&self.graph(n));
         ContactPoint {
-            density: n as f64 / self.system.box_len().powi(3),
+            density: n as f64 / self.params.box_len.powi(3),
             c0: s.c0,
             c1: s.c1,
             c2: s.c2,
@@ -644,7 +646,7 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
             return Err(Error::Parameter(format!(
                 "no rigid spanning cluster below {} rods in a box of side {}",
                 crate::rods::MAX_RODS,
-                seq.system.box_len()
+                seq.params.box_len
             )));
         }
         seq.reach(n)?;

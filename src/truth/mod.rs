@@ -41,7 +41,7 @@ use std::time::Instant;
 use crate::contacts::Contact;
 use crate::graph::ContactGraph;
 use crate::math::sparse;
-use crate::rods::RodSystem;
+use crate::rods::{Domain, Periodic, RodSystem};
 use crate::spanning::{Criterion, SpanChecker};
 use crate::{Error, Result};
 use planes::Offset;
@@ -77,6 +77,16 @@ impl<'a> Topology<'a> {
             graph,
             shifts: Some(shifts),
         })
+    }
+
+    /// The contacts of a system in `domain`: periodic along some axis, or a
+    /// finite framework when every side is a wall (the walls hold nothing).
+    pub fn of_domain(graph: &'a ContactGraph, shifts: &'a [Offset], domain: &Domain) -> Self {
+        debug_assert_eq!(shifts.len(), graph.n_edges(), "one shift per contact");
+        Topology {
+            graph,
+            shifts: (domain.periodic != Periodic::None).then_some(shifts),
+        }
     }
 
     /// The image offset at which rod `r` sees the other rod of edge `e`.
@@ -373,7 +383,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     finish(out)
 }
 
-/// The truth of a generated periodic system (`graph` built from
+/// The truth of a rod system (`graph` built from
 /// `contacts`), with the spanning of every cluster under both criteria and
 /// whether one spans under `criterion`.
 pub fn of_system(
@@ -385,10 +395,7 @@ pub fn of_system(
 ) -> Truth {
     let start = Instant::now();
     let shifts: Vec<Offset> = contacts.iter().map(|c| c.shift).collect();
-    let topo = Topology {
-        graph,
-        shifts: Some(&shifts),
-    };
+    let topo = Topology::of_domain(graph, &shifts, &system.domain);
     let mut t = truth(&topo, opts);
     let mut checker = SpanChecker::new();
     for c in &mut t.clusters {

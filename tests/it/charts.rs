@@ -160,12 +160,13 @@ mod rods {
     /// The README's example at a quarter of its rods: gamma 23, box 4, density 40.
     fn example() -> rgc::sample::Sample {
         sample(&SampleOptions {
-            params: RodParams::new(23.0, 4.0, 40.0).unwrap(),
+            rods: RodParams::new(23.0, 4.0, 40.0).unwrap().into(),
             seed: 2,
             runs: 1,
             rules: rgc::engine::RuleSet::Sound,
             criterion: Criterion::Wrap,
         })
+        .unwrap()
     }
 
     #[test]

@@ -211,12 +211,13 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     assert_eq!(c["nodes"], first["n_rods"]);
     assert_eq!(c["contacts"], first["n_contacts"]);
     let own = rgc::sample::sample(&rgc::sample::SampleOptions {
-        params: rgc::rods::RodParams::new(10.0, 4.0, 12.0).unwrap(),
+        rods: rgc::rods::RodParams::new(10.0, 4.0, 12.0).unwrap().into(),
         seed: 9,
         runs: 3,
         rules: rgc::engine::RuleSet::Paper,
         criterion: rgc::spanning::Criterion::Faces,
-    });
+    })
+    .unwrap();
     let per_run: Vec<usize> = own.runs.iter().map(|r| r.components).collect();
     assert_eq!(c["components_per_run"], serde_json::json!(per_run));
     let k = first["reported_run"].as_u64().unwrap() as usize;

@@ -63,7 +63,7 @@ fn reference_distance(p: &V, u: &V, q: &V, v: &V) -> f64 {
 
 /// Checks `closest_points` against the reference and its own invariants.
 fn check_pair(p: &V, u: &V, q: &V, v: &V) {
-    let c = closest_points(p, u, q, v);
+    let c = closest_points(p, u, 0.5, q, v, 0.5);
     assert!(
         (-0.5..=0.5).contains(&c.s) && (-0.5..=0.5).contains(&c.t),
         "parameters out of range: {c:?}"
@@ -105,7 +105,7 @@ fn closest_points_near_parallel_pairs_match_reference() {
     let angles = [
         1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 0.0,
     ];
-    let dist = |p: &V, u: &V, q: &V, v: &V| closest_points(p, u, q, v).dist2.sqrt();
+    let dist = |p: &V, u: &V, q: &V, v: &V| closest_points(p, u, 0.5, q, v, 0.5).dist2.sqrt();
     for &angle in &angles {
         for antiparallel in [false, true] {
             for _ in 0..150 {
@@ -171,7 +171,7 @@ fn closest_points_exact_cases() {
         (o, x, V::new(0.1, 0.5, 0.0), y, 0.0),
     ];
     for (p, u, q, v, want) in cases {
-        let c = closest_points(&p, &u, &q, &v);
+        let c = closest_points(&p, &u, 0.5, &q, &v, 0.5);
         assert!(
             (c.dist2.sqrt() - want).abs() < 1e-12,
             "p={p:?} u={u:?} q={q:?} v={v:?}: got {c:?}, want distance {want}"
@@ -179,8 +179,8 @@ fn closest_points_exact_cases() {
     }
     // Exactly parallel overlapping: any minimizer, but always the same one.
     let q = V::new(0.3, 0.2, 0.0);
-    let a = closest_points(&o, &x, &q, &x);
-    let b = closest_points(&o, &x, &q, &x);
+    let a = closest_points(&o, &x, 0.5, &q, &x, 0.5);
+    let b = closest_points(&o, &x, 0.5, &q, &x, 0.5);
     assert_eq!(a, b);
     assert!((a.dist2 - 0.04).abs() < 1e-15);
 }
@@ -207,10 +207,7 @@ fn boundary_system(
             rng.random::<f64>() * l,
             rng.random::<f64>() * l,
         );
-        rods.push(Rod {
-            center: c,
-            axis: random_unit(&mut rng),
-        });
+        rods.push(crate::unit(c, random_unit(&mut rng)));
     }
     for k in 0..n_edge {
         // Each coordinate near 0, near L, or anywhere: faces, edges and corners.
@@ -226,10 +223,7 @@ fn boundary_system(
         if k % 19 == 0 {
             c.y = l * (1.0 - f64::EPSILON);
         }
-        rods.push(Rod {
-            center: c,
-            axis: random_unit(&mut rng),
-        });
+        rods.push(crate::unit(c, random_unit(&mut rng)));
     }
     // A few stored centers outside the primary box: their shifts must still be right.
     for c in [
@@ -237,28 +231,22 @@ fn boundary_system(
         V::new(l + 0.03, l - 0.01, 0.5 * l),
         V::new(0.5 * l, -0.04, l + 0.02),
     ] {
-        rods.push(Rod {
-            center: c,
-            axis: random_unit(&mut rng),
-        });
+        rods.push(crate::unit(c, random_unit(&mut rng)));
     }
     // Exactly parallel rods across a face, one of them exactly on it.
-    rods.push(Rod {
-        center: V::new(0.0, 0.3 * l, 0.3 * l),
-        axis: V::x(),
-    });
-    rods.push(Rod {
-        center: V::new(l - 0.6, 0.3 * l + 0.01, 0.3 * l),
-        axis: V::x(),
-    });
+    rods.push(crate::unit(V::new(0.0, 0.3 * l, 0.3 * l), V::x()));
+    rods.push(crate::unit(
+        V::new(l - 0.6, 0.3 * l + 0.01, 0.3 * l),
+        V::x(),
+    ));
     let density = rods.len() as f64 / l.powi(3);
-    RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods)
+    crate::cube(RodParams::new(gamma, l, density).unwrap(), rods)
 }
 
 /// Checks the conventions of every contact against the rods it names.
 fn check_contacts(system: &RodSystem, contacts: &[Contact]) {
-    let l = system.box_len();
-    let two_r = 2.0 * system.radius();
+    let l = system.domain.sides[0];
+    let two_r = 2.0 * system.max_radius();
     for w in contacts.windows(2) {
         assert!(w[0].rods < w[1].rods, "contacts not sorted or repeated");
     }
@@ -273,13 +261,26 @@ fn check_contacts(system: &RodSystem, contacts: &[Contact]) {
             "shift {:?} is not the touching image",
             c.shift
         );
-        let cp = closest_points(&a.center, &a.axis, &q, &b.axis);
+        let cp = closest_points(&a.center, &a.axis, 0.5, &q, &b.axis, 0.5);
         assert!(
             cp.dist2.sqrt() < two_r + 1e-12,
             "rods {i}, {j} do not touch"
         );
         assert!(reference_distance(&a.center, &a.axis, &q, &b.axis) < two_r + 1e-9);
-        assert!((cp.s - c.params[0]).abs() < 1e-9 && (cp.t - c.params[1]).abs() < 1e-9);
+        // The parameters realize the least distance (exactly parallel
+        // overlapping rods have many pairs of closest points, and which one
+        // wins is a matter of rounding).
+        let [s, t] = c.params;
+        assert!(
+            s.abs() <= 0.5 && t.abs() <= 0.5,
+            "parameters {s}, {t} off the cores"
+        );
+        let at = (a.at(s) - (q + b.axis * t)).norm();
+        assert!(
+            (at - cp.dist2.sqrt()).abs() < 1e-9,
+            "rods {i}, {j}: the parameters give distance {at}, the least is {}",
+            cp.dist2.sqrt()
+        );
         let mid = (a.at(c.params[0]) + q + b.axis * c.params[1]) * 0.5;
         for k in 0..3 {
             assert!(
@@ -393,12 +394,18 @@ fn detect_matches_all_pairs_in_a_sparse_large_box() {
     let mut rng = ChaCha8Rng::seed_from_u64(4);
     for k in 0..600 {
         let base = sys.rods[k % 20].center;
-        crowded.push(Rod {
-            center: base + random_unit(&mut rng) * rng.random::<f64>(),
-            axis: random_unit(&mut rng),
-        });
+        let center = base + random_unit(&mut rng) * rng.random::<f64>();
+        crowded.push(Rod::new(
+            center,
+            random_unit(&mut rng),
+            1.0,
+            sys.rods[0].radius,
+        ));
     }
-    let sys = RodSystem::from_rods(sys.params, crowded);
+    let sys = RodSystem {
+        domain: sys.domain,
+        rods: crowded,
+    };
     let fast = detect(&sys);
     assert!(fast.len() > 300, "only {} contacts", fast.len());
     assert_eq!(fast, detect_all_pairs(&sys));
@@ -429,10 +436,10 @@ fn axis_aligned_system(gamma: f64, n: usize, seed: u64) -> RodSystem {
             let gap = two_r * [1.0, 1.0 - 1e-12, 1.0 + 1e-12, 0.5][k % 4];
             center = prev.center + side * gap + prev.axis * (rng.random_range(-4..=4) as f64 / 8.0);
         }
-        rods.push(Rod { center, axis });
+        rods.push(crate::unit(center, axis));
     }
     let density = rods.len() as f64 / l.powi(3);
-    RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods)
+    crate::cube(RodParams::new(gamma, l, density).unwrap(), rods)
 }
 
 #[test]
@@ -471,20 +478,17 @@ fn detect_matches_all_pairs_for_near_parallel_bundles_across_faces() {
             rng.random::<f64>() * l,
             l - rng.random::<f64>() * 0.2,
         );
-        rods.push(Rod { center: base, axis });
+        rods.push(crate::unit(base, axis));
         for angle in [0.0, 1e-12, 1e-9, 1e-6, 1e-4, 1e-3, 1e-2] {
             let tilt = random_perpendicular(&mut rng, &axis);
             let v = (axis * f64::cos(angle) + tilt * f64::sin(angle)).normalize();
             let gap = two_r * (0.2 + 1.6 * rng.random::<f64>());
             let along = 1.8 * rng.random::<f64>() - 0.9;
             let v = if rng.random::<bool>() { v } else { -v };
-            rods.push(Rod {
-                center: base + side * gap + axis * along,
-                axis: v,
-            });
+            rods.push(crate::unit(base + side * gap + axis * along, v));
         }
     }
-    let sys = RodSystem::from_rods(
+    let sys = crate::cube(
         RodParams::new(gamma, l, 60.0 * 8.0 / l.powi(3)).unwrap(),
         rods,
     );
@@ -519,19 +523,16 @@ fn detect_finds_contacts_at_cell_corners_along_cell_diagonals() {
             let e = random_perpendicular(&mut rng, &d);
             let n = d.cross(&e);
             let p = corner - d * (2.0 * two_r);
-            rods.push(Rod {
-                center: p + d * (0.8 * rng.random::<f64>() - 0.4),
-                axis: d,
-            });
-            rods.push(Rod {
-                center: p + n * (0.5 * two_r) + e * (0.8 * rng.random::<f64>() - 0.4),
-                axis: e,
-            });
+            rods.push(crate::unit(p + d * (0.8 * rng.random::<f64>() - 0.4), d));
+            rods.push(crate::unit(
+                p + n * (0.5 * two_r) + e * (0.8 * rng.random::<f64>() - 0.4),
+                e,
+            ));
         }
     }
     let built = rods.len() / 2;
     let density = rods.len() as f64 / l.powi(3);
-    let sys = RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods);
+    let sys = crate::cube(RodParams::new(gamma, l, density).unwrap(), rods);
     let fast = detect(&sys);
     let pairs = fast
         .iter()
@@ -578,10 +579,10 @@ proptest! {
                 }
                 _ => random_unit(&mut rng),
             };
-            rods.push(Rod { center, axis });
+            rods.push(crate::unit(center, axis));
         }
         let density = (n.max(1)) as f64 / l.powi(3);
-        let sys = RodSystem::from_rods(RodParams::new(gamma, l, density).unwrap(), rods);
+        let sys = crate::cube(RodParams::new(gamma, l, density).unwrap(), rods);
         // (`check_contacts` is not applied: for rods parallel to 1e-12 the
         // closest parameters are not unique, and a recomputation from the
         // stored centers may pick others.)
@@ -595,38 +596,17 @@ fn detect_finds_parallel_and_boundary_contacts() {
     let p = RodParams::new(10.0, l, 0.1).unwrap();
     let rods = vec![
         // Collinear across the x faces: [-0.45, 0.55] and the image [-1.35, -0.35] overlap.
-        Rod {
-            center: V::new(0.05, 1.0, 1.0),
-            axis: V::x(),
-        },
-        Rod {
-            center: V::new(l - 0.85, 1.0, 1.0),
-            axis: V::x(),
-        },
+        crate::unit(V::new(0.05, 1.0, 1.0), V::x()),
+        crate::unit(V::new(l - 0.85, 1.0, 1.0), V::x()),
         // Corner to corner: touching through the (+1, +1, +1) image.
-        Rod {
-            center: V::new(0.01, 0.01, 0.01),
-            axis: V::new(1.0, 1.0, 1.0),
-        },
-        Rod {
-            center: V::new(l - 0.01, l - 0.01, l - 0.01),
-            axis: V::new(1.0, -1.0, 0.0),
-        },
+        crate::unit(V::new(0.01, 0.01, 0.01), V::new(1.0, 1.0, 1.0)),
+        crate::unit(V::new(l - 0.01, l - 0.01, l - 0.01), V::new(1.0, -1.0, 0.0)),
         // Two parallel rods 2r - 1e-9 apart touch, 2r + 1e-9 apart do not.
-        Rod {
-            center: V::new(2.0, 3.0, 2.0),
-            axis: V::z(),
-        },
-        Rod {
-            center: V::new(2.0, 3.0 + 0.1 - 1e-9, 2.3),
-            axis: V::z(),
-        },
-        Rod {
-            center: V::new(2.0, 3.0 - 0.1 - 1e-9, 1.7),
-            axis: V::z(),
-        },
+        crate::unit(V::new(2.0, 3.0, 2.0), V::z()),
+        crate::unit(V::new(2.0, 3.0 + 0.1 - 1e-9, 2.3), V::z()),
+        crate::unit(V::new(2.0, 3.0 - 0.1 - 1e-9, 1.7), V::z()),
     ];
-    let sys = RodSystem::from_rods(p, rods);
+    let sys = crate::cube(p, rods);
     let contacts = detect(&sys);
     let pairs: Vec<([u32; 2], [i32; 3])> = contacts.iter().map(|c| (c.rods, c.shift)).collect();
     assert_eq!(
@@ -707,12 +687,9 @@ fn gamma_98_contacts_for_any_thread_count() {
 #[test]
 fn tiny_and_sparse_systems() {
     let p = RodParams::new(10.0, 3.0, 1.0).unwrap();
-    assert!(detect(&RodSystem::from_rods(p, vec![])).is_empty());
-    let one = vec![Rod {
-        center: V::new(1.0, 1.0, 1.0),
-        axis: V::x(),
-    }];
-    assert!(detect(&RodSystem::from_rods(p, one)).is_empty());
+    assert!(detect(&crate::cube(p, vec![])).is_empty());
+    let one = vec![crate::unit(V::new(1.0, 1.0, 1.0), V::x())];
+    assert!(detect(&crate::cube(p, one)).is_empty());
     // A huge sparse box must not allocate a cell per unit volume.
     let sparse = RodSystem::generate(RodParams::new(10.0, 2000.0, 1e-7).unwrap(), 1);
     assert_eq!(detect(&sparse), detect_all_pairs(&sparse));

@@ -36,3 +36,23 @@ pub fn scratch(test: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// A rod of unit length, for the tests that place rods by hand; [`cube`]
+/// gives it its radius.
+pub fn unit(center: nalgebra::Vector3<f64>, axis: nalgebra::Vector3<f64>) -> rgc::rods::Rod {
+    rgc::rods::Rod::new(center, axis, 1.0, 0.0)
+}
+
+/// Unit rods with the radius of `params` in its periodic cube, taken as
+/// they are: not checked, since some tests put centres outside the box on
+/// purpose.
+pub fn cube(params: rgc::rods::RodParams, rods: Vec<rgc::rods::Rod>) -> rgc::rods::RodSystem {
+    let radius = params.radius();
+    rgc::rods::RodSystem {
+        domain: rgc::rods::Domain::cube(params.box_len),
+        rods: rods
+            .into_iter()
+            .map(|r| rgc::rods::Rod::new(r.center, r.axis, 1.0, radius))
+            .collect(),
+    }
+}

@@ -8,7 +8,7 @@ use rgc::spanning::{Criterion, cluster_spans};
 
 fn opts(seed: u64, rules: RuleSet, criterion: Criterion) -> SampleOptions {
     SampleOptions {
-        params: RodParams::new(23.0, 6.0, 42.0).unwrap(),
+        rods: RodParams::new(23.0, 6.0, 42.0).unwrap().into(),
         seed,
         runs: 6,
         rules,
@@ -30,7 +30,7 @@ fn thread_count_does_not_change_a_sample() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| sample(&opts(5, RuleSet::Sound, Criterion::Wrap)))
+            .install(|| sample(&opts(5, RuleSet::Sound, Criterion::Wrap)).unwrap())
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(one.contacts, two.contacts);
@@ -45,7 +45,7 @@ fn report_agrees_with_its_runs() {
             (RuleSet::Sound, Criterion::Wrap),
             (RuleSet::Paper, Criterion::Faces),
         ] {
-            let s = sample(&opts(seed, rules, criterion));
+            let s = sample(&opts(seed, rules, criterion)).unwrap();
             let r = &s.report;
             assert_eq!(r.n_rods, 9072);
             assert_eq!(s.runs.len(), 6);

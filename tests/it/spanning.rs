@@ -26,7 +26,7 @@ fn build(system: RodSystem) -> Built {
 
 fn from_rods(gamma: f64, l: f64, rods: Vec<Rod>) -> Built {
     let params = RodParams::new(gamma, l, rods.len().max(1) as f64 / l.powi(3)).unwrap();
-    build(RodSystem::from_rods(params, rods))
+    build(crate::cube(params, rods))
 }
 
 impl Built {
@@ -59,9 +59,11 @@ fn ring(axis: usize) -> Vec<Rod> {
     [0.25, 1.0, 1.75, 2.5]
         .iter()
         .enumerate()
-        .map(|(k, &x)| Rod {
-            center: along(axis, V::new(x, 1.5, 1.5)),
-            axis: along(axis, V::new(1.0, if k % 2 == 0 { 0.2 } else { -0.2 }, 0.0)),
+        .map(|(k, &x)| {
+            crate::unit(
+                along(axis, V::new(x, 1.5, 1.5)),
+                along(axis, V::new(1.0, if k % 2 == 0 { 0.2 } else { -0.2 }, 0.0)),
+            )
         })
         .collect()
 }
@@ -120,14 +122,8 @@ fn pair_straddling_a_face_does_not_span() {
         10.0,
         l,
         vec![
-            Rod {
-                center: V::new(0.1, 1.0, 1.0),
-                axis: V::x(),
-            },
-            Rod {
-                center: V::new(l - 0.1, 1.0, 1.05),
-                axis: V::x(),
-            },
+            crate::unit(V::new(0.1, 1.0, 1.0), V::x()),
+            crate::unit(V::new(l - 0.1, 1.0, 1.05), V::x()),
         ],
     );
     assert_eq!(b.pairs(), vec![([0, 1], [-1, 0, 0])]);
@@ -145,10 +141,7 @@ fn chain_between_faces_spans_faces_but_not_wrap() {
     let dir = V::new(1.0, 0.3, 0.0).normalize();
     let start = V::new(0.3, 1.0, 1.9);
     let rods: Vec<Rod> = (0..5)
-        .map(|k| Rod {
-            center: start + dir * (0.8 * k as f64),
-            axis: dir,
-        })
+        .map(|k| crate::unit(start + dir * (0.8 * k as f64), dir))
         .collect();
     let b = from_rods(10.0, 3.8, rods);
     let chain: Vec<([u32; 2], [i32; 3])> = (0..4).map(|k| ([k, k + 1], [0, 0, 0])).collect();
@@ -171,24 +164,12 @@ fn chain_between_faces_spans_faces_but_not_wrap() {
 /// ending near x = L = 3, and a slanted rod M joining them inside the box.
 /// `low` and `high` move A and B outwards (positive) or inwards (negative).
 fn bridge(low: f64, high: f64, translate: V) -> Vec<Rod> {
-    let a = Rod {
-        center: V::new(0.55 - low, 1.0, 1.0),
-        axis: V::x(),
-    };
-    let m = Rod {
-        center: V::new(1.5, 1.0, 1.15),
-        axis: V::new(1.0, 0.0, 0.3),
-    };
-    let b = Rod {
-        center: V::new(3.0 - 0.55 + high, 1.0, 1.3),
-        axis: V::x(),
-    };
+    let a = crate::unit(V::new(0.55 - low, 1.0, 1.0), V::x());
+    let m = crate::unit(V::new(1.5, 1.0, 1.15), V::new(1.0, 0.0, 0.3));
+    let b = crate::unit(V::new(3.0 - 0.55 + high, 1.0, 1.3), V::x());
     [a, m, b]
         .into_iter()
-        .map(|r| Rod {
-            center: r.center + translate,
-            axis: r.axis,
-        })
+        .map(|r| crate::unit(r.center + translate, r.axis))
         .collect()
 }
 
@@ -362,7 +343,8 @@ fn prefix(system: &RodSystem, contacts: &[Contact], n: usize) -> (RodSystem, Vec
         .copied()
         .filter(|c| (c.rods[1] as usize) < n)
         .collect();
-    (RodSystem::from_rods(system.params, rods), contacts)
+    let domain = system.domain;
+    (RodSystem { domain, rods }, contacts)
 }
 
 #[test]

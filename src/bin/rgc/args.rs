@@ -5,10 +5,13 @@ use std::path::PathBuf;
 
 use clap::Args;
 use rgc::engine::RuleSet;
-use rgc::rods::RodParams;
-use rgc::sample::SampleOptions;
+use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
+use rgc::rods::file::{self, Columns, Format, ReadOptions};
+use rgc::rods::{Domain, MIN_GAMMA, Periodic, RodParams};
+use rgc::sample::{Rods, SampleOptions};
 use rgc::spanning::Criterion;
 use rgc::threshold::study::StudySpec;
+use rgc::{Error, Result};
 
 /// Which motifs the engine applies: every subcommand that compresses.
 #[derive(Args)]
@@ -34,30 +37,192 @@ pub struct EngineArgs {
     pub rules: RuleArgs,
 }
 
-/// One generated rod system and how to compress it (`sample`, `render`).
+/// The rods of one system: read from a file, or generated (`sample`,
+/// `render`, `truth`).
+#[derive(Args)]
+pub struct RodsArgs {
+    /// Read the rods from this file instead of generating them: a CSV with the header x,y,z,dx,dy,dz,length,radius, JSON, or a LAMMPS dump (.dump, .lammpstrj); cores crossing a wall are cut to the box.
+    #[arg(long, value_name = "FILE")]
+    rods: Option<PathBuf>,
+    /// The rods file's format, when its extension does not say.
+    #[arg(long, value_enum, requires = "rods")]
+    rods_format: Option<Format>,
+    /// Which LAMMPS dump column holds each quantity, as KEY=COLUMN or KEY=VALUE pairs over the defaults x=x,y=y,z=z,dx=mux,dy=muy,dz=muz,length=length,radius=radius (e.g. `dx=c_u[1],dy=c_u[2],dz=c_u[3],length=1,radius=0.02`).
+    #[arg(long, requires = "rods", value_name = "MAP")]
+    lammps_columns: Option<String>,
+    /// Aspect ratio l / (2r) of generated rods (the radius is the mean length over 2 gamma).
+    #[arg(long, allow_hyphen_values = true)]
+    gamma: Option<f64>,
+    /// Box side L, or sides LX,LY,LZ, in rod lengths (for a rods file: needed unless the file gives it).
+    #[arg(
+        long = "box",
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "L|LX,LY,LZ"
+    )]
+    sides: Vec<f64>,
+    /// Number density N / V of generated rods.
+    #[arg(long, allow_hyphen_values = true)]
+    density: Option<f64>,
+    /// Periodic axes: xyz (default), xy (walls at z = 0 and LZ) or none (six walls).
+    #[arg(long, value_enum)]
+    periodic: Option<Periodic>,
+    /// Core lengths of generated rods: VALUE (default 1), uniform:LO,HI or lognormal:MEAN,SD.
+    #[arg(long, value_name = "DIST")]
+    length: Option<String>,
+    /// Radii of generated rods, instead of --gamma: VALUE, uniform:LO,HI or lognormal:MEAN,SD.
+    #[arg(long, value_name = "DIST", conflicts_with = "gamma")]
+    radius: Option<String>,
+    /// Nematic order parameter S of generated rods, in (-0.499, 0.999): orientations follow a Watson distribution about --director (0: isotropic, the default).
+    #[arg(long, allow_hyphen_values = true)]
+    order: Option<f64>,
+    /// The director of aligned rods.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        default_value = "0,0,1",
+        value_name = "X,Y,Z"
+    )]
+    director: Vec<f64>,
+}
+
+impl RodsArgs {
+    /// Whether any rods were described.
+    pub fn given(&self) -> bool {
+        self.rods.is_some()
+            || self.gamma.is_some()
+            || self.radius.is_some()
+            || self.density.is_some()
+            || !self.sides.is_empty()
+    }
+
+    fn sides(&self) -> Result<Option<[f64; 3]>> {
+        match self.sides[..] {
+            [] => Ok(None),
+            [l] => Ok(Some([l; 3])),
+            [x, y, z] => Ok(Some([x, y, z])),
+            _ => Err(Error::Parameter(format!(
+                "--box takes one side L or three sides LX,LY,LZ, got {} numbers",
+                self.sides.len()
+            ))),
+        }
+    }
+
+    /// The rods these arguments ask for, checked (a file is read and checked now).
+    pub fn rods(&self) -> Result<Rods> {
+        let sides = self.sides()?;
+        if let Some(path) = &self.rods {
+            let generated = [
+                ("--gamma", self.gamma.is_some()),
+                ("--density", self.density.is_some()),
+                ("--length", self.length.is_some()),
+                ("--radius", self.radius.is_some()),
+                ("--order", self.order.is_some()),
+            ];
+            if let Some((flag, _)) = generated.iter().find(|(_, on)| *on) {
+                return Err(Error::Parameter(format!(
+                    "{flag} describes generated rods; the rods of {} are read as they are",
+                    path.display()
+                )));
+            }
+            let columns = match &self.lammps_columns {
+                Some(text) => Columns::parse(text)?,
+                None => Columns::default(),
+            };
+            let opts = ReadOptions {
+                format: self.rods_format,
+                sides,
+                periodic: self.periodic,
+                columns,
+            };
+            let loaded = file::read(path, &opts)?;
+            return Ok(Rods::Read {
+                path: path.clone(),
+                loaded,
+            });
+        }
+        let Some(sides) = sides else {
+            return Err(Error::Parameter("generated rods need --box".into()));
+        };
+        let Some(density) = self.density else {
+            return Err(Error::Parameter("generated rods need --density".into()));
+        };
+        let length = match &self.length {
+            Some(text) => Dist::parse(text)?,
+            None => Dist::Fixed { value: 1.0 },
+        };
+        let periodic = self.periodic.unwrap_or_default();
+        let orientation = match self.order {
+            None => Orientation::Isotropic,
+            Some(order) => {
+                let [x, y, z] = self.director[..] else {
+                    return Err(Error::Parameter(format!(
+                        "--director takes three numbers X,Y,Z, got {}",
+                        self.director.len()
+                    )));
+                };
+                Orientation::Aligned {
+                    order,
+                    director: [x, y, z],
+                }
+            }
+        };
+        let radius = match (&self.radius, self.gamma) {
+            (Some(text), _) => Dist::parse(text)?,
+            (None, Some(gamma)) => {
+                let paper = length == Dist::Fixed { value: 1.0 }
+                    && sides.iter().all(|&s| s == sides[0])
+                    && periodic == Periodic::Xyz
+                    && orientation == Orientation::Isotropic;
+                if paper {
+                    // The paper's ensemble, with its own checks and messages.
+                    return Ok(Rods::from(RodParams::new(gamma, sides[0], density)?));
+                }
+                if !gamma.is_finite() || gamma < MIN_GAMMA {
+                    return Err(Error::Parameter(format!(
+                        "gamma must be at least {MIN_GAMMA} (a rod at least as long as it is wide), got {gamma}"
+                    )));
+                }
+                Dist::Fixed {
+                    value: length.mean() / (2.0 * gamma),
+                }
+            }
+            (None, None) => {
+                return Err(Error::Parameter(
+                    "generated rods need --gamma or --radius".into(),
+                ));
+            }
+        };
+        let ensemble = Ensemble {
+            domain: Domain { sides, periodic },
+            density,
+            length,
+            radius,
+            orientation,
+        };
+        ensemble.check()?;
+        Ok(Rods::Generated(ensemble))
+    }
+}
+
+/// One rod system and how to compress it (`sample`, `render`).
 #[derive(Args)]
 pub struct SystemArgs {
-    /// Aspect ratio l / (2r).
-    #[arg(long, allow_hyphen_values = true)]
-    gamma: f64,
-    /// Side of the periodic box, in rod lengths.
-    #[arg(long = "box", allow_hyphen_values = true)]
-    box_len: f64,
-    /// Number density N / L^3.
-    #[arg(long, allow_hyphen_values = true)]
-    density: f64,
+    #[command(flatten)]
+    pub rods: RodsArgs,
     #[command(flatten)]
     pub engine: EngineArgs,
-    /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
+    /// Spanning definition: `wrap` (a cluster meets its own periodic image; along walls, joins them) or `faces`.
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     pub criterion: Criterion,
 }
 
 impl SystemArgs {
     /// The sample these arguments ask for, checked.
-    pub fn options(&self) -> rgc::Result<SampleOptions> {
+    pub fn options(&self) -> Result<SampleOptions> {
         Ok(SampleOptions {
-            params: RodParams::new(self.gamma, self.box_len, self.density)?,
+            rods: self.rods.rods()?,
             seed: self.engine.seed,
             runs: self.engine.runs as usize,
             rules: self.engine.rules.rules,

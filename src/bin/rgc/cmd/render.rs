@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use rgc::plot::rods::{View, rods_picture};
-use rgc::sample::sample_with;
+use rgc::sample::{Rods, sample_with};
 use rgc::{Result, output};
 
 use crate::args::SystemArgs;
@@ -38,12 +38,25 @@ pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
         output::check_file(path)?;
     }
     let rules = super::load(&a.system.engine.rules.rule_files)?;
-    let s = sample_with(&opts, &rules);
+    let s = sample_with(&opts, &rules)?;
+    let r = &s.report;
+    let rods = match (&opts.rods, r.gamma) {
+        (Rods::Read { path, .. }, _) => {
+            format!("{}", path.file_name().unwrap_or_default().to_string_lossy())
+        }
+        (Rods::Generated(_), Some(g)) => format!("gamma {g}"),
+        (Rods::Generated(_), None) => format!(
+            "mean length {:.3}, mean radius {:.4}",
+            r.mean_length, r.mean_radius
+        ),
+    };
+    let density = match &opts.rods {
+        Rods::Generated(e) => e.density.to_string(),
+        Rods::Read { .. } => format!("{:.4}", r.density),
+    };
     let title = format!(
-        "gamma {}, box {}, density {} ({} rods), seed {}, rules {}",
-        opts.params.gamma,
-        opts.params.box_len,
-        opts.params.density,
+        "{rods}, box {}, density {density} ({} rods), seed {}, rules {}",
+        s.system.domain.describe(),
         s.system.len(),
         opts.seed,
         format!("{:?}", opts.rules).to_lowercase()

@@ -13,10 +13,13 @@ use crate::args::SystemArgs;
 pub struct SampleArgs {
     #[command(flatten)]
     system: SystemArgs,
+    /// Write the rods to this file: CSV (x,y,z,dx,dy,dz,length,radius), or JSON or a LAMMPS dump by the extension; `--rods` reads it back to the same system.
+    #[arg(long)]
+    save_rods: Option<PathBuf>,
     /// Write the contact graph as an edge list (`u v` per line) to this file.
     #[arg(long)]
     save_contacts: Option<PathBuf>,
-    /// Write the rods and contacts as GraphML (rod centres and axes; each contact's point, axis parameters and periodic image) to this file.
+    /// Write the rods and contacts as GraphML (rod centres, axes, lengths and radii; each contact's point, axis parameters and periodic image) to this file.
     #[arg(long)]
     save_graphml: Option<PathBuf>,
     /// Write the rods as VTK PolyData (.vtp: line cells with their radius; per rod the body of the reported run, -1 if free, whether it spans, and the degree) to this file.
@@ -33,9 +36,13 @@ pub struct SampleArgs {
 pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     let opts = a.system.options()?;
     // An output that cannot be written fails before the sample is drawn.
+    if let Some(path) = &a.save_rods {
+        rgc::rods::file::Format::of_path(path)?;
+    }
     for path in a
-        .save_contacts
+        .save_rods
         .iter()
+        .chain(&a.save_contacts)
         .chain(&a.save_bodies)
         .chain(&a.save_graphml)
         .chain(&a.save_vtk)
@@ -43,7 +50,10 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
         output::check_file(path)?;
     }
     let rules = super::load(&a.system.engine.rules.rule_files)?;
-    let s = sample_with(&opts, &rules);
+    let s = sample_with(&opts, &rules)?;
+    if let Some(path) = &a.save_rods {
+        rgc::rods::file::save(&s.system, path)?;
+    }
     if let Some(path) = &a.save_contacts {
         graphio::save_edge_list(&s.graph, path)?;
     }
@@ -62,13 +72,18 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     if a.json {
         return super::print_json(r, out);
     }
+    if r.cut > 0 {
+        say!(out, "{} rods cut at the walls of the box", r.cut);
+    }
+    let expected = r
+        .c0_expected
+        .map_or(String::new(), |e| format!(" (expected {e:.4})"));
     say!(
         out,
-        "{} rods, {} contacts: c0 = {:.4} (Philipse {:.4}), c1 = {:.4}, c2 = {:.4}, clustering = {:.4}",
+        "{} rods, {} contacts: c0 = {:.4}{expected}, c1 = {:.4}, c2 = {:.4}, clustering = {:.4}",
         r.n_rods,
         r.n_contacts,
         r.c0,
-        r.c0_expected,
         r.c1,
         r.c2,
         r.clustering

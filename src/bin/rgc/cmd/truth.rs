@@ -4,38 +4,27 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use crate::args::RodsArgs;
+
 use rgc::contacts;
 use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
-use rgc::rods::{RodParams, RodSystem};
+use rgc::sample::Rods;
 use rgc::spanning::Criterion;
 use rgc::truth::{self, Method, Topology, Truth, TruthOptions};
 use rgc::{Error, Result};
 
 #[derive(Args)]
-#[group(id = "system", required = true, multiple = false)]
-struct SystemInput {
+pub struct TruthArgs {
     /// A rods-only contact graph as graph6 (a finite framework).
-    #[arg(long, group = "system")]
+    #[arg(long, conflicts_with = "edges")]
     graph6: Option<String>,
     /// A contact graph as an edge list file (`u v` per line, `#` comments).
-    #[arg(long, group = "system")]
+    #[arg(long)]
     edges: Option<PathBuf>,
-    /// Aspect ratio of a generated system (with --box and --density).
-    #[arg(long, group = "system", requires_all = ["box_len", "density"])]
-    gamma: Option<f64>,
-}
-
-#[derive(Args)]
-pub struct TruthArgs {
+    /// Or a rod system: read with --rods, or generated.
     #[command(flatten)]
-    input: SystemInput,
-    /// Side of the periodic box of a generated system.
-    #[arg(long = "box", requires = "gamma")]
-    box_len: Option<f64>,
-    /// Rods per unit volume of a generated system.
-    #[arg(long, requires = "gamma")]
-    density: Option<f64>,
+    rods: RodsArgs,
     /// Seed of the generated rods (and of the realizations).
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -49,19 +38,25 @@ pub struct TruthArgs {
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     let opts = TruthOptions::seeded(a.seed);
-    let t = match (&a.input.graph6, &a.input.edges, a.input.gamma) {
-        (Some(s), _, _) => finite(&graphio::parse_graph6(s)?, opts),
-        (_, Some(path), _) => finite(&graphio::read_edge_list(path)?, opts),
-        (_, _, Some(gamma)) => {
-            let (Some(l), Some(rho)) = (a.box_len, a.density) else {
-                return Err(Error::Parameter("--gamma needs --box and --density".into()));
+    let inputs = [a.graph6.is_some(), a.edges.is_some(), a.rods.given()];
+    if inputs.iter().filter(|&&on| on).count() != 1 {
+        return Err(Error::Parameter(
+            "give one system: --graph6, --edges, --rods FILE, or generated rods (--gamma, --box, --density)"
+                .into(),
+        ));
+    }
+    let t = match (&a.graph6, &a.edges) {
+        (Some(s), _) => finite(&graphio::parse_graph6(s)?, opts),
+        (_, Some(path)) => finite(&graphio::read_edge_list(path)?, opts),
+        (None, None) => {
+            let system = match a.rods.rods()? {
+                Rods::Generated(e) => e.generate(a.seed)?,
+                Rods::Read { loaded, .. } => loaded.system,
             };
-            let system = RodSystem::generate(RodParams::new(gamma, l, rho)?, a.seed);
             let contacts = contacts::detect(&system);
             let graph = ContactGraph::from_contacts(system.len(), &contacts);
             truth::of_system(&system, &contacts, &graph, a.criterion, opts)
         }
-        _ => unreachable!("clap requires one input"),
     };
     if a.json {
         return super::print_json(&t, out);
@@ -105,7 +100,7 @@ fn summary(t: &Truth, out: &mut String) {
         "dof {} (trivial motions not counted: {}{})",
         opt(t.dof),
         t.trivial_motions,
-        if t.criterion.is_some() {
+        if t.trivial_motions == 3 {
             ", translations of the fixed periodic box"
         } else {
             ", rigid motions of a finite framework"
