@@ -1,4 +1,5 @@
-//! One Monte Carlo sample: rods, contacts, statistics, K compressions, spanning.
+//! One Monte Carlo sample: rods, contacts, statistics, K compressions,
+//! spanning, and on request the exact rigidity of the whole system.
 
 use serde::Serialize;
 use std::path::PathBuf;
@@ -13,7 +14,7 @@ use crate::rods::ensemble::{Ensemble, Orientation};
 use crate::rods::file::Loaded;
 use crate::rods::{Periodic, RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
-use crate::truth::Topology;
+use crate::truth::{self, Method, Topology, Truth, TruthOptions};
 
 /// Where a sample's rods come from.
 #[derive(Clone, Debug)]
@@ -42,6 +43,23 @@ pub struct SampleOptions {
     pub runs: usize,
     pub rules: RuleSet,
     pub criterion: Criterion,
+    /// Also decide the exact rigidity of the whole system (MODEL §10).
+    pub truth: bool,
+}
+
+/// The exact rigidity of a sample's system, as `rgc sample --truth` reports it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TruthReport {
+    pub method: Method,
+    /// Whether a true rigid cluster spans (none when undecided).
+    pub spanning: Option<bool>,
+    /// Rods in the largest true rigid cluster.
+    pub largest_cluster_rods: usize,
+    /// True rigid clusters of two or more rods.
+    pub clusters: usize,
+    /// Internal degrees of freedom, trivial motions not counted.
+    pub dof: Option<usize>,
+    pub seconds: f64,
 }
 
 /// The figures of one sample, as printed by `rgc sample --json`.
@@ -93,6 +111,8 @@ pub struct SampleReport {
     pub reported_run: usize,
     /// Motifs compressed in the reported run.
     pub motifs: MotifCounts,
+    /// The exact rigidity, when asked for.
+    pub truth: Option<TruthReport>,
     pub seconds: f64,
     pub seconds_contacts: f64,
     pub seconds_compression: f64,
@@ -106,6 +126,8 @@ pub struct Sample {
     pub runs: Vec<Compression>,
     /// Per run, whether it found a spanning body.
     pub spans: Vec<bool>,
+    /// The exact rigidity, when asked for.
+    pub truth: Option<Truth>,
     pub report: SampleReport,
 }
 
@@ -217,6 +239,23 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
             .unwrap_or(0)
     });
     let reported = runs.get(reported_run);
+    let truth = opts.truth.then(|| {
+        truth::of_system(
+            &system,
+            &contacts,
+            &graph,
+            opts.criterion,
+            TruthOptions::seeded(opts.seed),
+        )
+    });
+    let truth_report = truth.as_ref().map(|t| TruthReport {
+        method: t.method,
+        spanning: t.spanning,
+        largest_cluster_rods: t.clusters.first().map_or(0, |c| c.rods.len()),
+        clusters: t.clusters.len(),
+        dof: t.dof,
+        seconds: t.seconds,
+    });
     let n = system.len().max(1) as f64;
     let first = system.rods.first();
     let equal = first.is_some_and(|f| {
@@ -265,6 +304,7 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
         components: reported.map_or(system.len(), |r| r.components),
         reported_run,
         motifs: reported.map(|r| r.motifs).unwrap_or_default(),
+        truth: truth_report,
         seconds: start.elapsed().as_secs_f64(),
         seconds_contacts,
         seconds_compression,
@@ -275,6 +315,7 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
         graph,
         runs,
         spans,
+        truth,
         report,
     })
 }

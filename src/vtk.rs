@@ -7,7 +7,9 @@
 //! that every rod stays whole. The radius is given per point and per cell
 //! (ParaView's Tube filter varies the radius by a point array), and every
 //! further field per cell. For a sample: the body of the reported run
-//! (`-1` for a free rod), whether that body spans, and the rod's degree.
+//! (`-1` for a free rod), whether that body spans, the rod's degree, and,
+//! when the sample decided its exact rigidity, the rod's true rigid cluster
+//! and whether that cluster spans.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -125,7 +127,10 @@ pub fn to_vtp(system: &RodSystem, fields: &[Field]) -> String {
 
 /// A sample's per-rod fields: `body` (the index of the rod's body in the
 /// reported run, largest first, or -1), `spans` (1 when that body spans
-/// under `criterion`) and `degree` (contacts).
+/// under `criterion`) and `degree` (contacts); with its truth, also
+/// `true_cluster` (the index of the rod's true rigid cluster, largest
+/// first, or -1; where clusters meet at a rod, the largest of them) and
+/// `true_spans` (1 when a cluster of the rod spans).
 pub fn sample_fields(sample: &Sample, criterion: Criterion) -> Vec<Field> {
     let n = sample.system.len();
     let (mut body, mut spans) = (vec![-1i64; n], vec![0i64; n]);
@@ -138,7 +143,25 @@ pub fn sample_fields(sample: &Sample, criterion: Criterion) -> Vec<Field> {
     let degree = (0..n as u32)
         .map(|r| sample.graph.degree(r) as i64)
         .collect();
-    [("body", body), ("spans", spans), ("degree", degree)]
+    let mut fields = vec![("body", body), ("spans", spans), ("degree", degree)];
+    if let Some(t) = &sample.truth {
+        let (mut cluster, mut spans) = (vec![-1i64; n], vec![0i64; n]);
+        for (k, c) in t.clusters.iter().enumerate() {
+            let s = c.spans.is_some_and(|s| match criterion {
+                Criterion::Wrap => s.wrap,
+                Criterion::Faces => s.faces,
+            });
+            // A rod where clusters meet belongs to each: keep the largest.
+            for &r in &c.rods {
+                if cluster[r as usize] < 0 {
+                    cluster[r as usize] = k as i64;
+                }
+                spans[r as usize] |= i64::from(s);
+            }
+        }
+        fields.extend([("true_cluster", cluster), ("true_spans", spans)]);
+    }
+    fields
         .into_iter()
         .map(|(name, v)| Field {
             name: name.into(),

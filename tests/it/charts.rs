@@ -165,6 +165,7 @@ mod rods {
             runs: 1,
             rules: rgc::engine::RuleSet::Sound,
             criterion: Criterion::Wrap,
+            truth: false,
         })
         .unwrap()
     }

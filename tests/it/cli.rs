@@ -216,6 +216,7 @@ fn sample_is_reproducible_and_saves_its_contacts() {
         runs: 3,
         rules: rgc::engine::RuleSet::Paper,
         criterion: rgc::spanning::Criterion::Faces,
+        truth: false,
     })
     .unwrap();
     let per_run: Vec<usize> = own.runs.iter().map(|r| r.components).collect();
@@ -1370,4 +1371,78 @@ fn vtk_arrays(text: &str) -> Vec<(String, Vec<f64>)> {
             (name.to_string(), values)
         })
         .collect()
+}
+
+/// `sample --truth --save-vtk` on unequal rods: each line cell runs along its
+/// own rod's core with its own radius (checked against `--save-rods`), and the
+/// true rigid clusters in the file are the ones the report counts.
+#[test]
+fn vtk_carries_each_rods_size_and_its_true_rigid_cluster() {
+    let dir = crate::scratch("vtk-truth");
+    let (vtk, rods) = (dir.join("s.vtp"), dir.join("s.csv"));
+    let report = json(&[
+        "sample",
+        "--box",
+        "4",
+        "--density",
+        "30",
+        "--length",
+        "uniform:0.8,1.2",
+        "--radius",
+        "uniform:0.02,0.03",
+        "--truth",
+        "--save-vtk",
+        vtk.to_str().unwrap(),
+        "--save-rods",
+        rods.to_str().unwrap(),
+        "--json",
+    ]);
+    let truth = &report["truth"];
+    assert_eq!(truth["method"], "exact");
+    let system = rgc::rods::file::read(
+        &rods,
+        &rgc::rods::file::ReadOptions {
+            sides: Some([4.0; 3]),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .system;
+    let n = system.len();
+    let arrays = vtk_arrays(&std::fs::read_to_string(&vtk).unwrap());
+    let get = |name: &str| -> Vec<Vec<f64>> {
+        arrays
+            .iter()
+            .filter(|(k, _)| k == name)
+            .map(|(_, v)| v.clone())
+            .collect()
+    };
+    let (points, radii) = (&get("points")[0], get("radius"));
+    for (i, r) in system.rods.iter().enumerate() {
+        assert_eq!((radii[0][2 * i], radii[1][i]), (r.radius, r.radius));
+        for k in 0..3 {
+            assert!((points[6 * i + k] - r.at(-0.5 * r.length)[k]).abs() < 1e-12);
+            assert!((points[6 * i + 3 + k] - r.at(0.5 * r.length)[k]).abs() < 1e-12);
+        }
+    }
+    let cluster = &get("true_cluster")[0];
+    let spans = &get("true_spans")[0];
+    assert_eq!(cluster.len(), n);
+    let clusters = cluster.iter().fold(-1.0f64, |a, &b| a.max(b)) + 1.0;
+    assert_eq!(clusters, truth["clusters"].as_f64().unwrap());
+    let largest = cluster.iter().filter(|&&c| c == 0.0).count();
+    assert_eq!(
+        largest as u64,
+        truth["largest_cluster_rods"].as_u64().unwrap()
+    );
+    assert!(largest >= 2);
+    let any_spans = spans.contains(&1.0);
+    assert_eq!(Some(any_spans), truth["spanning"].as_bool());
+    assert!(
+        spans
+            .iter()
+            .zip(cluster)
+            .all(|(&s, &c)| s == 0.0 || c >= 0.0)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -7,6 +7,7 @@ mod cli;
 mod contacts;
 mod defects;
 mod engine;
+mod ensembles;
 mod enumerate;
 mod fallback;
 mod float;

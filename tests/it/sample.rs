@@ -13,6 +13,7 @@ fn opts(seed: u64, rules: RuleSet, criterion: Criterion) -> SampleOptions {
         runs: 6,
         rules,
         criterion,
+        truth: false,
     }
 }
 

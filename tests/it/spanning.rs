@@ -409,3 +409,61 @@ fn the_sweep_agrees_with_the_cluster_walk_on_every_prefix() {
         assert_eq!(changes, 1, "{criterion:?}: spans from one n on");
     }
 }
+
+/// A zigzag of crossing rods from the floor to the ceiling of a slab
+/// (periodic in x and y, walls at z = 0 and 2.9).
+fn zigzag(periodic: rgc::rods::Periodic, skip: Option<usize>) -> Built {
+    let rods = (0..4)
+        .filter(|&k| Some(k) != skip)
+        .map(|k| {
+            let dx = if k % 2 == 0 { 0.6 } else { -0.6 };
+            Rod::new(
+                V::new(2.0, 2.0, 0.4 + 0.7 * k as f64),
+                V::new(dx, 0.0, 0.8),
+                1.0,
+                0.05,
+            )
+        })
+        .collect();
+    let domain = rgc::rods::Domain::new([4.0, 4.0, 2.9], periodic).unwrap();
+    build(RodSystem::new(domain, rods).unwrap())
+}
+
+/// Along an axis with walls nothing wraps: a cluster joining the two walls
+/// spans under `Wrap` as under `Faces`, and one that does not, does not.
+#[test]
+fn a_cluster_joining_the_walls_of_a_slab_spans() {
+    use rgc::rods::Periodic;
+    let chain = zigzag(Periodic::Xy, None);
+    assert_eq!(chain.contacts.len(), 3);
+    assert!(chain.contacts.iter().all(|c| c.shift == [0; 3]));
+    let all: Vec<u32> = (0..4).collect();
+    for criterion in [Criterion::Wrap, Criterion::Faces] {
+        assert!(chain.spans(&all, criterion), "{criterion:?}");
+        assert!(contact_spanning(
+            &chain.system,
+            &chain.contacts,
+            &chain.graph,
+            criterion
+        ));
+        assert!(
+            !chain.spans(&all[..3], criterion),
+            "{criterion:?} without the top rod"
+        );
+    }
+    let broken = zigzag(Periodic::Xy, Some(2));
+    assert_eq!(broken.contacts.len(), 1);
+    for criterion in [Criterion::Wrap, Criterion::Faces] {
+        assert!(!contact_spanning(
+            &broken.system,
+            &broken.contacts,
+            &broken.graph,
+            criterion
+        ));
+    }
+    // Periodic along z, the top rod's end meets the image of the bottom
+    // one's: the chain closes on itself through the face and wraps.
+    let ring = zigzag(Periodic::Xyz, None);
+    assert_eq!(ring.contacts.len(), 4);
+    assert!(ring.spans(&all, Criterion::Wrap));
+}

@@ -327,3 +327,28 @@ impl Prefix {
             .any(|c| rods.iter().all(|r| c.rods.binary_search(r).is_ok()))
     }
 }
+
+/// Walls hold nothing: a system in a closed box is a finite framework with
+/// six rigid motions, one in a slab keeps the three translations of a
+/// periodic box.
+#[test]
+fn a_closed_box_frees_the_rotations_a_periodic_one_fixes() {
+    use rgc::rods::ensemble::Ensemble;
+    use rgc::rods::{Domain, Periodic, RodParams};
+    for (periodic, trivial) in [(Periodic::None, 6), (Periodic::Xy, 3), (Periodic::Xyz, 3)] {
+        let mut e = Ensemble::paper(RodParams::new(23.0, 3.0, 38.0).unwrap());
+        e.domain = Domain::new([3.0; 3], periodic).unwrap();
+        let system = e.generate(2).unwrap();
+        let contacts = rgc::contacts::detect(&system);
+        let graph = rgc::graph::ContactGraph::from_contacts(system.len(), &contacts);
+        let t = rgc::truth::of_system(
+            &system,
+            &contacts,
+            &graph,
+            rgc::spanning::Criterion::Wrap,
+            TruthOptions::default(),
+        );
+        assert_eq!(t.trivial_motions, trivial, "{periodic:?}");
+        assert!(t.dof.is_some(), "{periodic:?}: {:?}", t.reason);
+    }
+}

@@ -216,6 +216,9 @@ pub struct SystemArgs {
     /// Spanning definition: `wrap` (a cluster meets its own periodic image; along walls, joins them) or `faces`.
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     pub criterion: Criterion,
+    /// Also decide the exact rigidity of the whole system (its true rigid clusters; they go into --save-vtk too).
+    #[arg(long)]
+    pub truth: bool,
 }
 
 impl SystemArgs {
@@ -227,6 +230,7 @@ impl SystemArgs {
             runs: self.engine.runs as usize,
             rules: self.engine.rules.rules,
             criterion: self.criterion,
+            truth: self.truth,
         })
     }
 }

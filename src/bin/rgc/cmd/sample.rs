@@ -22,7 +22,7 @@ pub struct SampleArgs {
     /// Write the rods and contacts as GraphML (rod centres, axes, lengths and radii; each contact's point, axis parameters and periodic image) to this file.
     #[arg(long)]
     save_graphml: Option<PathBuf>,
-    /// Write the rods as VTK PolyData (.vtp: line cells with their radius; per rod the body of the reported run, -1 if free, whether it spans, and the degree) to this file.
+    /// Write the rods as VTK PolyData (.vtp: line cells with their radius; per rod the body of the reported run, -1 if free, whether it spans, the degree, and with --truth the true rigid cluster and whether it spans) to this file.
     #[arg(long)]
     save_vtk: Option<PathBuf>,
     /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
@@ -107,5 +107,16 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
         r.reported_run,
         r.seconds
     );
+    if let Some(t) = &r.truth {
+        let spanning = t.spanning.map_or("undecided".into(), |s| s.to_string());
+        say!(
+            out,
+            "truth ({:?}): rigid spanning {spanning}; {} true rigid clusters, largest {} rods; {:.3} s",
+            t.method,
+            t.clusters,
+            t.largest_cluster_rods,
+            t.seconds
+        );
+    }
     Ok(())
 }
