@@ -277,17 +277,21 @@ fn parse_csv(text: &str, bad: &impl Fn(usize, String) -> Error) -> Result<Vec<Ra
         .collect::<Result<_>>()?;
     let mut raws = Vec::new();
     let mut record = csv::StringRecord::new();
+    // The csv crate's own line count skips comment lines and counts CRLF
+    // line ends twice, so lines are counted here, from each record's offset.
+    let mut lines = LineCounter::new(text);
     loop {
-        let line = reader.position().line() as usize;
+        let line = lines.at(reader.position().byte() as usize);
         match reader.read_record(&mut record) {
             Ok(false) => break,
             Ok(true) => {}
             Err(e) => return Err(bad(line, e.to_string())),
         }
-        let line = record.position().map_or(line, |p| p.line() as usize);
+        let line = record
+            .position()
+            .map_or(line, |p| lines.record(p.byte() as usize));
         if record.len() < header.len() {
-            let last = text.lines().count();
-            let end = if line == last && !text.ends_with('\n') {
+            let end = if lines.is_last(line) {
                 "; the file ends mid-line"
             } else {
                 ""
@@ -317,6 +321,69 @@ fn parse_csv(text: &str, bad: &impl Fn(usize, String) -> Error) -> Result<Vec<Ra
         });
     }
     Ok(raws)
+}
+
+/// Line numbers of byte offsets met in increasing order, with `\n`, `\r\n`
+/// and a lone `\r` each ending a line.
+struct LineCounter<'a> {
+    text: &'a [u8],
+    offset: usize,
+    line: usize,
+}
+
+impl<'a> LineCounter<'a> {
+    fn new(text: &'a str) -> Self {
+        LineCounter {
+            text: text.as_bytes(),
+            offset: 0,
+            line: 1,
+        }
+    }
+
+    /// The line holding byte `offset` (not before the last one asked).
+    fn at(&mut self, offset: usize) -> usize {
+        let end = offset.min(self.text.len());
+        while self.offset < end {
+            let b = self.text[self.offset];
+            let next = self.text.get(self.offset + 1);
+            if b == b'\n' || (b == b'\r' && next != Some(&b'\n')) {
+                self.line += 1;
+            }
+            self.offset += 1;
+        }
+        self.line
+    }
+
+    /// The line of the record the csv crate places at `offset`: where it
+    /// started reading, before the line breaks and comment lines it skipped.
+    fn record(&mut self, offset: usize) -> usize {
+        let mut at = offset;
+        self.at(at);
+        while let Some(&b) = self.text.get(at) {
+            match b {
+                b'\n' | b'\r' => at += 1,
+                b'#' => {
+                    while self.text.get(at).is_some_and(|&c| c != b'\n' && c != b'\r') {
+                        at += 1;
+                    }
+                }
+                _ => break,
+            }
+            self.at(at);
+        }
+        self.line
+    }
+
+    /// Whether `line` is the file's last and ends without a line break.
+    fn is_last(&self, line: usize) -> bool {
+        let unterminated = !self.text.ends_with(b"\n") && !self.text.ends_with(b"\r");
+        let mut counter = LineCounter {
+            text: self.text,
+            offset: self.offset,
+            line: self.line,
+        };
+        unterminated && counter.at(self.text.len()) == line
+    }
 }
 
 fn number(field: &str, name: &str) -> std::result::Result<f64, String> {

@@ -19,6 +19,7 @@ mod planes;
 mod projection;
 mod rank;
 mod rigidity;
+mod rodfiles;
 mod rulefiles;
 mod rules;
 mod sample;

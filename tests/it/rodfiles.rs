@@ -1,0 +1,887 @@
+//! Rods files: round trips and every bad input.
+
+use std::path::Path;
+
+use nalgebra::Vector3;
+use rgc::Error;
+use rgc::contacts::detect;
+use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
+use rgc::rods::file::{self, Columns, Format, Loaded, ReadOptions, Source};
+use rgc::rods::{Domain, Periodic, Rod, RodSystem};
+use serde_json::Value;
+
+use crate::cli::rgc;
+use crate::scratch;
+
+const FORMATS: [Format; 3] = [Format::Csv, Format::Json, Format::Lammps];
+
+/// A polydisperse, partly aligned system: lognormal lengths (mean 1, sd
+/// 0.2), uniform radii in [0.01, 0.03], nematic order 0.5 about z.
+fn polydisperse(sides: [f64; 3], periodic: Periodic, seed: u64) -> RodSystem {
+    let ensemble = Ensemble {
+        domain: Domain { sides, periodic },
+        density: 30.0,
+        length: Dist::Lognormal { mean: 1.0, sd: 0.2 },
+        radius: Dist::Uniform { lo: 0.01, hi: 0.03 },
+        orientation: Orientation::Aligned {
+            order: 0.5,
+            director: [0.0, 0.0, 1.0],
+        },
+    };
+    ensemble.check().unwrap();
+    ensemble.generate(seed).unwrap()
+}
+
+/// How to read a file of `format` in `domain`: a CSV takes its box from the
+/// options, the others carry it.
+fn options(format: Format, domain: &Domain) -> ReadOptions {
+    match format {
+        Format::Csv => ReadOptions {
+            sides: Some(domain.sides),
+            periodic: Some(domain.periodic),
+            ..ReadOptions::default()
+        },
+        _ => ReadOptions::default(),
+    }
+}
+
+/// The line of the first rod in files written by [`file::to_string`] and [`file_of`].
+fn first_line(format: Format) -> usize {
+    match format {
+        Format::Csv | Format::Json => 2,
+        Format::Lammps => 10,
+    }
+}
+
+/// The name of a format in error messages.
+fn format_name(format: Format) -> &'static str {
+    match format {
+        Format::Csv => "rods CSV",
+        Format::Json => "rods JSON",
+        Format::Lammps => "LAMMPS dump",
+    }
+}
+
+fn bits(r: &Rod) -> [u64; 8] {
+    [
+        r.center.x, r.center.y, r.center.z, r.axis.x, r.axis.y, r.axis.z, r.length, r.radius,
+    ]
+    .map(f64::to_bits)
+}
+
+/// Writes `system` in `format` and reads it back: the same rods to the last
+/// bit, the same box, no rod cut again, each rod on its own line, and the
+/// same contacts.
+fn assert_round_trip(system: &RodSystem, format: Format) {
+    let text = file::to_string(system, format);
+    let opts = options(format, &system.domain);
+    let loaded = file::parse(&text, Path::new("rods"), format, &opts)
+        .unwrap_or_else(|e| panic!("{format:?}: {e}"));
+    assert_eq!(loaded.cut, 0, "{format:?}");
+    assert_eq!(loaded.system.domain, system.domain, "{format:?}");
+    assert_eq!(loaded.system.len(), system.len(), "{format:?}");
+    assert!(loaded.system.rods == system.rods, "{format:?}: rods differ");
+    let differ =
+        (system.rods.iter().zip(&loaded.system.rods)).position(|(a, b)| bits(a) != bits(b));
+    assert_eq!(differ, None, "{format:?}: a rod differs in its bits");
+    let first = first_line(format);
+    assert_eq!(
+        loaded.lines,
+        (first..first + system.len()).collect::<Vec<_>>(),
+        "{format:?}"
+    );
+    let (a, b) = (detect(system), detect(&loaded.system));
+    assert!(!a.is_empty());
+    assert!(
+        a == b,
+        "{format:?}: {} contacts, {} read back",
+        a.len(),
+        b.len()
+    );
+}
+
+/// Rods of `system` with a core end on a wall (to rounding): the ones the generator cut.
+fn on_walls(system: &RodSystem) -> usize {
+    let d = &system.domain;
+    let touches = |r: &Rod| {
+        (0..3).filter(|&k| !d.wraps(k)).any(|k| {
+            [-0.5, 0.5].iter().any(|s| {
+                let x = r.at(s * r.length)[k];
+                x.abs() < 1e-9 || (x - d.sides[k]).abs() < 1e-9
+            })
+        })
+    };
+    system.rods.iter().filter(|r| touches(r)).count()
+}
+
+/// Generated polydisperse, aligned systems in a periodic cube and a periodic
+/// box of three sides read back from every format as the very same system.
+#[test]
+fn periodic_systems_read_back_bit_for_bit() {
+    for (sides, seed) in [([5.0; 3], 1), ([5.0, 6.0, 7.0], 2)] {
+        let system = polydisperse(sides, Periodic::Xyz, seed);
+        for format in FORMATS {
+            assert_round_trip(&system, format);
+        }
+    }
+}
+
+/// Systems whose rods were cut at walls (a slab and a closed box) read back
+/// whole: a cut rod is not cut again, in every format.
+#[test]
+fn cut_systems_read_back_whole() {
+    for (sides, periodic) in [([5.0, 6.0, 7.0], Periodic::Xy), ([5.0; 3], Periodic::None)] {
+        let system = polydisperse(sides, periodic, 4);
+        assert!(on_walls(&system) > 20, "{periodic:?}: too few cut rods");
+        for format in FORMATS {
+            assert_round_trip(&system, format);
+        }
+    }
+}
+
+/// A CSV's columns in any order, among others, give the same rods.
+#[test]
+fn csv_columns_in_any_order() {
+    let text = "id,radius,length,dz,dy,dx,z,y,x,colour\n\
+                7,0.02,1.5,2,2,1,3,2,1,red\n";
+    let loaded = file::parse(
+        text,
+        Path::new("rods.csv"),
+        Format::Csv,
+        &options(Format::Csv, &Domain::cube(4.0)),
+    )
+    .unwrap();
+    let axis = Vector3::new(1.0, 2.0, 2.0) / 3.0;
+    let rod = Rod::new(Vector3::new(1.0, 2.0, 3.0), axis, 1.5, 0.02);
+    assert_eq!(loaded.system.rods, vec![rod]);
+    assert_eq!(loaded.lines, vec![2]);
+}
+
+/// Runs `rgc` with `args`, which must succeed.
+fn run(args: &[&str]) {
+    let out = rgc(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Runs `rgc` with `args`, which must fail with exit code 2 and one line on
+/// stderr, and gives that line.
+fn cli_error(args: &[&str]) -> String {
+    let out = rgc(args);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert_eq!(err.lines().count(), 1, "{args:?}: {err:?}");
+    assert!(err.starts_with("rgc: error: "), "{err:?}");
+    assert!(!err.contains("panicked"), "{err:?}");
+    err.trim_end().to_string()
+}
+
+/// A generated sample saved as CSV, JSON or a LAMMPS dump and read back with
+/// `--rods` gives byte-identical bodies and GraphML.
+#[test]
+fn cli_rods_files_give_the_same_sample() {
+    let dir = scratch("rodfiles-cli-round-trip");
+    let path = |name: &str| dir.join(name).display().to_string();
+    for ext in ["csv", "json", "dump"] {
+        let rods = path(&format!("a.{ext}"));
+        let (b1, g1) = (
+            path(&format!("b1-{ext}.json")),
+            path(&format!("g1-{ext}.graphml")),
+        );
+        let (b2, g2) = (
+            path(&format!("b2-{ext}.json")),
+            path(&format!("g2-{ext}.graphml")),
+        );
+        let common = ["sample", "--seed", "3"];
+        run(&[
+            &common[..],
+            &["--gamma", "23", "--box", "4", "--density", "40"],
+            &[
+                "--save-rods",
+                &rods,
+                "--save-bodies",
+                &b1,
+                "--save-graphml",
+                &g1,
+            ],
+        ]
+        .concat());
+        let boxed: &[&str] = if ext == "csv" { &["--box", "4"] } else { &[] };
+        run(&[
+            &common[..],
+            &["--rods", &rods],
+            boxed,
+            &["--save-bodies", &b2, "--save-graphml", &g2],
+        ]
+        .concat());
+        for (a, b) in [(&b1, &b2), (&g1, &g2)] {
+            let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+            assert!(a.len() > 1000, "{ext}: a near-empty output");
+            assert!(a == b, "{ext}: the outputs differ");
+        }
+    }
+}
+
+/// A good rod, and another: the first two rods of each bad file.
+const GOOD: [&str; 2] = ["1,1,1,1,0,0,1,0.02", "2,2,2,0,0,1,1,0.02"];
+/// A good rod after the bad one.
+const LAST: &str = "3,3,3,0,1,0,1,0.02";
+
+/// Rods given as comma-separated `x,y,z,dx,dy,dz,length,radius` rows, as a
+/// file of `format` (in a box of side 4 for JSON and LAMMPS), one rod a line
+/// from [`first_line`] on, ending with a newline.
+fn file_of(format: Format, rows: &[&str], periodic: Periodic) -> String {
+    match format {
+        Format::Csv => {
+            let mut text = "x,y,z,dx,dy,dz,length,radius\n".to_string();
+            for row in rows {
+                text += &format!("{row}\n");
+            }
+            text
+        }
+        Format::Json => {
+            let rods: Vec<String> = rows
+                .iter()
+                .map(|row| {
+                    let f: Vec<&str> = row.split(',').collect();
+                    format!(
+                        "{{\"center\":[{},{},{}],\"direction\":[{},{},{}],\"length\":{},\"radius\":{}}}",
+                        f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7]
+                    )
+                })
+                .collect();
+            format!(
+                "{{\"box\":[4,4,4],\"periodic\":\"{}\",\"rods\":[\n{}\n]}}\n",
+                periodic.name(),
+                rods.join(",\n")
+            )
+        }
+        Format::Lammps => {
+            let flags = periodic.axes().map(|p| if p { "pp" } else { "ff" });
+            let mut text = format!(
+                "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n0 4\n0 4\n0 4\n\
+                 ITEM: ATOMS id x y z mux muy muz length radius\n",
+                rows.len(),
+                flags.join(" ")
+            );
+            for (i, row) in rows.iter().enumerate() {
+                text += &format!("{} {}\n", i + 1, row.replace(',', " "));
+            }
+            text
+        }
+    }
+}
+
+/// Parses `text`, which must be refused as malformed with a one-line
+/// message of the documented shape; gives its line and reason.
+fn malformed(text: &str, format: Format, opts: &ReadOptions) -> (usize, String) {
+    let err = file::parse(text, Path::new("bad"), format, opts).expect_err("a bad file is refused");
+    let message = err.to_string();
+    let Error::Malformed { line, reason, .. } = err else {
+        panic!("{format:?}: {message} is not a malformed-file error");
+    };
+    assert_eq!(
+        message,
+        format!(
+            "malformed {} file bad: line {line}: {reason}",
+            format_name(format)
+        )
+    );
+    assert!(!message.contains('\n'), "{message:?}");
+    (line, reason)
+}
+
+/// Asserts that the rows, as a file of `format` in a box of side 4, are
+/// refused at `line` with a reason containing `phrase`.
+fn assert_refused(format: Format, text: &str, periodic: Periodic, line: usize, phrase: &str) {
+    let domain = Domain {
+        sides: [4.0; 3],
+        periodic,
+    };
+    let (at, reason) = malformed(text, format, &options(format, &domain));
+    assert_eq!(at, line, "{format:?}: {reason}");
+    assert!(
+        reason.contains(phrase),
+        "{format:?}: {reason:?} lacks {phrase:?}"
+    );
+}
+
+/// Every bad rod, in every format, is refused at its own line: the bad rod,
+/// the periodicity it is read with, and the key phrase of the reason in CSV
+/// and LAMMPS, then in JSON (whose parser refuses what is not a number).
+#[test]
+fn every_bad_rod_is_refused_at_its_line() {
+    let cases = [
+        (
+            "4,1,1,1,0,0,1,0.02",
+            Periodic::Xyz,
+            "centre x = 4 is outside the box [0, 4) on a periodic side",
+            None,
+        ),
+        (
+            "1,-0.5,1,1,0,0,1,0.02",
+            Periodic::Xy,
+            "centre y = -0.5 is outside the box [0, 4) on a periodic side",
+            None,
+        ),
+        (
+            "1,1,-0.5,1,0,0,1,0.02",
+            Periodic::Xy,
+            "rod at (1, 1, -0.5) lies wholly outside the walls of the box 4",
+            None,
+        ),
+        (
+            "6,2,2,1,0,0,1,0.02",
+            Periodic::None,
+            "rod at (6, 2, 2) lies wholly outside the walls of the box 4",
+            None,
+        ),
+        (
+            "1,1,3,1,0,0,0,0.02",
+            Periodic::Xyz,
+            "length 0 is not positive",
+            None,
+        ),
+        (
+            "1,1,3,1,0,0,1,-0.01",
+            Periodic::Xyz,
+            "radius -0.01 is not positive",
+            None,
+        ),
+        (
+            "1,NaN,3,1,0,0,1,0.02",
+            Periodic::Xyz,
+            "y is NaN, not a finite number",
+            Some("expected value"),
+        ),
+        (
+            "1,1,3,inf,0,0,1,0.02",
+            Periodic::Xyz,
+            "direction x is inf, not a finite number",
+            Some("expected value"),
+        ),
+        (
+            "1,1,3,0,0,0,1,0.02",
+            Periodic::Xyz,
+            "the direction is the zero vector",
+            None,
+        ),
+        (
+            "1,1,abc,1,0,0,1,0.02",
+            Periodic::Xyz,
+            "z \"abc\" is not a number",
+            Some("expected value"),
+        ),
+    ];
+    for (bad, periodic, phrase, json_phrase) in cases {
+        for format in FORMATS {
+            let text = file_of(format, &[GOOD[0], GOOD[1], bad, LAST], periodic);
+            let phrase = match format {
+                Format::Json => json_phrase.unwrap_or(phrase),
+                _ => phrase,
+            };
+            assert_refused(format, &text, periodic, first_line(format) + 2, phrase);
+        }
+    }
+}
+
+/// A rod given twice (same centre and axis, also reversed) is refused at the
+/// second copy, naming the first copy's line; the same centre with another
+/// axis is a different rod.
+#[test]
+fn a_rod_given_twice_names_the_first_copy() {
+    let rod = "1,1,1,1,2,2,1,0.02";
+    for copy in [rod, "1,1,1,2,4,4,1,0.02", "1,1,1,-2,-4,-4,1,0.02"] {
+        for format in FORMATS {
+            let first = first_line(format);
+            let text = file_of(format, &[GOOD[1], rod, GOOD[0], copy], Periodic::Xyz);
+            let phrase = format!("the same rod as line {}", first + 1);
+            assert_refused(format, &text, Periodic::Xyz, first + 3, &phrase);
+        }
+    }
+    for format in FORMATS {
+        let text = file_of(format, &[rod, "1,1,1,1,2,-2,1,0.02"], Periodic::Xyz);
+        let opts = options(format, &Domain::cube(4.0));
+        let loaded = file::parse(&text, Path::new("ok"), format, &opts).unwrap();
+        assert_eq!(loaded.system.len(), 2);
+    }
+}
+
+/// A last line cut short without a newline is refused as a file that ends
+/// mid-line; a short line with its newline, or a long one, is refused as such.
+#[test]
+fn a_file_ending_mid_line_is_named() {
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    let whole = file_of(Format::Csv, &[GOOD[0], GOOD[1], "3,3,3,1"], Periodic::Xyz);
+    let (line, reason) = malformed(whole.trim_end(), Format::Csv, &opts);
+    assert_eq!(
+        (line, reason.as_str()),
+        (4, "4 of 8 fields; the file ends mid-line")
+    );
+    let (line, reason) = malformed(&whole, Format::Csv, &opts);
+    assert_eq!((line, reason.as_str()), (4, "4 of 8 fields"));
+    let long = file_of(
+        Format::Csv,
+        &[GOOD[0], "3,3,3,1,0,0,1,0.02,9"],
+        Periodic::Xyz,
+    );
+    let (line, reason) = malformed(&long, Format::Csv, &opts);
+    assert_eq!(
+        (line, reason.as_str()),
+        (3, "9 fields, but the header names 8")
+    );
+
+    let dump = file_of(Format::Lammps, &[GOOD[0], GOOD[1], LAST], Periodic::Xyz);
+    let short = dump.trim_end().rsplit_once(' ').unwrap().0.to_string();
+    let (line, reason) = malformed(&short, Format::Lammps, &ReadOptions::default());
+    assert_eq!(
+        (line, reason.as_str()),
+        (12, "8 of 9 fields; the file ends mid-line")
+    );
+    let (line, reason) = malformed(&(short + "\n"), Format::Lammps, &ReadOptions::default());
+    assert_eq!((line, reason.as_str()), (12, "8 of 9 fields"));
+}
+
+/// Comments before the header and right after it leave the rows' line numbers right.
+#[test]
+fn csv_comments_around_the_header() {
+    let text = format!(
+        "# written by hand\nx,y,z,dx,dy,dz,length,radius\n# the rods\n{}\n1,1,zz,1,0,0,1,0.02\n",
+        GOOD[0]
+    );
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    let (line, reason) = malformed(&text, Format::Csv, &opts);
+    assert_eq!((line, reason.as_str()), (5, "z \"zz\" is not a number"));
+}
+
+/// Comment and blank lines between rows count: each rod, and a bad row,
+/// is named by its line in the file.
+#[test]
+fn csv_comment_lines_between_rows_count() {
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    let text = format!(
+        "x,y,z,dx,dy,dz,length,radius\n{}\n# more\n\n{}\n",
+        GOOD[0], GOOD[1]
+    );
+    let loaded = file::parse(&text, Path::new("c.csv"), Format::Csv, &opts).unwrap();
+    assert_eq!(loaded.lines, vec![2, 5]);
+    let bad = format!("{text}# last\n1,1,zz,1,0,0,1,0.02\n");
+    let (line, reason) = malformed(&bad, Format::Csv, &opts);
+    assert_eq!((line, reason.as_str()), (7, "z \"zz\" is not a number"));
+    let mid = format!("{text}# last\n1,1");
+    let (line, reason) = malformed(&mid, Format::Csv, &opts);
+    assert_eq!(
+        (line, reason.as_str()),
+        (7, "2 of 8 fields; the file ends mid-line")
+    );
+}
+
+/// A CSV with CRLF line ends (as written on Windows) names the same lines.
+#[test]
+fn csv_crlf_line_ends_count() {
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    let text = file_of(Format::Csv, &[GOOD[0], GOOD[1], GOOD[0]], Periodic::Xyz);
+    let (line, reason) = malformed(&text.replace('\n', "\r\n"), Format::Csv, &opts);
+    assert_eq!(line, 4);
+    assert!(reason.starts_with("the same rod as line 2 "), "{reason}");
+    let mid = file_of(Format::Csv, &[GOOD[0], "1,1"], Periodic::Xyz).replace('\n', "\r\n");
+    let (line, reason) = malformed(mid.trim_end(), Format::Csv, &opts);
+    assert_eq!(
+        (line, reason.as_str()),
+        (3, "2 of 8 fields; the file ends mid-line")
+    );
+}
+
+/// A missing column is refused at the header: the CSV's first line, the dump's `ITEM: ATOMS`.
+#[test]
+fn a_missing_column_is_refused_at_the_header() {
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    let (line, reason) = malformed("x,y,z,dx,dy,dz,length\n1,1,1,1,0,0,1\n", Format::Csv, &opts);
+    assert_eq!(line, 1);
+    assert!(
+        reason.contains("the header has no column \"radius\""),
+        "{reason}"
+    );
+
+    let dump = file_of(Format::Lammps, &GOOD, Periodic::Xyz).replace(" radius\n", "\n");
+    let dump = dump.replace(" 0.02\n", "\n");
+    let (line, reason) = malformed(&dump, Format::Lammps, &ReadOptions::default());
+    assert_eq!(line, 9);
+    assert!(
+        reason.starts_with("no column \"radius\" for radius"),
+        "{reason}"
+    );
+
+    let opts = ReadOptions {
+        columns: Columns::parse("dx=c_u[1],dy=c_u[2],dz=c_u[3]").unwrap(),
+        ..ReadOptions::default()
+    };
+    let dump = file_of(Format::Lammps, &GOOD, Periodic::Xyz);
+    let (line, reason) = malformed(&dump, Format::Lammps, &opts);
+    assert_eq!(line, 9);
+    assert!(
+        reason.starts_with("no column \"c_u[1]\" for dx"),
+        "{reason}"
+    );
+}
+
+/// A dump of two snapshots is refused at the second; a triclinic box at its bounds line.
+#[test]
+fn lammps_one_orthogonal_snapshot_only() {
+    let dump = file_of(Format::Lammps, &GOOD, Periodic::Xyz);
+    let (line, reason) = malformed(&dump.repeat(2), Format::Lammps, &ReadOptions::default());
+    assert_eq!(line, 12);
+    assert!(reason.contains("a second snapshot"), "{reason}");
+
+    let triclinic = dump
+        .replace("BOX BOUNDS pp pp pp", "BOX BOUNDS xy xz yz pp pp pp")
+        .replace("0 4\n", "0 4 0\n");
+    let (line, reason) = malformed(&triclinic, Format::Lammps, &ReadOptions::default());
+    assert_eq!(line, 5);
+    assert!(reason.contains("a triclinic box"), "{reason}");
+}
+
+/// Writes `text` to `name` in `dir` and gives its path.
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+/// Bad files through the command line: exit code 2 and one line naming the line.
+#[test]
+fn cli_names_the_bad_line() {
+    let dir = scratch("rodfiles-cli-bad-line");
+    let zero = write(
+        &dir,
+        "zero.csv",
+        &file_of(
+            Format::Csv,
+            &[GOOD[0], GOOD[1], "1,1,3,1,0,0,0,0.02"],
+            Periodic::Xyz,
+        ),
+    );
+    assert_eq!(
+        cli_error(&["sample", "--rods", &zero, "--box", "4"]),
+        format!("rgc: error: malformed rods CSV file {zero}: line 4: length 0 is not positive")
+    );
+
+    let rows = [
+        GOOD[0],
+        "1,1,3,1,2,2,1,0.02",
+        GOOD[1],
+        "1,1,3,-1,-2,-2,1,0.02",
+    ];
+    let twice = write(
+        &dir,
+        "twice.json",
+        &file_of(Format::Json, &rows, Periodic::Xyz),
+    );
+    let err = cli_error(&["sample", "--rods", &twice]);
+    assert!(
+        err.contains(&format!(
+            "malformed rods JSON file {twice}: line 5: the same rod as line 3"
+        )),
+        "{err}"
+    );
+
+    let mid = file_of(Format::Csv, &[GOOD[0], "2,2"], Periodic::Xyz);
+    let mid = write(&dir, "mid.csv", mid.trim_end());
+    let err = cli_error(&["sample", "--rods", &mid, "--box", "4"]);
+    assert!(
+        err.contains("line 3: 2 of 8 fields; the file ends mid-line"),
+        "{err}"
+    );
+
+    let dump = file_of(Format::Lammps, &GOOD, Periodic::Xyz);
+    let two = write(&dir, "two.dump", &dump.repeat(2));
+    let err = cli_error(&["sample", "--rods", &two]);
+    assert!(
+        err.contains("LAMMPS dump file") && err.contains("line 12: a second snapshot"),
+        "{err}"
+    );
+
+    let one = write(&dir, "one.lammpstrj", &dump);
+    let err = cli_error(&["sample", "--rods", &one, "--lammps-columns", "dx=c_u[1]"]);
+    assert!(err.contains("line 9: no column \"c_u[1]\" for dx"), "{err}");
+}
+
+/// The box of a rods file: needed for a CSV, one or three sides, agreeing
+/// with the file's, not with the flags of generated rods, and large enough
+/// for the longest rod along periodic sides only.
+#[test]
+fn cli_box_handling() {
+    let dir = scratch("rodfiles-cli-box");
+    let csv = write(
+        &dir,
+        "rods.csv",
+        &file_of(Format::Csv, &GOOD, Periodic::Xyz),
+    );
+    let json = write(
+        &dir,
+        "rods.json",
+        &file_of(Format::Json, &GOOD, Periodic::Xyz),
+    );
+
+    let err = cli_error(&["sample", "--rods", &csv]);
+    assert!(
+        err.contains("the file has no box; give it with --box"),
+        "{err}"
+    );
+    let err = cli_error(&["sample", "--rods", &csv, "--box", "4,5"]);
+    assert!(
+        err.contains("--box takes one side L or three sides LX,LY,LZ, got 2 numbers"),
+        "{err}"
+    );
+    run(&["sample", "--rods", &csv, "--box", "4,5,6"]);
+
+    let err = cli_error(&["sample", "--rods", &json, "--box", "5"]);
+    assert!(err.contains("the file's box differs"), "{err}");
+    let err = cli_error(&["sample", "--rods", &json, "--periodic", "none"]);
+    assert!(err.contains("the file's periodicity differs"), "{err}");
+    run(&["sample", "--rods", &json, "--box", "4", "--periodic", "xyz"]);
+
+    for flag in [["--gamma", "23"], ["--density", "40"]] {
+        let err = cli_error(&[&["sample", "--rods", &csv, "--box", "4"][..], &flag].concat());
+        assert!(
+            err.contains(&format!("{} describes generated rods", flag[0])),
+            "{err}"
+        );
+    }
+
+    let long = write(
+        &dir,
+        "long.csv",
+        &file_of(
+            Format::Csv,
+            &[GOOD[0], "2,2,2,1,0,0,2.5,0.02"],
+            Periodic::Xyz,
+        ),
+    );
+    let err = cli_error(&["sample", "--rods", &long, "--box", "4"]);
+    assert!(
+        err.contains(&format!("{long}: box side 4 along x is too small")),
+        "{err}"
+    );
+    run(&[
+        "sample",
+        "--rods",
+        &long,
+        "--box",
+        "4",
+        "--periodic",
+        "none",
+    ]);
+}
+
+/// Through the library, a box too small for the longest rod is the box's
+/// fault (a parameter error), not a line's.
+#[test]
+fn a_box_too_small_is_a_parameter_error() {
+    let text = file_of(
+        Format::Csv,
+        &[GOOD[0], "2,2,2,1,0,0,2.5,0.02"],
+        Periodic::Xyz,
+    );
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    match file::parse(&text, Path::new("long.csv"), Format::Csv, &opts) {
+        Err(Error::Parameter(why)) => {
+            assert!(
+                why.starts_with("long.csv: box side 4 along x is too small"),
+                "{why}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+fn assert_close(a: [f64; 3], b: [f64; 3]) {
+    let off = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+    assert!(off < 1e-12, "{a:?} != {b:?}");
+}
+
+/// The centre, length and axis of a rod.
+fn shape(rod: &Rod) -> ([f64; 3], f64, [f64; 3]) {
+    (rod.center.into(), rod.length, rod.axis.into())
+}
+
+/// Cores crossing a wall are cut to the box, with hand-computed lengths and
+/// centres, and counted; a centre outside the walls whose core reaches in is
+/// cut too; a core across a periodic face is not cut, and a cut centre that
+/// moves through a periodic face is wrapped.
+#[test]
+fn cores_are_cut_at_the_walls() {
+    let rows = [
+        "0.2,2,2,1,0,0,1,0.02",
+        "-0.3,1,1,1,0,0,1,0.02",
+        "2,3,3.9,0,0.6,0.8,1,0.02",
+        "2,2,2,1,0,0,1,0.02",
+    ];
+    let text = file_of(Format::Csv, &rows, Periodic::None);
+    let none = Domain {
+        sides: [4.0; 3],
+        periodic: Periodic::None,
+    };
+    let loaded = file::parse(
+        &text,
+        Path::new("cut.csv"),
+        Format::Csv,
+        &options(Format::Csv, &none),
+    )
+    .unwrap();
+    assert_eq!(loaded.cut, 3);
+    assert_eq!(loaded.lines, vec![2, 3, 4, 5]);
+    let expected = [
+        ([0.35, 2.0, 2.0], 0.7, [1.0, 0.0, 0.0]),
+        ([0.1, 1.0, 1.0], 0.2, [1.0, 0.0, 0.0]),
+        ([2.0, 2.8875, 3.75], 0.625, [0.0, 0.6, 0.8]),
+        ([2.0, 2.0, 2.0], 1.0, [1.0, 0.0, 0.0]),
+    ];
+    for (rod, (center, length, axis)) in loaded.system.rods.iter().zip(expected) {
+        let (c, l, a) = shape(rod);
+        assert_close(c, center);
+        assert!((l - length).abs() < 1e-12, "{l} != {length}");
+        assert_eq!(a, axis);
+        assert_eq!(rod.radius, 0.02);
+    }
+    assert_eq!(
+        loaded.system.rods[3],
+        Rod::new(Vector3::new(2.0, 2.0, 2.0), Vector3::x(), 1.0, 0.02)
+    );
+
+    let slab = Domain {
+        sides: [4.0; 3],
+        periodic: Periodic::Xy,
+    };
+    let rows = ["0.1,2,2,1,0,0,1,0.02", "0.1,2,3.9,0.6,0,0.8,1,0.02"];
+    let text = file_of(Format::Csv, &rows, Periodic::Xy);
+    let loaded = file::parse(
+        &text,
+        Path::new("slab.csv"),
+        Format::Csv,
+        &options(Format::Csv, &slab),
+    )
+    .unwrap();
+    assert_eq!(loaded.cut, 1);
+    let rods = &loaded.system.rods;
+    assert_eq!(shape(&rods[0]), ([0.1, 2.0, 2.0], 1.0, [1.0, 0.0, 0.0]));
+    let (c, l, _) = shape(&rods[1]);
+    assert_close(c, [3.9875, 2.0, 3.75]);
+    assert!((l - 0.625).abs() < 1e-12, "{l}");
+}
+
+/// The command line reports the cut rods and saves their cut parts.
+#[test]
+fn cli_reports_and_saves_cut_rods() {
+    let dir = scratch("rodfiles-cli-cut");
+    let rows = [
+        "0.2,2,2,1,0,0,1,0.02",
+        "-0.3,1,1,1,0,0,1,0.02",
+        "2,2,2,1,0,0,1,0.02",
+    ];
+    let rods = write(
+        &dir,
+        "cut.csv",
+        &file_of(Format::Csv, &rows, Periodic::None),
+    );
+    let saved = dir.join("saved.json");
+    let out = rgc(&[
+        "sample",
+        "--rods",
+        &rods,
+        "--box",
+        "4",
+        "--periodic",
+        "none",
+        "--json",
+        "--save-rods",
+        saved.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["cut"], 2);
+    assert_eq!(report["n_rods"], 3);
+    assert_eq!(report["periodic"], "none");
+    let loaded: Loaded = file::read(&saved, &ReadOptions::default()).unwrap();
+    assert_eq!(loaded.cut, 0);
+    let lengths: Vec<f64> = loaded.system.rods.iter().map(|r| r.length).collect();
+    assert!(
+        (lengths[0] - 0.7).abs() < 1e-12 && (lengths[1] - 0.2).abs() < 1e-12,
+        "{lengths:?}"
+    );
+    assert_eq!(lengths[2], 1.0);
+}
+
+/// A dump with `xu yu zu` centres and `c_o[..]` directions, its box away
+/// from the origin and walls along z.
+const MAPPED_DUMP: &str = "ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n3\n\
+ITEM: BOX BOUNDS pp pp ff\n-2 2\n-2.5 2.5\n10 14\n\
+ITEM: ATOMS id type xu yu zu c_o[1] c_o[2] c_o[3]\n\
+1 1 -1.5 0.5 12 1 0 0\n\
+2 1 0.25 -0.75 13 0 0 1\n\
+3 1 1 1 13.5 0 0 2\n";
+
+const MAPPING: &str = "x=xu,y=yu,z=zu,dx=c_o[1],dy=c_o[2],dz=c_o[3],length=1.5,radius=0.05";
+
+/// Columns mapped by name and by value: rods moved to the origin with the
+/// given length and radius, `pp pp ff` a slab whose z walls cut.
+#[test]
+fn lammps_columns_map_and_the_box_moves_to_the_origin() {
+    let columns = Columns::parse(MAPPING).unwrap();
+    assert_eq!(columns.0[0], Source::Column("xu".into()));
+    assert_eq!(columns.0[6], Source::Value(1.5));
+    let opts = ReadOptions {
+        columns,
+        ..ReadOptions::default()
+    };
+    let loaded = file::parse(MAPPED_DUMP, Path::new("o.dump"), Format::Lammps, &opts).unwrap();
+    let d = loaded.system.domain;
+    assert_eq!(d.sides, [4.0, 5.0, 4.0]);
+    assert_eq!(d.periodic, Periodic::Xy);
+    assert_eq!(loaded.lines, vec![10, 11, 12]);
+    assert_eq!(loaded.cut, 1);
+    let v = Vector3::new;
+    let rods = &loaded.system.rods;
+    assert_eq!(
+        rods[0],
+        Rod::new(v(0.5, 3.0, 2.0), v(1.0, 0.0, 0.0), 1.5, 0.05)
+    );
+    assert_eq!(
+        rods[1],
+        Rod::new(v(2.25, 1.75, 3.0), v(0.0, 0.0, 1.0), 1.5, 0.05)
+    );
+    assert_eq!(
+        rods[2],
+        Rod::new(v(3.0, 3.5, 3.375), v(0.0, 0.0, 1.0), 1.25, 0.05)
+    );
+
+    let dir = scratch("rodfiles-lammps-columns");
+    let dump = write(&dir, "o.lammpstrj", MAPPED_DUMP);
+    let out = rgc(&[
+        "sample",
+        "--rods",
+        &dump,
+        "--lammps-columns",
+        MAPPING,
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["n_rods"], 3);
+    assert_eq!(report["periodic"], "xy");
+    assert_eq!(report["box"], serde_json::json!([4.0, 5.0, 4.0]));
+    assert_eq!(report["cut"], 1);
+    let radius = report["mean_radius"].as_f64().unwrap();
+    assert!((radius - 0.05).abs() < 1e-15, "{radius}");
+}
