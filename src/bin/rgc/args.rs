@@ -76,15 +76,15 @@ pub struct RodsArgs {
     /// Nematic order parameter S of generated rods, in (-0.499, 0.999): orientations follow a Watson distribution about --director (0: isotropic, the default).
     #[arg(long, allow_hyphen_values = true)]
     order: Option<f64>,
-    /// The director of aligned rods.
+    /// The director of aligned rods (default 0,0,1).
     #[arg(
         long,
         value_delimiter = ',',
         allow_hyphen_values = true,
-        default_value = "0,0,1",
+        requires = "order",
         value_name = "X,Y,Z"
     )]
-    director: Vec<f64>,
+    director: Option<Vec<f64>>,
 }
 
 impl RodsArgs {
@@ -156,10 +156,11 @@ impl RodsArgs {
         let orientation = match self.order {
             None => Orientation::Isotropic,
             Some(order) => {
-                let [x, y, z] = self.director[..] else {
+                let director = self.director.clone().unwrap_or_else(|| vec![0.0, 0.0, 1.0]);
+                let [x, y, z] = director[..] else {
                     return Err(Error::Parameter(format!(
                         "--director takes three numbers X,Y,Z, got {}",
-                        self.director.len()
+                        director.len()
                     )));
                 };
                 Orientation::Aligned {
