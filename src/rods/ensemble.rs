@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-use super::{Cut, Domain, MAX_RODS, Periodic, Rod, RodParams, RodSystem};
+use super::{Cut, Domain, MAX_RODS, Rod, RodParams, RodSystem};
 use crate::{Error, Result};
 
 /// A distribution of a positive size (length or radius).
@@ -191,7 +191,7 @@ impl Orientation {
 
 /// `<P2(t)>` under the density `exp(kappa t^2)` on `[0, 1]`, by composite
 /// Simpson quadrature (smooth integrand; 2048 panels give about 1e-12).
-pub fn watson_order(kappa: f64) -> f64 {
+fn watson_order(kappa: f64) -> f64 {
     let n = 2048;
     let h = 1.0 / n as f64;
     // Scaled by exp(-max(kappa, 0)) so that large kappa does not overflow.
@@ -319,13 +319,6 @@ impl Ensemble {
         (self.density * self.domain.volume()).round() as usize
     }
 
-    /// Whether every rod has the same length and radius, and the orientation is isotropic.
-    pub fn is_paper_like(&self) -> bool {
-        matches!(self.length, Dist::Fixed { .. })
-            && matches!(self.radius, Dist::Fixed { .. })
-            && self.orientation == Orientation::Isotropic
-    }
-
     /// The system of `seed`, with rods cut at the walls of non-periodic axes
     /// ([`Domain::cut`]; a centre is drawn inside the box, so some of each
     /// rod always is). Call [`Ensemble::check`] first. Fails when a drawn rod
@@ -418,21 +411,6 @@ impl Ensemble {
         RodSystem {
             domain: self.domain,
             rods,
-        }
-    }
-}
-
-impl Default for Ensemble {
-    fn default() -> Self {
-        Ensemble {
-            domain: Domain {
-                sides: [1.0; 3],
-                periodic: Periodic::Xyz,
-            },
-            density: 1.0,
-            length: Dist::Fixed { value: 1.0 },
-            radius: Dist::Fixed { value: 0.5 },
-            orientation: Orientation::Isotropic,
         }
     }
 }

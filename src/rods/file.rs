@@ -71,9 +71,12 @@ pub const FIELDS: [&str; 8] = ["x", "y", "z", "dx", "dy", "dz", "length", "radiu
 #[derive(Clone, Debug, PartialEq)]
 pub struct Columns(pub [Source; 8]);
 
+/// One quantity's place in a LAMMPS dump.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Source {
+    /// The per-atom column of this name.
     Column(String),
+    /// This value for every rod.
     Value(f64),
 }
 

@@ -226,13 +226,6 @@ impl Periodic {
             Periodic::None => "none",
         }
     }
-
-    /// The periodicity of a name, as [`Periodic::name`] writes it.
-    pub fn parse(name: &str) -> Option<Self> {
-        [Periodic::Xyz, Periodic::Xy, Periodic::None]
-            .into_iter()
-            .find(|p| p.name() == name)
-    }
 }
 
 /// The box `[0, L_x) x [0, L_y) x [0, L_z)` and which of its axes are
