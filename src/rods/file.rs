@@ -48,7 +48,7 @@ impl Format {
             "json" => Ok(Format::Json),
             "dump" | "lammpstrj" => Ok(Format::Lammps),
             _ => Err(Error::Parameter(format!(
-                "{}: unknown rods file extension {ext:?} (use .csv, .json, .dump or .lammpstrj, or say the format)",
+                "{}: unknown rods file extension {ext:?} (use .csv, .json, .dump or .lammpstrj, or give --rods-format)",
                 path.display()
             ))),
         }
