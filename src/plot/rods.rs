@@ -1,8 +1,9 @@
 //! A rod system as a person would look at it: an orthographic view of the
-//! box with each rod's core as a segment, coloured by its body. The body
-//! that matters (the first spanning one, else the largest) is drawn last,
-//! strong and wide; the other bodies in faded colours; free rods pale grey;
-//! the box as a wire frame.
+//! box with each rod's core as a segment, coloured by its group: a run's
+//! rigid bodies, or the true rigid clusters. The group that matters (the
+//! first spanning one, else the largest) is drawn last, strong and wide; the
+//! other groups in faded colours; rods in none pale grey; the box as a wire
+//! frame.
 
 use std::path::Path;
 
@@ -13,7 +14,49 @@ use plotters::prelude::*;
 use super::{Chart, Drawn, colour, render};
 use crate::rods::RodSystem;
 use crate::sample::ReportedBodies;
+use crate::spanning::Criterion;
+use crate::truth::Truth;
 use crate::{Error, Result};
+
+/// The rods to colour: groups largest first, each with whether it spans,
+/// and what a group is called in the picture's label.
+#[derive(Clone, Debug)]
+pub struct Groups<'a> {
+    pub noun: &'static str,
+    pub groups: Vec<(&'a [u32], bool)>,
+}
+
+impl<'a> Groups<'a> {
+    /// The bodies of one run.
+    pub fn bodies(bodies: &'a ReportedBodies) -> Self {
+        Groups {
+            noun: "body",
+            groups: bodies
+                .bodies
+                .iter()
+                .map(|b| (b.rods.as_slice(), b.spans))
+                .collect(),
+        }
+    }
+
+    /// The true rigid clusters, spanning under `criterion`.
+    pub fn true_clusters(truth: &'a Truth, criterion: Criterion) -> Self {
+        Groups {
+            noun: "true rigid cluster",
+            groups: truth
+                .clusters
+                .iter()
+                .map(|c| {
+                    let spans = c.spans.is_some_and(|s| match criterion {
+                        Criterion::Wrap => s.wrap,
+                        Criterion::Faces => s.faces,
+                    });
+                    (c.rods.as_slice(), spans)
+                })
+                .collect(),
+        }
+    }
+}
 
 /// The picture's side in pixels.
 pub const SIZE: (u32, u32) = (1000, 1000);
@@ -46,25 +89,24 @@ impl View {
     }
 }
 
-/// Draws `system` with `bodies` (one run's, with whether each spans) as
-/// `svg` and `png`, titled `title`.
+/// Draws `system` coloured by `groups` as `svg` and `png`, titled `title`.
 pub fn rods_picture(
     system: &RodSystem,
-    bodies: &ReportedBodies,
+    groups: &Groups,
     view: View,
     title: &str,
     svg: &Path,
     png: &Path,
 ) -> Result<()> {
     check(view)?;
-    render(&Scene::new(system, bodies, view, title), SIZE, svg, png)
+    render(&Scene::new(system, groups, view, title), SIZE, svg, png)
 }
 
 /// The picture as RGB bytes (row by row, `SIZE`), without files: for checks.
-pub fn rods_pixels(system: &RodSystem, bodies: &ReportedBodies, view: View) -> Result<Vec<u8>> {
+pub fn rods_pixels(system: &RodSystem, groups: &Groups, view: View) -> Result<Vec<u8>> {
     check(view)?;
     let mut buf = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    Scene::new(system, bodies, view, "")
+    Scene::new(system, groups, view, "")
         .draw(BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area())
         .map_err(|e| Error::Parameter(format!("drawing the rods: {e}")))?;
     Ok(buf)
@@ -84,7 +126,7 @@ fn check(view: View) -> Result<()> {
 struct Scene {
     title: String,
     free: Vec<Segment>,
-    /// Other bodies' rods, with their body's colour index.
+    /// Other groups' rods, with their group's colour index.
     faded: Vec<(Segment, usize)>,
     highlight: Vec<Segment>,
     label: String,
@@ -95,20 +137,23 @@ struct Scene {
 type Segment = [(f64, f64); 2];
 
 impl Scene {
-    fn new(system: &RodSystem, bodies: &ReportedBodies, view: View, title: &str) -> Scene {
+    fn new(system: &RodSystem, groups: &Groups, view: View, title: &str) -> Scene {
         let n = system.len();
+        // A rod in several groups (true clusters meet at hinge rods) takes the first.
         let mut owner = vec![usize::MAX; n];
-        for (k, b) in bodies.bodies.iter().enumerate() {
-            for &r in &b.rods {
-                owner[r as usize] = k;
+        for (k, (rods, _)) in groups.groups.iter().enumerate() {
+            for &r in rods.iter() {
+                if owner[r as usize] == usize::MAX {
+                    owner[r as usize] = k;
+                }
             }
         }
-        // Bodies come largest first: the first spanning one, else the first.
-        let chosen = bodies
-            .bodies
+        // Groups come largest first: the first spanning one, else the first.
+        let chosen = groups
+            .groups
             .iter()
-            .position(|b| b.spans)
-            .or((!bodies.bodies.is_empty()).then_some(0));
+            .position(|g| g.1)
+            .or((!groups.groups.is_empty()).then_some(0));
         let segment = |r: usize| {
             let rod = &system.rods[r];
             [
@@ -124,15 +169,16 @@ impl Scene {
                 k => faded.push((segment(r), k)),
             }
         }
+        let noun = groups.noun;
         let label = match chosen {
-            Some(k) if bodies.bodies[k].spans => {
-                format!("spanning body: {} of {n} rods", bodies.bodies[k].rods.len())
+            Some(k) if groups.groups[k].1 => {
+                format!("spanning {noun}: {} of {n} rods", groups.groups[k].0.len())
             }
             Some(k) => format!(
-                "largest body (none spans): {} of {n} rods",
-                bodies.bodies[k].rods.len()
+                "largest {noun} (none spans): {} of {n} rods",
+                groups.groups[k].0.len()
             ),
-            None => format!("no body among {n} rods"),
+            None => format!("no {noun} among {n} rods"),
         };
         let l = system.domain.sides;
         let corner = |i: usize| {

@@ -152,7 +152,7 @@ fn a_single_variant_without_intervals_still_charts() {
 }
 
 mod rods {
-    use rgc::plot::rods::{SIZE, View, rods_pixels};
+    use rgc::plot::rods::{Groups, SIZE, View, rods_pixels};
     use rgc::rods::RodParams;
     use rgc::sample::{SampleOptions, sample};
     use rgc::spanning::Criterion;
@@ -174,7 +174,7 @@ mod rods {
     fn a_rod_picture_shows_its_rods_and_highlights_one_body() {
         let s = example();
         let bodies = s.reported_bodies(Criterion::Wrap);
-        let px = rods_pixels(&s.system, &bodies, View::default()).unwrap();
+        let px = rods_pixels(&s.system, &Groups::bodies(&bodies), View::default()).unwrap();
         assert_eq!(px.len(), (SIZE.0 * SIZE.1 * 3) as usize);
         let pixels: Vec<&[u8]> = px.chunks(3).collect();
         let white = pixels.iter().filter(|p| p == &&[255, 255, 255]).count();
@@ -193,17 +193,54 @@ mod rods {
             bodies: vec![],
             ..bodies.clone()
         };
-        let px = rods_pixels(&s.system, &none, View::default()).unwrap();
+        let px = rods_pixels(&s.system, &Groups::bodies(&none), View::default()).unwrap();
         assert_eq!(px.chunks(3).filter(|p| p == &[214, 39, 40]).count(), 0);
         // A view that cannot be is refused.
         let bad = View {
             azimuth: 0.0,
             elevation: 120.0,
         };
-        let err = rods_pixels(&s.system, &bodies, bad)
+        let err = rods_pixels(&s.system, &Groups::bodies(&bodies), bad)
             .unwrap_err()
             .to_string();
         assert!(err.contains("elevation within -90..90"), "{err}");
+    }
+
+    /// With its truth, the picture highlights the largest true rigid
+    /// cluster: more red than the engine's largest body, since truth finds
+    /// more rods rigid together.
+    #[test]
+    fn a_rod_picture_of_the_truth_highlights_the_true_rigid_cluster() {
+        let s = example();
+        let t = rgc::truth::of_system(
+            &s.system,
+            &s.contacts,
+            &s.graph,
+            Criterion::Wrap,
+            rgc::truth::TruthOptions::seeded(2),
+        );
+        let body = s.reported_bodies(Criterion::Wrap);
+        let largest_body = body.bodies.first().map_or(0, |b| b.rods.len());
+        assert!(
+            t.clusters[0].rods.len() > largest_body,
+            "truth finds no more"
+        );
+        // Strong red, anti-aliased or not (a group this large is drawn one
+        // pixel wide); the faded groups' pale colours stay out.
+        let red = |g: &Groups| {
+            let px = rods_pixels(&s.system, g, View::default()).unwrap();
+            px.chunks(3)
+                .filter(|p| p[0] >= 180 && p[1] <= 140 && p[2] <= 140)
+                .count()
+        };
+        let (true_red, body_red) = (
+            red(&Groups::true_clusters(&t, Criterion::Wrap)),
+            red(&Groups::bodies(&body)),
+        );
+        assert!(
+            true_red > body_red,
+            "{true_red} red pixels against {body_red}"
+        );
     }
 
     #[test]

@@ -217,7 +217,7 @@ pub struct SystemArgs {
     /// Spanning definition: `wrap` (a cluster meets its own periodic image; along walls, joins them) or `faces`.
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     pub criterion: Criterion,
-    /// Also decide the exact rigidity of the whole system (its true rigid clusters; they go into --save-vtk too).
+    /// Also decide the exact rigidity of the whole system: its true rigid clusters go into the report and --save-vtk, and `render` colours them instead of the bodies.
     #[arg(long)]
     pub truth: bool,
 }

@@ -1,9 +1,10 @@
-//! `rgc render`: one rod system drawn as PNG and SVG, coloured by body.
+//! `rgc render`: one rod system drawn as PNG and SVG, coloured by body (or,
+//! with `--truth`, by true rigid cluster).
 
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::plot::rods::{View, rods_picture};
+use rgc::plot::rods::{Groups, View, rods_picture};
 use rgc::sample::{Rods, sample_with};
 use rgc::{Result, output};
 
@@ -54,21 +55,23 @@ pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
         Rods::Generated(e) => e.density.to_string(),
         Rods::Read { .. } => format!("{:.4}", r.density),
     };
+    let method = if opts.truth {
+        "exact truth".to_string()
+    } else {
+        format!("rules {}", format!("{:?}", opts.rules).to_lowercase())
+    };
     let title = format!(
-        "{rods}, box {}, density {density} ({} rods), seed {}, rules {}",
+        "{rods}, box {}, density {density} ({} rods), seed {}, {method}",
         s.system.domain.describe(),
         s.system.len(),
         opts.seed,
-        format!("{:?}", opts.rules).to_lowercase()
     );
-    rods_picture(
-        &s.system,
-        &s.reported_bodies(opts.criterion),
-        view,
-        &title,
-        &svg,
-        &png,
-    )?;
+    let bodies = s.reported_bodies(opts.criterion);
+    let groups = match &s.truth {
+        Some(t) => Groups::true_clusters(t, opts.criterion),
+        None => Groups::bodies(&bodies),
+    };
+    rods_picture(&s.system, &groups, view, &title, &svg, &png)?;
     say!(out, "Files: {}, {}", png.display(), svg.display());
     Ok(())
 }
