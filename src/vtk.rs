@@ -147,10 +147,7 @@ pub fn sample_fields(sample: &Sample, criterion: Criterion) -> Vec<Field> {
     if let Some(t) = &sample.truth {
         let (mut cluster, mut spans) = (vec![-1i64; n], vec![0i64; n]);
         for (k, c) in t.clusters.iter().enumerate() {
-            let s = c.spans.is_some_and(|s| match criterion {
-                Criterion::Wrap => s.wrap,
-                Criterion::Faces => s.faces,
-            });
+            let s = c.spans.is_some_and(|s| s.under(criterion));
             // A rod where clusters meet belongs to each: keep the largest.
             for &r in &c.rods {
                 if cluster[r as usize] < 0 {

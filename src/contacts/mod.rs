@@ -70,9 +70,7 @@ impl Space {
         if !self.wraps[k] {
             return x;
         }
-        let l = self.sides[k];
-        let y = x - (x / l).floor() * l;
-        if y >= l || y < 0.0 { 0.0 } else { y }
+        crate::rods::wrap(x, self.sides[k])
     }
 
     /// The image of a (wrapped) center shifted by `shift` boxes. Both

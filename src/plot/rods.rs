@@ -47,10 +47,7 @@ impl<'a> Groups<'a> {
                 .clusters
                 .iter()
                 .map(|c| {
-                    let spans = c.spans.is_some_and(|s| match criterion {
-                        Criterion::Wrap => s.wrap,
-                        Criterion::Faces => s.faces,
-                    });
+                    let spans = c.spans.is_some_and(|s| s.under(criterion));
                     (c.rods.as_slice(), spans)
                 })
                 .collect(),

@@ -326,27 +326,17 @@ impl Ensemble {
     /// which only a lognormal's tail can draw.
     pub fn generate(&self, seed: u64) -> Result<RodSystem> {
         let system = self.draw(seed);
-        let longest = system
-            .rods
-            .iter()
-            .enumerate()
-            .map(|(i, r)| (i, r.length + 2.0 * r.radius))
-            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
-        for k in (0..3).filter(|&k| self.domain.wraps(k)) {
-            let side = self.domain.sides[k];
-            if side <= 2.0 * longest.1 {
-                let r = &system.rods[longest.0];
-                return Err(Error::Parameter(format!(
-                    "rod {} was drawn with length {} and radius {}: the periodic side {side} along {} must exceed \
-                     2 (l + 2r) = {:.4}, so that two rods touch through at most one image; use a larger box \
-                     or a narrower distribution",
-                    longest.0,
-                    r.length,
-                    r.radius,
-                    ["x", "y", "z"][k],
-                    2.0 * longest.1
-                )));
-            }
+        if let Some((i, k, limit)) = super::too_long(&self.domain, &system.rods) {
+            let r = &system.rods[i];
+            return Err(Error::Parameter(format!(
+                "rod {i} was drawn with length {} and radius {}: the periodic side {} along {} must exceed \
+                 2 (l + 2r) = {limit:.4}, so that two rods touch through at most one image; use a larger box \
+                 or a narrower distribution",
+                r.length,
+                r.radius,
+                self.domain.sides[k],
+                ["x", "y", "z"][k],
+            )));
         }
         Ok(system)
     }

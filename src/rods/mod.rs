@@ -337,8 +337,7 @@ impl Domain {
             let (x, l) = (cut.center[k], self.sides[k]);
             cut.center[k] = if self.wraps(k) {
                 // The centre moved along the rod, maybe through a periodic face.
-                let y = x - (x / l).floor() * l;
-                if (0.0..l).contains(&y) { y } else { 0.0 }
+                wrap(x, l)
             } else {
                 // A centre computed on the wall may round just outside it.
                 x.clamp(0.0, l)
@@ -347,6 +346,26 @@ impl Domain {
         cut.length = hi - lo;
         Cut::Cut(cut)
     }
+}
+
+/// `x mod l` in `[0, l)` (0 where rounding would give `l`).
+pub fn wrap(x: f64, l: f64) -> f64 {
+    let y = x - (x / l).floor() * l;
+    if (0.0..l).contains(&y) { y } else { 0.0 }
+}
+
+/// The rod of largest reach `l + 2r` when some periodic side of `domain` is
+/// not longer than twice it (so two rods could touch through two images):
+/// that rod, the axis, and `2 (l + 2r)`.
+fn too_long(domain: &Domain, rods: &[Rod]) -> Option<(usize, usize, f64)> {
+    let (rod, reach) = rods
+        .iter()
+        .map(|r| r.length + 2.0 * r.radius)
+        .enumerate()
+        .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+    (0..3)
+        .find(|&k| domain.wraps(k) && domain.sides[k] <= 2.0 * reach)
+        .map(|k| (rod, k, 2.0 * reach))
 }
 
 /// A box of rods.
@@ -451,23 +470,16 @@ impl RodSystem {
             }
             out.push(rod);
         }
-        let reach = out
-            .iter()
-            .map(|r| 0.5 * r.length + r.radius)
-            .fold(0.0f64, f64::max);
-        for k in (0..3).filter(|&k| domain.wraps(k)) {
-            let l = domain.sides[k];
-            if l <= 4.0 * reach {
-                return Err((
-                    None,
-                    format!(
-                        "box side {l} along {} is too small: a periodic side must exceed two reaches \
-                         of the largest rods, 2 (l + 2r) = {:.4}, so that two rods touch through at most one image",
-                        ["x", "y", "z"][k],
-                        4.0 * reach
-                    ),
-                ));
-            }
+        if let Some((_, k, limit)) = too_long(&domain, &out) {
+            return Err((
+                None,
+                format!(
+                    "box side {} along {} is too small: a periodic side must exceed two reaches \
+                     of the largest rods, 2 (l + 2r) = {limit:.4}, so that two rods touch through at most one image",
+                    domain.sides[k],
+                    ["x", "y", "z"][k],
+                ),
+            ));
         }
         Ok(RodSystem { domain, rods: out })
     }

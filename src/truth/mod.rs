@@ -228,6 +228,16 @@ pub struct Spans {
     pub faces: bool,
 }
 
+impl Spans {
+    /// Whether it spans under `criterion`.
+    pub fn under(self, criterion: Criterion) -> bool {
+        match criterion {
+            Criterion::Wrap => self.wrap,
+            Criterion::Faces => self.faces,
+        }
+    }
+}
+
 impl Truth {
     /// Rods in the largest rigid cluster (0 when there is none).
     pub fn largest_cluster(&self) -> usize {
@@ -407,13 +417,9 @@ pub fn of_system(
     }
     t.criterion = Some(criterion);
     t.spanning = t.decided().then(|| {
-        t.clusters.iter().any(|c| {
-            let s = c.spans.expect("set above");
-            match criterion {
-                Criterion::Wrap => s.wrap,
-                Criterion::Faces => s.faces,
-            }
-        })
+        t.clusters
+            .iter()
+            .any(|c| c.spans.expect("set above").under(criterion))
     });
     t.seconds = start.elapsed().as_secs_f64();
     t
