@@ -64,19 +64,24 @@ impl Fp {
     /// algorithm (several times faster than Fermat's `a^(p-2)`, and the
     /// elimination takes one inverse per pivot).
     pub fn inv(self) -> Option<Fp> {
-        if self.is_zero() {
-            return None;
-        }
-        let (mut r0, mut r1) = (P as i64, self.0 as i64);
-        let (mut t0, mut t1) = (0i64, 1i64); // |t| <= P: no overflow
-        while r1 != 0 {
-            let q = r0 / r1;
-            (r0, r1) = (r1, r0 - q * r1);
-            (t0, t1) = (t1, t0 - q * t1);
-        }
-        debug_assert_eq!(r0, 1, "P is prime");
-        Some(Fp(t0.rem_euclid(P as i64) as u64))
+        (!self.is_zero()).then(|| Fp(inverse_mod(self.0, P)))
     }
+}
+
+/// The inverse of `a` modulo a prime `m > a > 0`, by the extended Euclidean
+/// algorithm (several times faster than Fermat's `a^(m-2)`; eliminations
+/// take one inverse per pivot).
+pub fn inverse_mod(a: u64, m: u64) -> u64 {
+    debug_assert!(a != 0 && a < m);
+    let (mut r0, mut r1) = (m as i64, a as i64);
+    let (mut t0, mut t1) = (0i64, 1i64); // |t| <= m: no overflow
+    while r1 != 0 {
+        let q = r0 / r1;
+        (r0, r1) = (r1, r0 - q * r1);
+        (t0, t1) = (t1, t0 - q * t1);
+    }
+    debug_assert_eq!(r0, 1, "the modulus is prime");
+    t0.rem_euclid(m as i64) as u64
 }
 
 impl fmt::Debug for Fp {
@@ -217,5 +222,131 @@ impl Scalar for f64 {
     }
     fn vanishes(self, scale: f64, tol: f64) -> bool {
         self.abs() <= tol * scale
+    }
+}
+
+/// An exact prime field: what realizations are built and matrices
+/// eliminated over.
+pub trait Field: Scalar + Eq + std::hash::Hash {
+    /// The prime.
+    const MODULUS: u64;
+    /// The residue, in `0..MODULUS`.
+    fn residue(self) -> u64;
+}
+
+impl Field for Fp {
+    const MODULUS: u64 = P;
+    fn residue(self) -> u64 {
+        self.0
+    }
+}
+
+/// F_q for a prime `q` below `2^24`: the fields whole systems are ranked
+/// over. Their residues and products are exact in f64, so the dense work
+/// of a whole-system elimination runs in floating-point matrix products
+/// ([`super::echelon`]), many times faster than 61-bit residues. The price
+/// is a larger chance of an unlucky draw (about `1/q` per coincidence
+/// against `1/p`), which two independent realizations in two different
+/// primes, [`Q1`] and [`Q2`], make negligible.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
+pub struct Fq<const Q: u32>(u32);
+
+/// The largest prime below `2^24`.
+pub type Q1 = Fq<16_777_213>;
+/// The second largest prime below `2^24`.
+pub type Q2 = Fq<16_777_199>;
+
+impl<const Q: u32> Fq<Q> {
+    pub const ZERO: Self = Fq(0);
+    pub const ONE: Self = Fq(1);
+
+    /// The residue of a signed integer.
+    pub fn new(v: i64) -> Self {
+        <Self as Scalar>::from_i64(v)
+    }
+
+    pub fn is_zero(self) -> bool {
+        self.0 == 0
+    }
+
+    /// A uniformly random non-zero element.
+    pub fn random_nonzero(rng: &mut impl Rng) -> Self {
+        Fq(rng.random_range(1..Q))
+    }
+}
+
+impl<const Q: u32> fmt::Debug for Fq<Q> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+impl<const Q: u32> Add for Fq<Q> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        let s = self.0 + o.0;
+        Fq(if s >= Q { s - Q } else { s })
+    }
+}
+
+impl<const Q: u32> Sub for Fq<Q> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Fq(if self.0 >= o.0 {
+            self.0 - o.0
+        } else {
+            self.0 + Q - o.0
+        })
+    }
+}
+
+impl<const Q: u32> Neg for Fq<Q> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        Fq(0) - self
+    }
+}
+
+impl<const Q: u32> Mul for Fq<Q> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        Fq((self.0 as u64 * o.0 as u64 % Q as u64) as u32)
+    }
+}
+
+impl<const Q: u32> Scalar for Fq<Q> {
+    fn zero() -> Self {
+        Fq(0)
+    }
+    fn one() -> Self {
+        Fq(1)
+    }
+    fn from_i64(v: i64) -> Self {
+        Fq(v.rem_euclid(Q as i64) as u32)
+    }
+    fn inverse(self) -> Option<Self> {
+        (self.0 != 0).then(|| Fq(inverse_mod(self.0 as u64, Q as u64) as u32))
+    }
+    fn negligible(self) -> bool {
+        self.0 == 0
+    }
+    fn magnitude(self) -> f64 {
+        if self.0 == 0 { 0.0 } else { 1.0 }
+    }
+    fn random<R: Rng + ?Sized>(rng: &mut R) -> Self {
+        Fq(rng.random_range(0..Q))
+    }
+    fn recip(self) -> Option<Self> {
+        self.inverse()
+    }
+    fn vanishes(self, _scale: f64, _tol: f64) -> bool {
+        self.0 == 0
+    }
+}
+
+impl<const Q: u32> Field for Fq<Q> {
+    const MODULUS: u64 = Q as u64;
+    fn residue(self) -> u64 {
+        self.0 as u64
     }
 }

@@ -1,7 +1,7 @@
 //! A dense row-major matrix over a [`Scalar`], and its exact rank over F_p
 //! by fraction-free Gaussian elimination.
 
-use super::field::{Fp, Scalar};
+use super::field::{Field, Fp, Scalar};
 
 /// A dense row-major matrix.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,6 +65,35 @@ pub fn rank_fp(m: &Matrix<Fp>) -> usize {
         &mut Vec::new(),
         false,
     )
+}
+
+/// Exact rank over any prime field by textbook Gaussian elimination of a
+/// copy: the plain reference the fast kernels are tested against.
+pub fn rank_exact<F: Field>(m: &Matrix<F>) -> usize {
+    let (rows, cols) = (m.rows, m.cols);
+    let mut a = m.data.clone();
+    let mut rank = 0;
+    for c in 0..cols {
+        let Some(p) = (rank..rows).find(|&i| a[i * cols + c] != F::zero()) else {
+            continue;
+        };
+        for k in 0..cols {
+            a.swap(rank * cols + k, p * cols + k);
+        }
+        let inv = a[rank * cols + c].inverse().expect("non-zero pivot");
+        for i in rank + 1..rows {
+            let f = a[i * cols + c] * inv;
+            if f == F::zero() {
+                continue;
+            }
+            for k in c..cols {
+                let v = a[rank * cols + k];
+                a[i * cols + k] = a[i * cols + k] - f * v;
+            }
+        }
+        rank += 1;
+    }
+    rank
 }
 
 /// Row-reduces the dense `rows x cols` matrix `a` in place and returns its

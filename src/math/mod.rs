@@ -3,6 +3,7 @@
 //! or QR, sparse exact elimination for whole systems, three-vectors, and
 //! statistics.
 
+pub mod echelon;
 pub mod field;
 pub mod float;
 pub mod matrix;
@@ -10,5 +11,5 @@ pub mod sparse;
 pub mod stats;
 pub mod vec3;
 
-pub use field::{Fp, P, Scalar};
-pub use matrix::{Matrix, rank_fp, reduce_fp};
+pub use field::{Field, Fp, Fq, P, Q1, Q2, Scalar};
+pub use matrix::{Matrix, rank_exact, rank_fp, reduce_fp};

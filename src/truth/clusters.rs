@@ -24,19 +24,19 @@ use super::Topology;
 use super::matrix::{Parts, WIDTH};
 use super::realize::Realization;
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};
-use crate::math::{Fp, Scalar};
+use crate::math::{Field, Scalar};
 
 /// The rigid clusters of two or more rods, each sorted, largest first (ties
 /// by smallest rod).
-pub fn clusters(
+pub fn clusters<F: Field>(
     topo: &Topology,
     parts: &Parts,
-    real: &Realization,
-    kernel: &[Vec<Fp>],
+    real: &Realization<F>,
+    kernel: &[Vec<F>],
 ) -> Vec<Vec<u32>> {
     let graph = topo.graph;
     // The common omega of each contact whose rods move as one, per kernel vector.
-    let mut field: Vec<Option<Vec<Fp>>> = vec![None; graph.n_edges()];
+    let mut field: Vec<Option<Vec<F>>> = vec![None; graph.n_edges()];
     for (e, slot) in field.iter_mut().enumerate() {
         let Some(c) = ContactMotion::new(parts, real, e, graph.edges()[e]) else {
             continue;
@@ -45,7 +45,7 @@ pub fn clusters(
         let mut rigid = true;
         for x in kernel {
             let (off, common) = c.relative(x);
-            if !off.is_zero() {
+            if off != F::zero() {
                 rigid = false;
                 break;
             }

@@ -40,7 +40,7 @@ use std::time::Instant;
 
 use crate::contacts::Contact;
 use crate::graph::ContactGraph;
-use crate::math::sparse;
+use crate::math::{Field, Q1, Q2, sparse};
 use crate::rods::{Domain, Periodic, RodSystem};
 use crate::spanning::{Criterion, SpanChecker};
 use crate::{Error, Result};
@@ -114,6 +114,10 @@ impl<'a> Topology<'a> {
         }
     }
 }
+
+/// Random kernel vectors drawn for the clusters: a relation that holds on
+/// all of them holds on the whole kernel except with probability `1/q^2`.
+const KERNEL_VECTORS: usize = 2;
 
 /// How truth was decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -354,43 +358,112 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             return finish(out);
         }
     };
-    let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
-    let mut best: Option<(sparse::Elimination, realize::Realization)> = None;
-    let mut ranks = Vec::with_capacity(2);
-    for _twin in 0..if opts.twins { 2 } else { 1 } {
-        let mut real = None;
+    // Each twin draws its realization from its own stream, and kernel
+    // vectors come from a third, so that the twins can run at once and
+    // nothing depends on how many draws came before.
+    let stream = |k| {
+        let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+        rng.set_stream(k);
+        rng
+    };
+    let (mut rng1, mut rng2, mut draws) = (stream(0), stream(2), stream(1));
+    let twin = Twin {
+        topo,
+        planes: &planes,
+        active: &core.active,
+        order: &order,
+        parts: &parts,
+        attempts: opts.attempts.max(1),
+    };
+    // The twin, in the other prime, only checks the rank: its pivot rows
+    // are kept (for kernel vectors) only if it beats the first.
+    let (first, second) = rayon::join(
+        || twin.rank::<Q1>(&mut rng1, Some(&mut draws)),
+        || opts.twins.then(|| twin.rank::<Q2>(&mut rng2, None)),
+    );
+    let (first, second) = match (first, second.transpose()) {
+        (Ok(f), Ok(s)) => (f, s),
+        (Err(why), _) | (_, Err(why)) => {
+            out.reason = Some(why);
+            return finish(out);
+        }
+    };
+    out.rows = first.rows.len();
+    out.largest_front = Some(first.elim.largest_front);
+    out.twins_agree = second.as_ref().map(|t| t.elim.rank == first.elim.rank);
+    let pruned = core.pruned_motions();
+    match second {
+        Some(t) if t.elim.rank > first.elim.rank => {
+            let elim = twin.eliminate(&t.rows, Some(&mut draws));
+            out.largest_front = Some(elim.largest_front);
+            let clusters = clusters::clusters(topo, &parts, &t.real, &elim.kernel);
+            out.decide(Method::Exact, elim.rank, pruned, clusters);
+        }
+        _ => {
+            let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
+            out.decide(Method::Exact, first.elim.rank, pruned, clusters);
+        }
+    }
+    finish(out)
+}
+
+/// What every realization of one system shares.
+struct Twin<'a> {
+    topo: &'a Topology<'a>,
+    planes: &'a planes::Planes,
+    active: &'a [bool],
+    order: &'a [u32],
+    parts: &'a matrix::Parts,
+    attempts: usize,
+}
+
+/// One exact realization over a field, its matrix and their elimination.
+struct Ranked<F> {
+    real: realize::Realization<F>,
+    rows: Vec<sparse::SparseRow<F>>,
+    elim: sparse::Elimination<F>,
+}
+
+impl Twin<'_> {
+    /// Builds a realization over `F` (redrawn while it lands on a
+    /// degenerate position) and eliminates its matrix, with kernel vectors
+    /// drawn from `draws` if given; `Err` says why no realization could be
+    /// built.
+    fn rank<F: Field>(
+        &self,
+        rng: &mut ChaCha8Rng,
+        draws: Option<&mut ChaCha8Rng>,
+    ) -> std::result::Result<Ranked<F>, String> {
         let mut why = String::new();
-        for _ in 0..opts.attempts.max(1) {
-            match realize::build(topo, &planes, &core.active, &order, &mut rng) {
-                Ok(r) => {
-                    real = Some(r);
-                    break;
+        for _ in 0..self.attempts {
+            match realize::build::<F>(self.topo, self.planes, self.active, self.order, rng) {
+                Ok(real) => {
+                    let rows = matrix::rows(self.topo, self.planes, self.parts, &real);
+                    let elim = self.eliminate(&rows, draws);
+                    return Ok(Ranked { real, rows, elim });
                 }
                 Err(realize::Failure::Degenerate(w)) => why = w,
                 Err(realize::Failure::Broken(why)) => panic!("truth construction: {why}"),
             }
         }
-        let Some(real) = real else {
-            out.reason = Some(format!(
-                "every one of {} realizations landed on a degenerate position (the last: {why})",
-                opts.attempts
-            ));
-            return finish(out);
-        };
-        let rows = matrix::rows(topo, &planes, &parts, &real);
-        out.rows = rows.len();
-        let elim = sparse::eliminate(&rows, parts.count, matrix::WIDTH, 2, &mut rng);
-        ranks.push(elim.rank);
-        if best.as_ref().is_none_or(|(b, _)| elim.rank > b.rank) {
-            best = Some((elim, real));
+        Err(format!(
+            "every one of {} realizations landed on a degenerate position (the last: {why})",
+            self.attempts
+        ))
+    }
+
+    /// Eliminates `rows`, with kernel vectors drawn from `draws` if given.
+    fn eliminate<F: Field>(
+        &self,
+        rows: &[sparse::SparseRow<F>],
+        draws: Option<&mut ChaCha8Rng>,
+    ) -> sparse::Elimination<F> {
+        let width = matrix::WIDTH;
+        match draws {
+            Some(d) => sparse::eliminate(rows, self.parts.count, width, KERNEL_VECTORS, d),
+            None => sparse::rank(rows, self.parts.count, width),
         }
     }
-    let (elim, real) = best.expect("at least one realization was ranked");
-    out.largest_front = Some(elim.largest_front);
-    out.twins_agree = opts.twins.then(|| ranks.iter().all(|&r| r == elim.rank));
-    let clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
-    out.decide(Method::Exact, elim.rank, core.pruned_motions(), clusters);
-    finish(out)
 }
 
 /// The truth of a rod system (`graph` built from

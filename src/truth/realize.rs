@@ -13,7 +13,7 @@ use super::Topology;
 use super::order::preplaced;
 use super::planes::{Offset, Planes};
 use crate::math::vec3::{V3, add, cross, dot, is_null, scale, sub};
-use crate::math::{Fp, Scalar};
+use crate::math::{Field, Fp, Scalar};
 
 /// A line `p + s d`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,9 +24,9 @@ pub struct Line<S = Fp> {
 
 /// A plane through `q` with normal `n`.
 #[derive(Clone, Copy, Debug)]
-struct Plane {
-    q: V3<Fp>,
-    n: V3<Fp>,
+struct Plane<F> {
+    q: V3<F>,
+    n: V3<F>,
 }
 
 /// One realization of the active rods: exact over F_p, or in floats where
@@ -54,8 +54,17 @@ pub fn lattice<S: Scalar>(side: S, o: Offset) -> V3<S> {
     o.map(|k| side * S::from_i64(k as i64))
 }
 
-fn random_v3(rng: &mut impl Rng) -> V3<Fp> {
-    [Fp::random(rng), Fp::random(rng), Fp::random(rng)]
+fn random_v3<F: Field>(rng: &mut impl Rng) -> V3<F> {
+    [F::random(rng), F::random(rng), F::random(rng)]
+}
+
+fn random_nonzero<F: Field>(rng: &mut impl Rng) -> F {
+    loop {
+        let v = F::random(rng);
+        if v != F::zero() {
+            return v;
+        }
+    }
 }
 
 /// Why a draw failed.
@@ -67,39 +76,39 @@ pub enum Failure {
     Broken(String),
 }
 
-fn point_on(l: &Line, rng: &mut impl Rng) -> V3<Fp> {
-    add(l.p, scale(l.d, Fp::random(rng)))
+fn point_on<F: Field>(l: &Line<F>, rng: &mut impl Rng) -> V3<F> {
+    add(l.p, scale(l.d, F::random(rng)))
 }
 
 /// Where line `l` crosses plane `pl`.
-fn crossing(l: &Line, pl: &Plane) -> Result<V3<Fp>, Failure> {
+fn crossing<F: Field>(l: &Line<F>, pl: &Plane<F>) -> Result<V3<F>, Failure> {
     let den = dot(pl.n, l.d);
     let inv = den
-        .inv()
+        .inverse()
         .ok_or_else(|| Failure::Degenerate("a line parallel to a plane it must cross".into()))?;
     Ok(add(l.p, scale(l.d, dot(pl.n, sub(pl.q, l.p)) * inv)))
 }
 
-fn through(a: V3<Fp>, b: V3<Fp>) -> Line {
+fn through<F: Field>(a: V3<F>, b: V3<F>) -> Line<F> {
     Line { p: a, d: sub(b, a) }
 }
 
 /// Builds one realization of the rods of `order` (a construction order of
 /// the active rods).
-pub fn build(
+pub fn build<F: Field>(
     topo: &Topology,
     planes: &Planes,
     active: &[bool],
     order: &[u32],
     rng: &mut impl Rng,
-) -> Result<Realization, Failure> {
+) -> Result<Realization<F>, Failure> {
     let graph = topo.graph;
-    let side = Fp::random_nonzero(rng);
-    let mut lines: Vec<Option<Line>> = vec![None; graph.n_nodes()];
-    let mut plane: Vec<Option<Plane>> = vec![None; planes.classes.len()];
+    let side: F = random_nonzero(rng);
+    let mut lines: Vec<Option<Line<F>>> = vec![None; graph.n_nodes()];
+    let mut plane: Vec<Option<Plane<F>>> = vec![None; planes.classes.len()];
     for (c, class) in planes.classes.iter().enumerate() {
         if preplaced(planes, c as u32) {
-            let [w1, w2] = [class.wraps[0], class.wraps[1]].map(|w| lattice(Fp::ONE, w));
+            let [w1, w2] = [class.wraps[0], class.wraps[1]].map(|w| lattice(F::one(), w));
             plane[c] = Some(Plane {
                 q: random_v3(rng),
                 n: cross(w1, w2),
@@ -108,7 +117,7 @@ pub fn build(
     }
     for &x in order {
         let xi = x as usize;
-        let held: Vec<Plane> = planes.of_rod[xi]
+        let held: Vec<Plane<F>> = planes.of_rod[xi]
             .iter()
             .filter_map(|&(c, o)| {
                 plane[c as usize].map(|pl| Plane {
@@ -117,7 +126,7 @@ pub fn build(
                 })
             })
             .collect();
-        let targets: Vec<Line> = graph
+        let targets: Vec<Line<F>> = graph
             .neighbors(x)
             .iter()
             .filter(|&&(m, e)| active[m as usize] && planes.inside[e as usize].is_none())
@@ -169,7 +178,7 @@ pub fn build(
             }
             ([p1, p2], []) => {
                 let d = cross(p1.n, p2.n);
-                let inv = dot(d, d).inv().ok_or_else(|| {
+                let inv = dot(d, d).inverse().ok_or_else(|| {
                     Failure::Degenerate(format!("rod {x}: two planes without a common line"))
                 })?;
                 let (h1, h2) = (dot(p1.n, p1.q), dot(p2.n, p2.q));
@@ -202,7 +211,7 @@ pub fn build(
             }
             let other = match planes.classes[c].wraps.as_slice() {
                 [] => random_v3(rng),
-                [w] => lattice(Fp::ONE, *w),
+                [w] => lattice(F::one(), *w),
                 _ => unreachable!("a class wrapping twice is placed first"),
             };
             let n = cross(line.d, other);
@@ -219,7 +228,7 @@ pub fn build(
     }
 
     // The contact points, each checked on both lines.
-    let mut points: Vec<Option<V3<Fp>>> = vec![None; graph.n_edges()];
+    let mut points: Vec<Option<V3<F>>> = vec![None; graph.n_edges()];
     for (e, &[a, b]) in graph.edges().iter().enumerate() {
         let (Some(la), Some(lb)) = (lines[a as usize], lines[b as usize]) else {
             continue;
@@ -227,7 +236,7 @@ pub fn build(
         let pb = add(lb.p, lattice(side, topo.seen(e as u32, a)));
         let n = cross(la.d, lb.d);
         let inv = dot(n, n)
-            .inv()
+            .inverse()
             .ok_or_else(|| Failure::Degenerate(format!("rods {a} and {b} are parallel")))?;
         let s = dot(cross(sub(pb, la.p), lb.d), n) * inv;
         let x = add(la.p, scale(la.d, s));
@@ -249,10 +258,10 @@ pub fn build(
         ] {
             let l = lines[r as usize].expect("placed");
             let k = (0..3)
-                .find(|&k| !l.d[k].is_zero())
+                .find(|&k| l.d[k] != F::zero())
                 .expect("non-null direction");
-            let s = (y[k] - l.p[k]) * l.d[k].inv().expect("non-zero");
-            along[r as usize].push((s.value(), other));
+            let s = (y[k] - l.p[k]) * l.d[k].inverse().expect("non-zero");
+            along[r as usize].push((s.residue(), other));
         }
     }
     for (r, list) in along.iter_mut().enumerate() {

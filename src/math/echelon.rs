@@ -1,0 +1,379 @@
+//! Row echelon form of a dense matrix over a prime field F_q with q below
+//! `2^24`, in exact f64 arithmetic: the kernel under every dense front of
+//! the sparse elimination ([`super::sparse`]).
+//!
+//! Residues are kept centred, in `(-q/2, q/2)`, as f64 integers. A product
+//! of two is below `2^46` and exact, and so is a sum of up to [`PANEL`] of
+//! them (below `2^52`), so the bulk of the work can be done by faer's
+//! floating-point matrix product and reduced once per entry afterwards:
+//! the approach of FFLAS-FFPACK. Pivots are found a panel of [`PANEL`]
+//! columns at a time; inside the panel the elimination is the textbook one,
+//! on the panel's columns only, with the multipliers kept where the
+//! eliminated entries were (as LAPACK keeps `L`). The rest of the matrix is
+//! then updated once per panel: the panel's pivot rows by a small
+//! triangular solve, every other row by one matrix product.
+
+use super::field::inverse_mod;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, MatMut, MatRef, Par};
+
+/// Columns per panel: a sum of this many products of centred residues
+/// stays exact in f64.
+pub const PANEL: usize = 64;
+
+/// The largest prime this kernel takes: residues and their products must
+/// stay exact in f64.
+pub const MAX_MODULUS: u64 = 1 << 24;
+
+const _: () = assert!(
+    (PANEL as u64 + 1) * (MAX_MODULUS / 2) * (MAX_MODULUS / 2) < 1 << 53,
+    "a panel's sums must stay exact"
+);
+
+/// Arithmetic modulo a prime `q < 2^24` on centred f64 residues.
+#[derive(Clone, Copy, Debug)]
+pub struct Modulus {
+    q: f64,
+    inv: f64,
+}
+
+/// Adding and subtracting `1.5 * 2^52` rounds an f64 below `2^51` to the
+/// nearest integer with plain additions, which vectorize without SSE4.1.
+const ROUND: f64 = 6_755_399_441_055_744.0;
+
+impl Modulus {
+    pub fn new(q: u64) -> Modulus {
+        assert!(
+            q > 2 && q < MAX_MODULUS,
+            "the f64 kernel needs an odd prime below 2^24, not {q}"
+        );
+        Modulus {
+            q: q as f64,
+            inv: 1.0 / q as f64,
+        }
+    }
+
+    /// The centred residue of an exact integer `x` with `|x| < 2^53`. The
+    /// quotient is rounded from `x / q`, whose rounding error cannot move
+    /// the result farther than one off `±q/2`.
+    #[inline(always)]
+    pub fn reduce(self, x: f64) -> f64 {
+        let k = (x * self.inv + ROUND) - ROUND;
+        x - k * self.q
+    }
+
+    /// `a * b` for centred residues.
+    #[inline(always)]
+    pub fn mul(self, a: f64, b: f64) -> f64 {
+        self.reduce(a * b)
+    }
+
+    /// The inverse of a non-zero centred residue.
+    pub fn inverse(self, a: f64) -> f64 {
+        let q = self.q as u64;
+        self.centre(inverse_mod(self.residue(a), q))
+    }
+
+    /// The centred residue of a residue in `0..q`.
+    pub fn centre(self, v: u64) -> f64 {
+        self.reduce(v as f64)
+    }
+
+    /// The residue in `0..q` of a centred one.
+    pub fn residue(self, x: f64) -> u64 {
+        let v = x as i64;
+        v.rem_euclid(self.q as i64) as u64
+    }
+}
+
+/// A dense row-major `rows x cols` matrix of centred residues, borrowed.
+pub struct Block<'a> {
+    pub data: &'a mut [f64],
+    pub rows: usize,
+    pub cols: usize,
+    pub modulus: Modulus,
+}
+
+impl Block<'_> {
+    fn swap_rows(&mut self, i: usize, j: usize) {
+        if i != j {
+            let (lo, hi) = (i.min(j), i.max(j));
+            let (a, b) = self.data.split_at_mut(hi * self.cols);
+            a[lo * self.cols..(lo + 1) * self.cols].swap_with_slice(&mut b[..self.cols]);
+        }
+    }
+
+    /// Brings rows `top..` into row echelon form on the columns
+    /// `from..to`, assuming they are zero on every column before `from`:
+    /// afterwards rows `top..top + k` are pivot rows, each with a 1 at its
+    /// pivot column (pushed to `pivots` in increasing order) and zeros
+    /// before it, and the rows after them are zero on `from..to`. Every
+    /// step is a row operation on the whole row, so the row space is
+    /// unchanged. Returns the row after the last pivot row, `top + k`.
+    pub fn echelon(
+        &mut self,
+        top: usize,
+        from: usize,
+        to: usize,
+        pivots: &mut Vec<usize>,
+    ) -> usize {
+        debug_assert!(from <= to && to <= self.cols && top <= self.rows);
+        let md = self.modulus;
+        let cols = self.cols;
+        let mut top = top;
+        let mut inverses = Vec::with_capacity(PANEL);
+        let mut panel = Vec::with_capacity(PANEL);
+        let mut j = from;
+        while j < to && top < self.rows {
+            let end = (j + PANEL).min(to);
+            panel.clear();
+            inverses.clear();
+            let first = top;
+            for c in j..end {
+                if top == self.rows {
+                    break;
+                }
+                let Some(p) = (top..self.rows).find(|&i| self.data[i * cols + c] != 0.0) else {
+                    continue;
+                };
+                self.swap_rows(top, p);
+                let inv = md.inverse(self.data[top * cols + c]);
+                let (upper, lower) = self.data.split_at_mut((top + 1) * cols);
+                let pivot = &mut upper[top * cols..];
+                for x in &mut pivot[c..end] {
+                    *x = md.mul(*x, inv);
+                }
+                let pivot = &pivot[c + 1..end];
+                for row in lower.chunks_exact_mut(cols) {
+                    let f = row[c];
+                    if f == 0.0 {
+                        continue;
+                    }
+                    // The multiplier stays where the entry is cleared.
+                    for (x, &u) in row[c + 1..end].iter_mut().zip(pivot) {
+                        *x = md.reduce(*x - f * u);
+                    }
+                }
+                panel.push(c);
+                inverses.push(inv);
+                top += 1;
+            }
+            if end < cols && !panel.is_empty() {
+                self.update_rest(first, &panel, &inverses, end);
+            }
+            // Clear the multipliers: below each pivot the matrix is zero.
+            for (t, &c) in panel.iter().enumerate() {
+                for i in first + t + 1..self.rows {
+                    self.data[i * cols + c] = 0.0;
+                }
+            }
+            pivots.extend_from_slice(&panel);
+            j = end;
+        }
+        top
+    }
+
+    /// Applies a finished panel to the columns `rest..`: the panel's pivot
+    /// rows `first..first + k` by forward substitution, then every row
+    /// below them by one matrix product, reduced once per entry.
+    fn update_rest(&mut self, first: usize, pivots: &[usize], inverses: &[f64], rest: usize) {
+        let md = self.modulus;
+        let cols = self.cols;
+        let k = pivots.len();
+        let width = cols - rest;
+        let below = self.rows - first - k;
+        let (upper, lower) = self.data.split_at_mut((first + k) * cols);
+        let upper = &mut upper[first * cols..];
+        // Pivot row t: (row_t - sum_{s<t} m_ts u_s) / pivot_t on the rest,
+        // the sum exact in f64 and reduced once.
+        let mut acc = vec![0.0; width];
+        for t in 0..k {
+            let (done, row) = upper.split_at_mut(t * cols);
+            let row = &mut row[..cols];
+            acc.fill(0.0);
+            for (s, &c) in pivots[..t].iter().enumerate() {
+                let m = row[c];
+                if m == 0.0 {
+                    continue;
+                }
+                let u = &done[s * cols + rest..(s + 1) * cols];
+                for (a, &v) in acc.iter_mut().zip(u) {
+                    *a += m * v;
+                }
+            }
+            let inv = inverses[t];
+            for (x, &a) in row[rest..].iter_mut().zip(&acc) {
+                *x = md.mul(md.reduce(*x - a), inv);
+            }
+            for &c in &pivots[..t] {
+                row[c] = 0.0;
+            }
+        }
+        if below == 0 {
+            return;
+        }
+        // Every other row: row -= sum_t m_it u_t, one product.
+        let mut multipliers = vec![0.0; below * k];
+        for (i, row) in lower.chunks_exact(cols).enumerate() {
+            for (t, &c) in pivots.iter().enumerate() {
+                multipliers[i * k + t] = row[c];
+            }
+        }
+        // In transposed, column-major views of the same memory: faer 0.24.4
+        // crashes on a row-major destination.
+        let dst =
+            MatMut::from_column_major_slice_with_stride_mut(&mut lower[rest..], width, below, cols);
+        let pivot_rows =
+            MatRef::from_column_major_slice_with_stride(&upper[rest..], width, k, cols);
+        let factors = MatRef::from_column_major_slice(&multipliers, k, below);
+        matmul(dst, Accum::Add, pivot_rows, factors, -1.0, Par::Seq);
+        for row in lower.chunks_exact_mut(cols) {
+            for x in &mut row[rest..] {
+                *x = md.reduce(*x);
+            }
+        }
+    }
+
+    /// Whether row `i` is zero on the columns `from..`.
+    pub fn is_zero_row(&self, i: usize, from: usize) -> bool {
+        self.data[i * self.cols + from..(i + 1) * self.cols]
+            .iter()
+            .all(|&x| x == 0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::field::{Field, Q1};
+    use crate::math::{Matrix, Scalar, rank_exact};
+    use proptest::prelude::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn modulus() -> Modulus {
+        Modulus::new(Q1::MODULUS)
+    }
+
+    /// A random `rows x cols` matrix over Q1 of rank at most `r` (a product
+    /// of random factors), with every seventh column zero when `gaps` is
+    /// set, so that pivots skip them.
+    fn low_rank(seed: u64, rows: usize, cols: usize, r: usize, gaps: bool) -> Vec<Q1> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let a: Vec<Q1> = (0..rows * r).map(|_| Q1::random(&mut rng)).collect();
+        let b: Vec<Q1> = (0..r * cols)
+            .map(|i| {
+                if gaps && (i % cols) % 7 == 3 {
+                    Q1::zero()
+                } else {
+                    Q1::random(&mut rng)
+                }
+            })
+            .collect();
+        let mut m = vec![Q1::zero(); rows * cols];
+        for i in 0..rows {
+            for k in 0..r {
+                for j in 0..cols {
+                    m[i * cols + j] = m[i * cols + j] + a[i * r + k] * b[k * cols + j];
+                }
+            }
+        }
+        m
+    }
+
+    fn reference(m: &[Q1], rows: usize, cols: usize) -> usize {
+        rank_exact(&Matrix {
+            rows,
+            cols,
+            data: m.to_vec(),
+        })
+    }
+
+    fn centred(m: &[Q1]) -> Vec<f64> {
+        m.iter().map(|x| modulus().centre(x.residue())).collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(40))]
+        /// Several panels deep: the rank is the reference's, the form is
+        /// echelon with unit pivots, entries stay centred, and the row space
+        /// is the original one (stacking both does not raise the rank).
+        #[test]
+        fn echelon_form_has_the_reference_rank_and_row_space(
+            seed in 0u64..1_000_000, rows in 1usize..160, cols in 1usize..330, r in 0usize..160,
+        ) {
+            let m = low_rank(seed, rows, cols, r, true);
+            let mut a = centred(&m);
+            let mut pivots = Vec::new();
+            let k = Block { data: &mut a, rows, cols, modulus: modulus() }.echelon(0, 0, cols, &mut pivots);
+            prop_assert_eq!(k, reference(&m, rows, cols));
+            prop_assert_eq!(pivots.len(), k);
+            let half = (Q1::MODULUS / 2) as f64;
+            prop_assert!(a.iter().all(|x| x.abs() <= half && x.fract() == 0.0));
+            for (t, &c) in pivots.iter().enumerate() {
+                prop_assert!(t == 0 || pivots[t - 1] < c);
+                prop_assert_eq!(a[t * cols + c], 1.0);
+                prop_assert!(a[t * cols..t * cols + c].iter().all(|&x| x == 0.0));
+            }
+            prop_assert!(a[k * cols..].iter().all(|&x| x == 0.0));
+            let mut both = m.clone();
+            both.extend(a.iter().map(|&x| Q1::from_i64(x as i64)));
+            prop_assert_eq!(reference(&both, 2 * rows, cols), k);
+        }
+    }
+
+    #[test]
+    fn full_rank_square_over_three_panels() {
+        let n = 2 * PANEL + 5;
+        let m = low_rank(5, n, n, n, false);
+        let mut a = centred(&m);
+        let mut block = Block {
+            data: &mut a,
+            rows: n,
+            cols: n,
+            modulus: modulus(),
+        };
+        assert_eq!(block.echelon(0, 0, n, &mut Vec::new()), n);
+    }
+
+    #[test]
+    fn a_column_range_leaves_the_columns_after_it_unpivoted() {
+        // Eliminating only the first 10 of 300 columns: 10 pivots, and the
+        // rows below are zero there but not on the rest.
+        let (rows, cols) = (60, 300);
+        let m = low_rank(9, rows, cols, 40, false);
+        let mut a = centred(&m);
+        let mut pivots = Vec::new();
+        let mut block = Block {
+            data: &mut a,
+            rows,
+            cols,
+            modulus: modulus(),
+        };
+        let top = block.echelon(0, 0, 10, &mut pivots);
+        assert_eq!((top, pivots.len()), (10, 10));
+        assert!((top..rows).all(|i| block.is_zero_row(i, 0) == block.is_zero_row(i, 10)));
+        assert!((top..rows).any(|i| !block.is_zero_row(i, 10)));
+        // Finishing on the rest gives the whole rank.
+        let top = block.echelon(top, 10, cols, &mut pivots);
+        assert_eq!(top, reference(&m, rows, cols));
+    }
+
+    #[test]
+    fn reduction_is_exact_at_the_extremes() {
+        let md = modulus();
+        let q = Q1::MODULUS as i64;
+        let half = q / 2;
+        // The largest product a panel sums, 64 of them, and a residue on top.
+        let big = (PANEL as i64) * half * half + half;
+        assert!(big < 1 << 53);
+        for x in [big, -big, q, -q, half, -half, half + 1, 0, 1, -1] {
+            let r = md.reduce(x as f64);
+            assert_eq!((r as i64 - x).rem_euclid(q), 0, "{x}");
+            assert!(r.abs() <= half as f64, "{x} -> {r}");
+        }
+        for a in [1.0, -1.0, 2.0, half as f64, -(half as f64), 12345.0] {
+            assert_eq!(md.mul(md.inverse(a), a), 1.0, "{a}");
+        }
+    }
+}

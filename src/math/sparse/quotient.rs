@@ -1,0 +1,302 @@
+//! The quotient graph of a sparse elimination: what is left of the matrix,
+//! as dense elements over column groups, and which group goes next.
+//!
+//! An element is a set of rows over a few groups, stored dense. At the start
+//! the rows of one contact (or one spin) form an element over its two parts
+//! (or one). Eliminating a group absorbs every element that touches it into
+//! one front; what the front leaves is a new element over the groups the
+//! absorbed ones touched. Unlike the symbolic Cholesky model, where the
+//! neighbours of an eliminated group always become a clique, a front that
+//! has no more rows than pivots leaves nothing: in a floppy network most
+//! fronts do, so fill stays local where the network is underconstrained.
+//! That is why the order is chosen here, on the live rows, and not by a
+//! symbolic analysis of the group graph.
+//!
+//! The next group is one of minimum degree (neighbouring groups through live
+//! elements, exact, ties by index). A front also eliminates every other
+//! group whose elements it absorbed all of: such a group has no row outside
+//! the front, so eliminating it there adds no fill (mass elimination), and a
+//! network that has become one dense block is eliminated in one front.
+
+use rustc_hash::FxHashMap;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use super::SparseRow;
+use crate::math::Field;
+use crate::math::echelon::Modulus;
+
+/// With fewer groups left than this, the elimination never switches to the
+/// dense tail: a small rest is eliminated group by group to the end.
+const DENSE_TAIL: usize = 32;
+
+/// Rows over a few column groups, stored dense.
+#[derive(Clone, Debug)]
+pub struct Element {
+    /// Its groups, increasing.
+    pub groups: Vec<u32>,
+    pub rows: usize,
+    /// Centred residues, row-major over `groups.len() * width` columns
+    /// (exact in f32: they are below `2^23`).
+    pub data: Vec<f32>,
+}
+
+/// The elements a front absorbs, the groups it eliminates and those its
+/// rows still touch.
+pub struct Gathered {
+    /// Groups eliminated here, the chosen one first.
+    pub own: Vec<u32>,
+    /// The other groups of the absorbed elements, increasing.
+    pub pattern: Vec<u32>,
+    pub elements: Vec<Element>,
+    /// Whether this is the dense tail: everything that was left.
+    pub tail: bool,
+}
+
+/// Live elements and the minimum-degree queue.
+pub struct Quotient {
+    elements: Vec<Option<Element>>,
+    /// Elements touching each group; dead ones are dropped lazily.
+    adjacent: Vec<Vec<u32>>,
+    done: Vec<bool>,
+    /// Groups not eliminated yet, and the rows and row-group blocks of the
+    /// live elements: how dense what is left is.
+    remaining: usize,
+    live_rows: usize,
+    live_blocks: usize,
+    /// Whether a group's elements changed since it was queued.
+    dirty: Vec<bool>,
+    queue: BinaryHeap<Reverse<(usize, u32)>>,
+    /// Scratch marks per group and per element.
+    mark: Vec<u32>,
+    element_mark: Vec<u32>,
+    stamp: u32,
+    rescored: usize,
+}
+
+impl Quotient {
+    /// The elements of the original rows: rows over the same groups form
+    /// one element, in the order they first appear.
+    pub fn new<F: Field>(rows: &[SparseRow<F>], groups: usize, width: usize) -> Quotient {
+        let modulus = Modulus::new(F::MODULUS);
+        let mut q = Quotient {
+            elements: Vec::new(),
+            adjacent: vec![Vec::new(); groups],
+            done: vec![false; groups],
+            remaining: groups,
+            live_rows: 0,
+            live_blocks: 0,
+            dirty: vec![false; groups],
+            queue: BinaryHeap::new(),
+            mark: vec![0; groups],
+            element_mark: Vec::new(),
+            stamp: 0,
+            rescored: 0,
+        };
+        let mut index: FxHashMap<Vec<u32>, usize> = FxHashMap::default();
+        let mut built: Vec<Element> = Vec::new();
+        for r in rows {
+            if r.is_empty() {
+                continue;
+            }
+            let mut gs: Vec<u32> = r.iter().map(|&(c, _)| c / width as u32).collect();
+            gs.sort_unstable();
+            gs.dedup();
+            let k = *index.entry(gs.clone()).or_insert_with(|| {
+                built.push(Element {
+                    groups: gs.clone(),
+                    rows: 0,
+                    data: Vec::new(),
+                });
+                built.len() - 1
+            });
+            let e = &mut built[k];
+            let ncols = e.groups.len() * width;
+            let start = e.data.len();
+            e.data.resize(start + ncols, 0.0);
+            for &(c, v) in r {
+                let g = c / width as u32;
+                let l = e.groups.binary_search(&g).expect("its own group");
+                e.data[start + l * width + c as usize % width] = modulus.centre(v.residue()) as f32;
+            }
+            e.rows += 1;
+        }
+        for e in built {
+            q.insert(e);
+        }
+        for g in 0..groups as u32 {
+            q.requeue(g);
+        }
+        q
+    }
+
+    fn next_stamp(&mut self) -> u32 {
+        self.stamp += 1;
+        if self.stamp == u32::MAX {
+            self.mark.fill(0);
+            self.element_mark.fill(0);
+            self.stamp = 1;
+        }
+        self.stamp
+    }
+
+    fn insert(&mut self, e: Element) -> u32 {
+        let id = self.elements.len() as u32;
+        self.live_rows += e.rows;
+        self.live_blocks += e.rows * e.groups.len();
+        for &g in &e.groups {
+            self.adjacent[g as usize].push(id);
+        }
+        self.elements.push(Some(e));
+        self.element_mark.push(0);
+        id
+    }
+
+    /// Adds what a front left; the groups its absorbed elements touched
+    /// have their degrees recomputed when they come up.
+    pub fn settle(&mut self, pattern: &[u32], left: Vec<Element>) {
+        for e in left {
+            self.insert(e);
+        }
+        for &g in pattern {
+            self.dirty[g as usize] = true;
+        }
+    }
+
+    /// Queues `g` with its current degree.
+    fn requeue(&mut self, g: u32) {
+        let d = self.exact_degree(g);
+        self.queue.push(Reverse((d, g)));
+    }
+
+    /// Neighbouring groups of `g` through its live elements.
+    fn exact_degree(&mut self, g: u32) -> usize {
+        let elements = &self.elements;
+        self.adjacent[g as usize].retain(|&e| elements[e as usize].is_some());
+        let stamp = self.next_stamp();
+        self.mark[g as usize] = stamp;
+        let mut n = 0;
+        for &e in &self.adjacent[g as usize] {
+            for &h in &self.elements[e as usize].as_ref().expect("live").groups {
+                if self.mark[h as usize] != stamp {
+                    self.mark[h as usize] = stamp;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    /// The next group to eliminate: least degree, ties by index. Degrees
+    /// are recomputed lazily, as in the minimum-degree codes that keep
+    /// exact degrees: a group whose elements changed is queued again when
+    /// it comes up with a larger degree than it was queued with.
+    pub fn next(&mut self) -> Option<u32> {
+        while let Some(Reverse((d, g))) = self.queue.pop() {
+            if self.done[g as usize] {
+                continue;
+            }
+            if self.dirty[g as usize] {
+                self.dirty[g as usize] = false;
+                let now = self.exact_degree(g);
+                if now > d {
+                    self.rescored += 1;
+                    self.queue.push(Reverse((now, g)));
+                    continue;
+                }
+            }
+            return Some(g);
+        }
+        None
+    }
+
+    /// Takes out every element touching `g`, with the groups the front
+    /// eliminates: `g` and every group all of whose elements are among
+    /// those (none of its rows is elsewhere).
+    pub fn gather(&mut self, g: u32) -> Gathered {
+        let elements = &self.elements;
+        self.adjacent[g as usize].retain(|&e| elements[e as usize].is_some());
+        let ids = std::mem::take(&mut self.adjacent[g as usize]);
+        let stamp = self.next_stamp();
+        for &e in &ids {
+            self.element_mark[e as usize] = stamp;
+        }
+        self.mark[g as usize] = stamp;
+        let mut union = Vec::new();
+        for &e in &ids {
+            for &h in &self.elements[e as usize].as_ref().expect("live").groups {
+                if self.mark[h as usize] != stamp {
+                    self.mark[h as usize] = stamp;
+                    union.push(h);
+                }
+            }
+        }
+        if self.remaining >= DENSE_TAIL && 2 * self.live_blocks >= self.live_rows * self.remaining {
+            return self.gather_all();
+        }
+        union.sort_unstable();
+        let mut own = vec![g];
+        let mut pattern = Vec::with_capacity(union.len());
+        for h in union {
+            let elements = &self.elements;
+            let marks = &self.element_mark;
+            let inside = self.adjacent[h as usize]
+                .iter()
+                .filter(|&&e| elements[e as usize].is_some())
+                .all(|&e| marks[e as usize] == stamp);
+            if inside {
+                own.push(h);
+            } else {
+                pattern.push(h);
+            }
+        }
+        for &h in &own {
+            self.done[h as usize] = true;
+            self.adjacent[h as usize] = Vec::new();
+        }
+        self.remaining -= own.len();
+        let elements = ids
+            .iter()
+            .map(|&e| self.elements[e as usize].take().expect("live"))
+            .collect::<Vec<_>>();
+        for e in &elements {
+            self.live_rows -= e.rows;
+            self.live_blocks -= e.rows * e.groups.len();
+        }
+        Gathered {
+            own,
+            pattern,
+            elements,
+            tail: false,
+        }
+    }
+
+    /// Everything that is left, in one front: once the live rows touch on
+    /// average half the groups not yet eliminated, what is left is a dense
+    /// matrix, and eliminating it group by group would gather the same rows
+    /// again for every group. One front does it in panels of matrix
+    /// products instead.
+    fn gather_all(&mut self) -> Gathered {
+        let own: Vec<u32> = (0..self.done.len() as u32)
+            .filter(|&h| !self.done[h as usize])
+            .collect();
+        for &h in &own {
+            self.done[h as usize] = true;
+            self.adjacent[h as usize] = Vec::new();
+        }
+        self.remaining = 0;
+        self.live_rows = 0;
+        self.live_blocks = 0;
+        Gathered {
+            own,
+            pattern: Vec::new(),
+            elements: self.elements.iter_mut().filter_map(Option::take).collect(),
+            tail: true,
+        }
+    }
+
+    /// Groups queued again because their degree had grown.
+    pub fn rescored(&self) -> usize {
+        self.rescored
+    }
+}
