@@ -499,3 +499,398 @@ pub fn scan_csv(scans: &[Scan]) -> String {
     });
     String::from_utf8(output::csv(rows)).expect("CSV of UTF-8 is UTF-8")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::progress::Silent;
+    use crate::spanning::Criterion;
+    use crate::threshold::fss::ContactPoint;
+    use crate::threshold::sequence::Step;
+    use crate::threshold::study::MotifSet;
+
+    /// A nested record that [`Record::check`] accepts: the bisection of the
+    /// nested protocol (first guess `2 n_c`, growth 1.25, then halving)
+    /// replayed on "spans from `n_r` rods on".
+    fn nested(box_len: f64, index: u64, seed: u64, n_c: usize, n_r: usize) -> Record {
+        let (mut lo, mut hi, mut probe) = (n_c - 1, None, 2 * n_c);
+        let mut steps = Vec::new();
+        loop {
+            let n = match hi {
+                None => probe,
+                Some(h) if h - lo > 1 => lo + (h - lo) / 2,
+                Some(_) => break,
+            };
+            let spans = n >= n_r;
+            steps.push(Step::new(n, spans, usize::from(spans)));
+            if spans {
+                hi = Some(n);
+            } else {
+                lo = n;
+                if hi.is_none() {
+                    probe = (n as f64 * 1.25).ceil() as usize;
+                }
+            }
+        }
+        assert_eq!(hi, Some(n_r), "the search ends at the critical number");
+        Record {
+            box_len,
+            index,
+            seed,
+            contact_critical: n_c,
+            rigid_critical: Some(n_r),
+            steps,
+            fresh: Some(Step::new(n_r, true, 1)),
+            fixed: vec![],
+            contacts: vec![ContactPoint {
+                density: n_r as f64 / box_len.powi(3),
+                c0: 4.0,
+                c1: 4.5,
+                c2: 5.0,
+            }],
+            undecided: None,
+            seconds: 1.0,
+            peak_rss_mib: 0.0,
+            cpu_seconds: None,
+        }
+    }
+
+    /// A truth record undecided at its first guess (`2 n_c` rods).
+    fn undecided(box_len: f64, index: u64, seed: u64, n_c: usize) -> Record {
+        Record {
+            rigid_critical: None,
+            steps: vec![],
+            fresh: None,
+            contacts: vec![],
+            undecided: Some(2 * n_c),
+            ..nested(box_len, index, seed, n_c, 2 * n_c)
+        }
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * (1.0 + b.abs())
+    }
+
+    /// Mean and half-width `1.96 sd / sqrt(n)` (sample sd), written out.
+    fn expected(d: &[f64]) -> (f64, f64) {
+        let n = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / n;
+        let var = d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
+        (mean, 1.96 * var.sqrt() / n.sqrt())
+    }
+
+    fn assert_estimate(e: Estimate, d: &[f64]) {
+        let (mean, half) = expected(d);
+        assert!(close(e.value, mean), "{e:?} against mean {mean}");
+        assert!(close(e.lo.unwrap(), mean - half), "{e:?} half {half}");
+        assert!(close(e.hi.unwrap(), mean + half), "{e:?} half {half}");
+    }
+
+    const BOXES: [f64; 3] = [4.0, 8.0, 16.0];
+    /// Per box: truth's critical numbers of five sequences (`None`:
+    /// undecided) and the variant's shift from them in units of the box
+    /// volume, so each paired difference is that shift exactly.
+    const TRUTH: [[Option<usize>; 5]; 3] = [
+        [Some(200), Some(210), Some(220), Some(230), None],
+        [Some(1000), Some(1100), Some(1200), Some(1300), Some(1400)],
+        [Some(5000), Some(5100), Some(5200), Some(5300), Some(5400)],
+    ];
+    const SHIFT: [[f64; 5]; 3] = [
+        [-1.0, 0.0, 1.0, 2.0, 3.0],
+        [1.0, 2.0, 1.0, 2.0, 1.5],
+        [0.0; 5],
+    ];
+    const CONTACT: [usize; 3] = [100, 500, 3000];
+
+    fn template() -> StudySpec {
+        StudySpec::new(10.0, BOXES.to_vec(), 5, Criterion::Wrap, 3)
+    }
+
+    /// Truth's and the variant's records, with the seeds of `template`.
+    fn records(template: &StudySpec) -> (Vec<Record>, Vec<Record>) {
+        let (mut truth, mut variant) = (Vec::new(), Vec::new());
+        for (b, &l) in BOXES.iter().enumerate() {
+            let v = l.powi(3);
+            for i in 0..5 {
+                let seed = template.sequence_seed(l, i as u64);
+                let n_c = CONTACT[b];
+                let t = match TRUTH[b][i] {
+                    Some(n_r) => nested(l, i as u64, seed, n_c, n_r),
+                    None => undecided(l, i as u64, seed, n_c),
+                };
+                truth.push(Record {
+                    cpu_seconds: Some(2.0),
+                    ..t
+                });
+                let base = TRUTH[b][i].unwrap_or(240);
+                let n_r = (base as f64 + SHIFT[b][i] * v) as usize;
+                variant.push(Record {
+                    cpu_seconds: Some(0.5),
+                    ..nested(l, i as u64, seed, n_c, n_r)
+                });
+            }
+        }
+        (truth, variant)
+    }
+
+    #[test]
+    fn hand_made_records_pass_the_study_check() {
+        let (truth, variant) = records(&template());
+        for r in &truth {
+            r.check(Kind::Truth, Protocol::Nested, 1, None).unwrap();
+        }
+        for r in &variant {
+            r.check(Kind::Rigid, Protocol::Nested, 1, None).unwrap();
+        }
+    }
+
+    #[test]
+    fn box_bias_is_the_paired_mean_with_signs_counted() {
+        let template = template();
+        let (truth, variant) = records(&template);
+        // Box 4: the undecided truth sequence is left out of the pairs.
+        let b = box_bias(4.0, 10.0, &truth, &variant).unwrap();
+        assert_eq!((b.box_len, b.sequences, b.below, b.above), (4.0, 4, 1, 2));
+        assert_eq!(b.bias.value, 0.5);
+        assert_estimate(b.bias, &[-1.0, 0.0, 1.0, 2.0]);
+        let half = 1.96 * (5.0f64 / 3.0).sqrt() / 2.0;
+        assert!(close(b.bias.hi.unwrap() - 0.5, half));
+        // Box 8: all above truth.
+        let b = box_bias(8.0, 10.0, &truth, &variant).unwrap();
+        assert_eq!((b.sequences, b.below, b.above), (5, 0, 5));
+        assert_eq!(b.bias.value, 1.5);
+        assert!(close(b.bias.hi.unwrap(), 1.5 + 1.96 * 0.5 / 5f64.sqrt()));
+        // Box 16: the same critical numbers, no bias, no sign, no width.
+        let b = box_bias(16.0, 10.0, &truth, &variant).unwrap();
+        assert_eq!((b.sequences, b.below, b.above), (5, 0, 0));
+        assert_eq!(
+            b.bias,
+            Estimate {
+                value: 0.0,
+                lo: Some(0.0),
+                hi: Some(0.0)
+            }
+        );
+        // A box no record has, and a box with a single pair: no bias.
+        assert_eq!(box_bias(5.0, 10.0, &truth, &variant), None);
+        let one: Vec<Record> = variant
+            .iter()
+            .filter(|r| r.box_len == 4.0)
+            .skip(3)
+            .cloned()
+            .collect();
+        assert_eq!(one.len(), 2, "index 3 and the undecided index 4");
+        assert_eq!(box_bias(4.0, 10.0, &truth, &one), None);
+        // Pairs are by box and seed: truth records of another seed pair nothing.
+        let reseeded: Vec<Record> = truth
+            .iter()
+            .map(|r| Record {
+                seed: r.seed ^ 1,
+                ..r.clone()
+            })
+            .collect();
+        assert_eq!(box_bias(8.0, 10.0, &reseeded, &variant), None);
+    }
+
+    #[test]
+    fn paired_leaves_out_undecided_sequences_on_either_side() {
+        let template = template();
+        let (truth, mut variant) = records(&template);
+        assert_eq!(paired(&truth, &variant).len(), 14);
+        // The variant undecided too (certified rules can be): one pair fewer.
+        let k = variant.iter().position(|r| r.box_len == 8.0).unwrap();
+        variant[k] = undecided(8.0, 0, variant[k].seed, 500);
+        let pairs = paired(&truth, &variant);
+        assert_eq!(pairs.len(), 13);
+        // Densities, in the variant's order: truth 200 rods in 64, the variant 136.
+        assert_eq!(pairs[0], (200.0 / 64.0, 136.0 / 64.0));
+    }
+
+    #[test]
+    fn measure_pairs_hand_made_studies_exactly() {
+        let root = std::env::temp_dir().join(format!("rgc-bias-measure-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let template = template();
+        let design = Design {
+            variants: vec![
+                Variant {
+                    kind: Kind::Truth,
+                    ..Variant::sound_base("truth", "truth", 5)
+                },
+                Variant::sound_base("sound", "rules", 5),
+            ],
+            pairing: variants::Pairing::First,
+        };
+        let (truth, variant) = records(&template);
+        // Each variant's study directory, holding its records: nothing is left to run.
+        for (v, records) in design.variants.iter().zip([&truth, &variant]) {
+            let spec = StudySpec {
+                kind: v.kind,
+                rules: v.rules,
+                motifs: MotifSet::default(),
+                runs: v.runs,
+                method: v.method,
+                sequences: v.sequences,
+                ..template.clone()
+            };
+            let dir = variants::study_dir(&root, &spec);
+            std::fs::create_dir_all(&dir).unwrap();
+            let lines: String = records
+                .iter()
+                .map(|r| serde_json::to_string(r).unwrap() + "\n")
+                .collect();
+            std::fs::write(dir.join("records.jsonl"), lines).unwrap();
+        }
+        let (out, truth_back) = measure(&template, &design, &root, 2, &Silent).unwrap();
+        assert_eq!(truth_back, truth);
+        assert_eq!(out.len(), 2);
+        let (t, v) = (&out[0], &out[1]);
+        assert_eq!((t.label.as_str(), t.kind), ("truth", Kind::Truth));
+        assert!(t.boxes.is_empty());
+        assert_eq!((t.bias, t.false_span_share), (None, None));
+        assert_eq!(t.undecided, 1);
+        assert_eq!(t.cpu_seconds, 15.0 * 2.0);
+        assert_eq!((v.label.as_str(), v.kind), ("sound", Kind::Rigid));
+        assert_eq!(v.undecided, 0);
+        assert_eq!(v.cpu_seconds, 15.0 * 0.5);
+        // Per box, as box_bias computes it.
+        let per_box: Vec<(f64, usize, usize, usize)> = v
+            .boxes
+            .iter()
+            .map(|b| (b.box_len, b.sequences, b.below, b.above))
+            .collect();
+        assert_eq!(
+            per_box,
+            vec![(4.0, 4, 1, 2), (8.0, 5, 0, 5), (16.0, 5, 0, 0)]
+        );
+        assert_estimate(v.boxes[0].bias, &[-1.0, 0.0, 1.0, 2.0]);
+        assert_estimate(v.boxes[1].bias, &SHIFT[1]);
+        assert_estimate(v.boxes[2].bias, &SHIFT[2]);
+        // Over all boxes: the 14 decided pairs, one of them below truth.
+        let all: Vec<f64> = [&SHIFT[0][..4], &SHIFT[1][..], &SHIFT[2][..]].concat();
+        assert_eq!(all.len(), 14);
+        assert_estimate(v.bias.unwrap(), &all);
+        assert!(close(v.bias.unwrap().value, 9.5 / 14.0));
+        assert_eq!(v.false_span_share, Some(1.0 / 14.0));
+        // The CSV: the per-box false-span share is below / sequences.
+        let csv = csv(&out);
+        let rows: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            rows.len(),
+            1 + 1 + 4,
+            "header, truth's total, 3 boxes and the total"
+        );
+        let share = |row: &str| row.split(',').nth(11).unwrap().to_string();
+        assert_eq!(share(rows[2]), "0.2500");
+        assert_eq!(share(rows[3]), "0.0000");
+        assert_eq!(share(rows[5]), "0.0714");
+        std::fs::remove_dir_all(&root).unwrap();
+    }
+
+    fn spec_at(box_len: f64) -> StudySpec {
+        StudySpec {
+            kind: Kind::Truth,
+            ..StudySpec::new(23.0, vec![box_len], 1, Criterion::Wrap, 1)
+        }
+    }
+
+    #[test]
+    fn scan_refuses_a_box_without_truth_records() {
+        let spec = spec_at(3.0);
+        let seed = spec.sequence_seed(3.0, 0);
+        let truth = vec![nested(3.0, 0, seed, 3, 3)];
+        let err = scan(&spec, &truth, &[4.0], 1, 0.1, &Silent)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("no truth sequence of box 4 to scan: the box must be one of the study's"),
+            "{err}"
+        );
+        // Sequences beyond the first `sequences` are not scanned either.
+        let later = vec![nested(3.0, 1, seed, 3, 3)];
+        assert!(scan(&spec, &later, &[3.0], 1, 0.1, &Silent).is_err());
+    }
+
+    #[test]
+    fn scan_windows_reach_from_one_rod_on() {
+        // A handful of rods in a box of side 3 spans nowhere: the window is
+        // critical -+ ceil(critical * width) (at least 1), never below 1 rod.
+        let spec = spec_at(3.0);
+        let seed = spec.sequence_seed(3.0, 0);
+        let truth = vec![nested(3.0, 0, seed, 3, 3)];
+        let s = scan(&spec, &truth, &[3.0], 1, 0.1, &Silent).unwrap();
+        assert_eq!(s.len(), 1);
+        let s = &s[0];
+        assert_eq!((s.critical, s.from, s.to), (3, 2, 4));
+        assert_eq!((s.first_spanning, &s.drops[..]), (None, &[][..]));
+        assert!(s.undecided.is_empty());
+        let truth = vec![nested(3.0, 0, seed, 1, 1)];
+        let s = &scan(&spec, &truth, &[3.0], 1, 0.5, &Silent).unwrap()[0];
+        assert_eq!((s.from, s.to), (1, 2));
+        let truth = vec![nested(3.0, 0, seed, 10, 10)];
+        let s = &scan(&spec, &truth, &[3.0], 1, 0.25, &Silent).unwrap()[0];
+        assert_eq!((s.from, s.to), (7, 13));
+    }
+
+    #[test]
+    #[ignore = "bug: scan fails on an undecided truth record instead of leaving it out"]
+    fn scan_leaves_out_undecided_truth_records() {
+        // Truth is undecided on some sequences (1 of 300 in the committed
+        // bias study); `measure` leaves them out of every pair, but `scan`
+        // fails the whole run with "a truth record without a critical number".
+        let spec = StudySpec {
+            sequences: 2,
+            ..spec_at(3.0)
+        };
+        let truth = vec![
+            undecided(3.0, 0, spec.sequence_seed(3.0, 0), 3),
+            nested(3.0, 1, spec.sequence_seed(3.0, 1), 3, 3),
+        ];
+        let s = scan(&spec, &truth, &[3.0], 2, 0.1, &Silent).unwrap();
+        assert_eq!(s.iter().map(|s| s.index).collect::<Vec<_>>(), vec![1]);
+    }
+
+    fn hand_scan(index: u64, critical: usize, first: Option<usize>, drops: Vec<usize>) -> Scan {
+        Scan {
+            box_len: 3.0,
+            index,
+            seed: 7,
+            critical,
+            from: critical - 10,
+            to: critical + 10,
+            first_spanning: first,
+            drops,
+            undecided: if index == 2 { vec![95, 96] } else { vec![] },
+        }
+    }
+
+    #[test]
+    fn scan_summary_and_csv_count_drops() {
+        let scans = vec![
+            hand_scan(0, 100, Some(100), vec![]),
+            hand_scan(1, 100, Some(98), vec![101, 105]),
+            hand_scan(2, 100, Some(100), vec![103]),
+        ];
+        let s = scan_summary(&scans);
+        assert!(
+            s.contains("3 sequences scanned at every number of rods (63 truth evaluations)"),
+            "{s}"
+        );
+        assert!(
+            s.contains("3 steps go from spanning back to not spanning, in 2 sequences"),
+            "{s}"
+        );
+        assert!(
+            s.contains("the first spanning one in 2 of 3 sequences; 2 evaluations undecided"),
+            "{s}"
+        );
+        let csv = scan_csv(&scans);
+        let rows: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            rows[0],
+            "box,index,seed,critical,from,to,first_spanning,drops,drop_rods,undecided"
+        );
+        assert_eq!(rows[2], "3.0,1,7,100,90,110,98,2,101 105,0");
+        assert_eq!(rows[3], "3.0,2,7,100,90,110,100,1,103,2");
+    }
+}

@@ -238,3 +238,148 @@ pub fn write(prefix: &Path, pairings: &[Pairing], command: &str) -> Result<Vec<P
     output::write_csv(&csv, rows)?;
     Ok(vec![json, csv])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spanning::Criterion;
+
+    /// A record with only what pairing reads: box, seed and critical numbers.
+    fn record(box_len: f64, seed: u64, contact: usize, rigid: Option<usize>) -> Record {
+        Record {
+            box_len,
+            index: 0,
+            seed,
+            contact_critical: contact,
+            rigid_critical: rigid,
+            steps: vec![],
+            fresh: None,
+            fixed: vec![],
+            contacts: vec![],
+            undecided: rigid.is_none().then_some(2 * contact),
+            seconds: 0.0,
+            peak_rss_mib: 0.0,
+            cpu_seconds: None,
+        }
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * (1.0 + b.abs())
+    }
+
+    #[test]
+    fn the_interval_is_1_96_sample_sd_over_root_n() {
+        // Mean 4, sample variance (9 + 4 + 1 + 0 + 36) / 4 = 12.5: half-width
+        // 1.96 sqrt(12.5 / 5). The population variance (10) would give 1.96 sqrt(2).
+        let e = mean_interval(&[1.0, 2.0, 3.0, 4.0, 10.0]).unwrap();
+        let half = 1.96 * 2.5f64.sqrt();
+        assert_eq!(e.value, 4.0);
+        assert!(close(e.lo.unwrap(), 4.0 - half), "{e:?}");
+        assert!(close(e.hi.unwrap(), 4.0 + half), "{e:?}");
+        // Two values 0 and 2: sd sqrt(2), half-width 1.96 sqrt(2) / sqrt(2).
+        let e = mean_interval(&[0.0, 2.0]).unwrap();
+        assert_eq!(e.value, 1.0);
+        assert!(
+            close(e.lo.unwrap(), -0.96) && close(e.hi.unwrap(), 2.96),
+            "{e:?}"
+        );
+        // No spread, no width.
+        let e = mean_interval(&[3.0; 4]).unwrap();
+        assert_eq!((e.lo, e.hi), (Some(3.0), Some(3.0)));
+        // One value or none: no interval, no estimate.
+        assert_eq!(mean_interval(&[5.0]), None);
+        assert_eq!(mean_interval(&[]), None);
+    }
+
+    #[test]
+    fn pairs_match_box_and_seed_and_leave_out_undecided_sequences() {
+        let reference = vec![
+            record(4.0, 1, 50, Some(128)),
+            record(4.0, 2, 50, None),
+            record(4.0, 3, 50, Some(192)),
+            record(5.0, 4, 90, Some(250)),
+        ];
+        let other = vec![
+            record(4.0, 3, 60, Some(64)),
+            record(4.0, 2, 50, Some(100)),
+            record(4.0, 1, 40, None),
+            record(5.0, 1, 40, Some(100)),
+            record(5.0, 4, 80, Some(375)),
+        ];
+        let p = pairs((Kind::Truth, &reference), (Kind::Rigid, &other));
+        // Seed 3 in box 4 and seed 4 in box 5, in `other`'s order; seed 2
+        // (undecided in the reference), seed 1 in box 4 (undecided in
+        // `other`) and seed 1 in box 5 (not in the reference's box 5) are out.
+        assert_eq!(p, vec![(3.0, 1.0), (2.0, 3.0)]);
+        // The contact kind pairs the contact critical numbers, decided or not.
+        let p = pairs((Kind::Contact, &reference), (Kind::Contact, &other));
+        assert_eq!(
+            p,
+            vec![
+                (50.0 / 64.0, 60.0 / 64.0),
+                (50.0 / 64.0, 50.0 / 64.0),
+                (50.0 / 64.0, 40.0 / 64.0),
+                (90.0 / 125.0, 80.0 / 125.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn a_difference_counts_signs_and_scales_by_the_excluded_volume() {
+        let pairs = [(1.0, 2.0), (2.0, 1.0), (3.0, 3.0), (0.0, 4.0)];
+        let d = Difference::of(Some(4.0), &pairs, 10.0).unwrap();
+        assert_eq!(
+            (d.box_len, d.sequences, d.below, d.above),
+            (Some(4.0), 4, 1, 2)
+        );
+        // Differences 1, -1, 0, 4: mean 1, sample variance (0 + 4 + 1 + 9) / 3.
+        let half = 1.96 * (14.0f64 / 3.0).sqrt() / 2.0;
+        assert_eq!(d.mean.value, 1.0);
+        assert!(close(d.mean.hi.unwrap(), 1.0 + half));
+        let vex = excluded_volume(10.0);
+        assert!(close(d.mean_vex.value, vex));
+        assert!(close(d.mean_vex.lo.unwrap(), (1.0 - half) * vex));
+        assert!(close(d.mean_vex.hi.unwrap(), (1.0 + half) * vex));
+        assert_eq!(Difference::of(None, &pairs[..1], 10.0), None);
+    }
+
+    #[test]
+    fn compare_needs_two_shared_decided_sequences() {
+        let truth = StudySpec {
+            kind: Kind::Truth,
+            ..StudySpec::new(10.0, vec![3.0, 4.0], 5, Criterion::Wrap, 7)
+        };
+        let rigid = StudySpec::new(10.0, vec![4.0, 5.0], 5, Criterion::Wrap, 7);
+        let mut reference = vec![
+            record(3.0, 1, 30, Some(40)),
+            record(3.0, 2, 30, Some(40)),
+            record(4.0, 1, 50, Some(128)),
+            record(4.0, 2, 50, None),
+        ];
+        let other = vec![
+            record(4.0, 1, 50, Some(192)),
+            record(4.0, 2, 50, Some(128)),
+            record(5.0, 1, 90, Some(250)),
+        ];
+        // Box 4 is the only one both have, and its second sequence is
+        // undecided in the reference: one pair.
+        let err = compare((&truth, &reference), (&rigid, &other))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(
+                "the studies share fewer than two decided sequences (boxes [3.0, 4.0] against [4.0, 5.0])"
+            ),
+            "{err}"
+        );
+        // Decided, it pairs: 192 - 128 and 128 - 128 rods in a box of 64.
+        reference[3] = record(4.0, 2, 50, Some(128));
+        let c = compare((&truth, &reference), (&rigid, &other)).unwrap();
+        assert_eq!(c.all.sequences, 2);
+        assert_eq!(c.all.mean.value, 0.5);
+        assert_eq!((c.all.below, c.all.above), (0, 1));
+        assert_eq!(c.boxes.len(), 1);
+        assert_eq!(c.boxes[0].box_len, Some(4.0));
+        assert_eq!(c.boxes[0].mean, c.all.mean);
+    }
+}
