@@ -152,6 +152,11 @@ pub struct Step {
     /// the search looks below it (it does not span, by this step).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub undecided: bool,
+    /// Truth kind: rods in the largest true rigid cluster, for the order of
+    /// the transition (how much the cluster jumps at the critical number).
+    /// `None` for compressions, and in records older than the field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub largest: Option<usize>,
 }
 
 impl Step {
@@ -161,6 +166,7 @@ impl Step {
             spans,
             runs_spanning,
             undecided: false,
+            largest: None,
         }
     }
 
@@ -219,6 +225,15 @@ pub struct Record {
 }
 
 impl Record {
+    /// Truth kind: rods in the largest true rigid cluster one rod below the
+    /// critical number and at it, where the bisection evaluated both (it
+    /// does unless the critical number is the first number it tried).
+    pub fn jump(&self) -> Option<(usize, usize)> {
+        let n = self.rigid_critical?;
+        let at = |m| self.steps.iter().find(|s| s.n == m).and_then(|s| s.largest);
+        Some((at(n.checked_sub(1)?)?, at(n)?))
+    }
+
     /// Its critical number of rods for `kind`.
     pub fn critical(&self, kind: Kind) -> Option<usize> {
         match kind {
@@ -619,7 +634,8 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
     if setup.kind == Kind::Truth {
         while let Some(n) = search.next() {
             seq.reach(n)?;
-            let Some(spans) = truth_spanning(setup, seq, n) else {
+            let t = truth_of(setup, seq, n);
+            let Some(spans) = t.spanning else {
                 if search.undecided(n) {
                     record.steps.push(Step::undecided(n));
                     continue;
@@ -627,7 +643,10 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
                 record.undecided = Some(n);
                 return Ok(());
             };
-            record.steps.push(Step::new(n, spans, usize::from(spans)));
+            record.steps.push(Step {
+                largest: Some(t.largest_cluster()),
+                ..Step::new(n, spans, usize::from(spans))
+            });
             search.record(n, spans);
         }
         let Some(hi) = search.hi else {

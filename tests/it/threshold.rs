@@ -640,3 +640,36 @@ fn paired_differences_compare_the_same_sequences() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
     std::fs::remove_dir_all(root).unwrap();
 }
+
+/// A truth record keeps the largest true cluster of every step: one rod
+/// below the critical number it does not span, at it it does, and the
+/// cluster then is what truth finds for those rods on their own. A record
+/// written before the field existed still reads, without it.
+#[test]
+fn truth_records_keep_the_largest_cluster_below_and_at_the_critical_number() {
+    let mut seq = Sequence::new(23.0, 3.0, 2000, 4).unwrap();
+    let mut r = empty_record();
+    let setup = Setup {
+        gamma: 23.0,
+        ..setup(Kind::Truth, 1)
+    };
+    sequence::nested(&setup, &mut seq, &mut r).unwrap();
+    let n = r.rigid_critical.expect("truth spans below 2,000 rods");
+    let (below, at) = r.jump().expect("the bisection evaluated n - 1 and n");
+    assert!(below < at, "{below} -> {at}");
+    assert!(r.steps.iter().all(|s| s.largest.is_some()));
+    seq.reach(n).unwrap();
+    let t = rgc::truth::of_system(
+        &seq.system,
+        seq.contacts_of(n),
+        &seq.graph(n),
+        Criterion::Wrap,
+        rgc::truth::TruthOptions::seeded(rgc::engine::run_seed(4, n as u64)),
+    );
+    assert_eq!(t.largest_cluster(), at);
+    let line = serde_json::to_string(&r).unwrap();
+    assert!(line.contains("\"largest\""));
+    let old: Record = serde_json::from_str(&line.replace(",\"largest\":", ",\"was\":")).unwrap();
+    assert!(old.steps.iter().all(|s| s.largest.is_none()));
+    assert_eq!(old.jump(), None);
+}

@@ -34,7 +34,7 @@ pub struct Done {
     /// Multiply–adds of its echelon steps, at most.
     pub work: f64,
     pub factor: Option<Factor>,
-    /// The rows left, each over the groups of its pattern it touches.
+    /// The rows left, grouped by the groups of the pattern they touch.
     pub left: Vec<Element>,
     /// Whether the rows left outnumbered their columns and were reduced.
     pub reduced: bool,
@@ -113,27 +113,38 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
         work += ((nrows - top) * ncols * (end - top)) as f64;
         live = (top..end).collect();
     }
-    // Each row goes on alone over the groups it still touches: a row that
-    // is zero on a group must not pull that group into later fronts.
-    let left = live
-        .iter()
-        .map(|&i| {
-            let row = &block.data[i * ncols + owncols..(i + 1) * ncols];
-            let mut groups = Vec::new();
-            let mut data = Vec::new();
-            for (j, vals) in row.chunks_exact(width).enumerate() {
-                if vals.iter().any(|&v| v != 0.0) {
-                    groups.push(pattern[j]);
-                    data.extend(vals.iter().map(|&v| v as f32));
-                }
+    // Each row goes on over the groups it still touches (a row that is zero
+    // on a group must not pull that group into later fronts); rows over
+    // the same groups, usually all of them, go on as one element.
+    let mut left: Vec<Element> = Vec::new();
+    let mut touched = Vec::with_capacity(pattern.len());
+    for &i in &live {
+        let row = &block.data[i * ncols + owncols..(i + 1) * ncols];
+        touched.clear();
+        touched.extend(
+            row.chunks_exact(width)
+                .enumerate()
+                .filter(|(_, vals)| vals.iter().any(|&v| v != 0.0))
+                .map(|(j, _)| j),
+        );
+        let groups: Vec<u32> = touched.iter().map(|&j| pattern[j]).collect();
+        let e = match left.iter_mut().find(|e| e.groups == groups) {
+            Some(e) => e,
+            None => {
+                left.push(Element {
+                    groups,
+                    rows: 0,
+                    data: Vec::new(),
+                });
+                left.last_mut().expect("just pushed")
             }
-            Element {
-                groups,
-                rows: 1,
-                data,
-            }
-        })
-        .collect();
+        };
+        for &j in &touched {
+            e.data
+                .extend(row[j * width..(j + 1) * width].iter().map(|&v| v as f32));
+        }
+        e.rows += 1;
+    }
     Done {
         pivots: top,
         size: (nrows, ncols),
