@@ -236,9 +236,12 @@ fn a_sequence_grown_later_has_the_same_rods_and_contacts() {
 
 #[test]
 fn studies_are_the_same_for_one_and_two_threads() {
+    // Truth runs its twin realizations at once, and sequences run in
+    // parallel: neither may change a record.
     for (kind, method) in [
         (Kind::Rigid, Protocol::Nested),
         (Kind::Rigid, Protocol::Fixed),
+        (Kind::Truth, Protocol::Nested),
     ] {
         let spec = spec(kind, method);
         let (a, b) = (scratch("t1"), scratch("t2"));

@@ -61,7 +61,9 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
     data.clear();
     data.resize(nrows * ncols, 0.0);
     let mut r = 0;
-    for e in &elements {
+    // Each element is freed as soon as it is copied: the dense tail holds
+    // every live row, and would otherwise be held twice at its peak.
+    for e in elements {
         let ecols = e.groups.len() * width;
         let places: Vec<usize> = e
             .groups
@@ -81,7 +83,6 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
             r += 1;
         }
     }
-    drop(elements);
     let mut block = Block {
         data,
         rows: nrows,
