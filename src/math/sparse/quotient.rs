@@ -237,15 +237,39 @@ impl Quotient {
         union.sort_unstable();
         let mut own = vec![g];
         let mut pattern = Vec::with_capacity(union.len());
+        let mut ids = ids;
+        let mut extra = Vec::new();
         for h in union {
+            // h is eliminated here too when each of its rows is in the front
+            // already or lies inside the front's groups: absorbing those
+            // adds rows but no column, and spares a later front that would
+            // gather the same big elements again (supernodal amalgamation).
             let elements = &self.elements;
-            let marks = &self.element_mark;
+            let (marks, groups) = (&self.element_mark, &self.mark);
+            extra.clear();
             let inside = self.adjacent[h as usize]
                 .iter()
                 .filter(|&&e| elements[e as usize].is_some())
-                .all(|&e| marks[e as usize] == stamp);
+                .all(|&e| {
+                    marks[e as usize] == stamp || {
+                        let fits = elements[e as usize]
+                            .as_ref()
+                            .expect("live")
+                            .groups
+                            .iter()
+                            .all(|&k| groups[k as usize] == stamp);
+                        if fits {
+                            extra.push(e);
+                        }
+                        fits
+                    }
+                });
             if inside {
                 own.push(h);
+                for &e in &extra {
+                    self.element_mark[e as usize] = stamp;
+                    ids.push(e);
+                }
             } else {
                 pattern.push(h);
             }
