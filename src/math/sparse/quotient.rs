@@ -14,9 +14,11 @@
 //!
 //! The next group is one of minimum degree (neighbouring groups through live
 //! elements, exact, ties by index). A front also eliminates every other
-//! group whose elements it absorbed all of: such a group has no row outside
-//! the front, so eliminating it there adds no fill (mass elimination), and a
-//! network that has become one dense block is eliminated in one front.
+//! group whose elements it absorbed all of, or whose other elements lie
+//! inside the front's groups and are absorbed as well: such a group then
+//! has no row outside the front, so eliminating it there adds no column
+//! (mass elimination, and a supernodal amalgamation), and a network that
+//! has become one dense block is eliminated in one front.
 
 use rustc_hash::FxHashMap;
 use std::cmp::Reverse;
@@ -211,8 +213,9 @@ impl Quotient {
     }
 
     /// Takes out every element touching `g`, with the groups the front
-    /// eliminates: `g` and every group all of whose elements are among
-    /// those (none of its rows is elsewhere).
+    /// eliminates: `g` and every group each of whose elements is among
+    /// those or lies inside their groups (then taken out too), so that none
+    /// of its rows is left elsewhere.
     pub fn gather(&mut self, g: u32) -> Gathered {
         let elements = &self.elements;
         self.adjacent[g as usize].retain(|&e| elements[e as usize].is_some());
