@@ -243,6 +243,34 @@ impl Spans {
 }
 
 impl Truth {
+    /// Nothing decided yet about the system `graph`, whose rigid motions
+    /// that are no deformation number `trivial_motions`.
+    fn undecided(graph: &ContactGraph, trivial_motions: usize) -> Truth {
+        Truth {
+            method: Method::Undecided,
+            reason: None,
+            n_rods: graph.n_nodes(),
+            n_contacts: graph.n_edges(),
+            core_rods: 0,
+            core_contacts: 0,
+            plane_classes: 0,
+            largest_plane_class: 0,
+            parts: 0,
+            columns: 0,
+            rows: 0,
+            rank: None,
+            trivial_motions,
+            dof: None,
+            twins_agree: None,
+            gap: None,
+            clusters: Vec::new(),
+            largest_front: None,
+            criterion: None,
+            spanning: None,
+            seconds: 0.0,
+        }
+    }
+
     /// Rods in the largest rigid cluster (0 when there is none).
     pub fn largest_cluster(&self) -> usize {
         self.clusters.first().map_or(0, |c| c.rods.len())
@@ -255,11 +283,22 @@ impl Truth {
     /// Records a decided rank of the matrix, the degrees of freedom it
     /// leaves (its kernel, plus the `pruned` motions of what the 2-core
     /// removed, less the trivial motions) and the rigid clusters.
+    /// Fewer motions than the trivial ones would mean a wrong matrix (the
+    /// trivial motions lie in its kernel): the answer is then undecided,
+    /// with the reason, never a clamped DOF.
     fn decide(&mut self, method: Method, rank: usize, pruned: usize, clusters: Vec<Vec<u32>>) {
-        self.method = method;
         self.rank = Some(rank);
         let motions = self.columns - rank + pruned;
-        self.dof = Some(motions.saturating_sub(self.trivial_motions));
+        let Some(dof) = motions.checked_sub(self.trivial_motions) else {
+            self.method = Method::Undecided;
+            self.reason = Some(format!(
+                "{motions} motions, fewer than the {} trivial ones: the rigidity matrix is wrong",
+                self.trivial_motions
+            ));
+            return;
+        };
+        self.method = method;
+        self.dof = Some(dof);
         self.clusters = clusters
             .into_iter()
             .map(|rods| Cluster { rods, spans: None })
@@ -284,29 +323,9 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     let start = Instant::now();
     let graph = topo.graph;
     let core = prune::two_core(graph);
-    let mut out = Truth {
-        method: Method::Undecided,
-        reason: None,
-        n_rods: graph.n_nodes(),
-        n_contacts: graph.n_edges(),
-        core_rods: core.rods(),
-        core_contacts: core.contacts(graph),
-        plane_classes: 0,
-        largest_plane_class: 0,
-        parts: 0,
-        columns: 0,
-        rows: 0,
-        rank: None,
-        trivial_motions: topo.trivial_motions(),
-        dof: None,
-        twins_agree: None,
-        gap: None,
-        clusters: Vec::new(),
-        largest_front: None,
-        criterion: None,
-        spanning: None,
-        seconds: 0.0,
-    };
+    let mut out = Truth::undecided(graph, topo.trivial_motions());
+    out.core_rods = core.rods();
+    out.core_contacts = core.contacts(graph);
     let finish = |mut out: Truth| {
         out.seconds = start.elapsed().as_secs_f64();
         out
@@ -496,4 +515,28 @@ pub fn of_system(
     });
     t.seconds = start.elapsed().as_secs_f64();
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fewer_motions_than_the_trivial_ones_are_undecided_not_clamped() {
+        let graph = ContactGraph::new(2, vec![[0, 1]]).unwrap();
+        let mut t = Truth::undecided(&graph, 6);
+        t.columns = 12;
+        t.decide(Method::Exact, 9, 0, Vec::new());
+        assert_eq!((t.method, t.dof), (Method::Undecided, None));
+        assert!(
+            t.reason
+                .unwrap()
+                .contains("3 motions, fewer than the 6 trivial ones")
+        );
+        let mut t = Truth::undecided(&graph, 6);
+        t.columns = 12;
+        t.decide(Method::Exact, 5, 1, vec![vec![0, 1]]);
+        assert_eq!((t.method, t.dof, t.rank), (Method::Exact, Some(2), Some(5)));
+        assert_eq!(t.largest_cluster(), 2);
+    }
 }
