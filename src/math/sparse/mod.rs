@@ -22,9 +22,7 @@ use super::echelon::{MAX_MODULUS, Modulus};
 use super::field::{Field, Fp};
 use quotient::Quotient;
 
-/// A sparse row: `(column, value)` with increasing columns and no zeros;
-/// over F_p unless said otherwise (the float fallback builds `f64` rows).
-pub type SparseRow<S = Fp> = Vec<(u32, S)>;
+pub use quotient::SparseRow;
 
 /// The outcome of an elimination.
 #[derive(Clone, Debug)]

@@ -24,9 +24,14 @@ use rustc_hash::FxHashMap;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::SparseRow;
-use crate::math::Field;
 use crate::math::echelon::Modulus;
+use crate::math::{Field, Fp};
+
+/// A sparse row: `(column, value)` with increasing columns and no zeros;
+/// over F_p unless said otherwise (the float fallback builds `f64` rows).
+/// It lives here, with the elements made of it, so that the folder's
+/// modules only import downwards.
+pub type SparseRow<S = Fp> = Vec<(u32, S)>;
 
 /// With fewer groups left than this, the elimination never switches to the
 /// dense tail: a small rest is eliminated group by group to the end.
