@@ -31,6 +31,9 @@ pub enum Error {
     /// box sizes, a fit that does not converge ...).
     #[error("cannot analyse: {0}")]
     Analysis(String),
+    /// Work refused up front because its estimate is over the memory limit.
+    #[error("over the memory limit: {0}")]
+    Memory(String),
     /// A threshold study directory that does not match the command (another
     /// study's checkpoint, overlapping shards, a corrupt record ...).
     #[error("study {path}: {reason}")]

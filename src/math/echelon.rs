@@ -86,6 +86,49 @@ impl Modulus {
     }
 }
 
+/// Rows and columns of the tiles the trailing update is done in: a tile of
+/// f64 (2 MiB) stays in a core's L2 cache between its product and its
+/// reduction.
+const TILE_ROWS: usize = 128;
+const TILE_COLS: usize = 1024;
+
+/// One panel being factored, in buffers reused from panel to panel (and
+/// from block to block by [`Block::echelon_in`]).
+#[derive(Default)]
+pub struct Panel {
+    width: usize,
+    /// The panel's rows, row-major over `width` columns.
+    rows: Vec<f64>,
+    /// Each row's multipliers of the pivot rows, `width` apart.
+    multipliers: Vec<f64>,
+    /// The pivot rows found so far, normalised, row-major.
+    pivot_rows: Vec<f64>,
+    /// `at_pivots[t * PANEL + s]`: pivot row `t` at the pivot column of
+    /// pivot row `s` (for `s > t`), what solving for a row's multipliers
+    /// reads.
+    at_pivots: Vec<f64>,
+    /// The panel column of each pivot row and its inverted pivot, in the
+    /// order found.
+    cols: Vec<usize>,
+    inverses: Vec<f64>,
+}
+
+impl Panel {
+    fn reset(&mut self, rows: usize, width: usize) {
+        self.width = width;
+        self.rows.clear();
+        self.rows.resize(rows * width, 0.0);
+        self.multipliers.clear();
+        self.multipliers.resize(rows * width, 0.0);
+        self.pivot_rows.clear();
+        self.pivot_rows.resize(PANEL * width, 0.0);
+        self.at_pivots.clear();
+        self.at_pivots.resize(PANEL * PANEL, 0.0);
+        self.cols.clear();
+        self.inverses.clear();
+    }
+}
+
 /// A dense row-major `rows x cols` matrix of centred residues, borrowed.
 pub struct Block<'a> {
     pub data: &'a mut [f64],
@@ -95,6 +138,7 @@ pub struct Block<'a> {
 }
 
 impl Block<'_> {
+    #[inline(always)]
     fn swap_rows(&mut self, i: usize, j: usize) {
         if i != j {
             let (lo, hi) = (i.min(j), i.max(j));
@@ -117,120 +161,264 @@ impl Block<'_> {
         to: usize,
         pivots: &mut Vec<usize>,
     ) -> usize {
+        self.echelon_in(top, from, to, pivots, &mut Panel::default())
+    }
+
+    /// [`Block::echelon`] in the buffers of `panel`, which a caller that
+    /// eliminates many small blocks reuses.
+    pub fn echelon_in(
+        &mut self,
+        top: usize,
+        from: usize,
+        to: usize,
+        pivots: &mut Vec<usize>,
+        panel: &mut Panel,
+    ) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has AVX-512F, checked just above.
+                return unsafe { self.echelon_avx512(top, from, to, pivots, panel) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has AVX2, checked just above.
+                return unsafe { self.echelon_avx2(top, from, to, pivots, panel) };
+            }
+        }
+        self.echelon_portable(top, from, to, pivots, panel)
+    }
+
+    /// [`Block::echelon`] compiled for AVX-512: the loops that reduce and
+    /// update rows are plain Rust, which the compiler vectorises only as
+    /// wide as it is allowed to (faer's product dispatches by itself).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn echelon_avx512(
+        &mut self,
+        top: usize,
+        from: usize,
+        to: usize,
+        pivots: &mut Vec<usize>,
+        panel: &mut Panel,
+    ) -> usize {
+        self.echelon_portable(top, from, to, pivots, panel)
+    }
+
+    /// [`Block::echelon`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn echelon_avx2(
+        &mut self,
+        top: usize,
+        from: usize,
+        to: usize,
+        pivots: &mut Vec<usize>,
+        panel: &mut Panel,
+    ) -> usize {
+        self.echelon_portable(top, from, to, pivots, panel)
+    }
+
+    #[inline(always)]
+    fn echelon_portable(
+        &mut self,
+        top: usize,
+        from: usize,
+        to: usize,
+        pivots: &mut Vec<usize>,
+        panel: &mut Panel,
+    ) -> usize {
         debug_assert!(from <= to && to <= self.cols && top <= self.rows);
-        let md = self.modulus;
-        let cols = self.cols;
         let mut top = top;
-        let mut inverses = Vec::with_capacity(PANEL);
-        let mut panel = Vec::with_capacity(PANEL);
         let mut j = from;
         while j < to && top < self.rows {
             let end = (j + PANEL).min(to);
-            panel.clear();
-            inverses.clear();
-            let first = top;
-            for c in j..end {
-                if top == self.rows {
-                    break;
+            self.factor_panel(top, j, end, panel);
+            let k = panel.cols.len();
+            if k > 0 {
+                if end < self.cols {
+                    self.update_rest(top, panel, end);
                 }
-                let Some(p) = (top..self.rows).find(|&i| self.data[i * cols + c] != 0.0) else {
-                    continue;
-                };
-                self.swap_rows(top, p);
-                let inv = md.inverse(self.data[top * cols + c]);
-                let (upper, lower) = self.data.split_at_mut((top + 1) * cols);
-                let pivot = &mut upper[top * cols..];
-                for x in &mut pivot[c..end] {
-                    *x = md.mul(*x, inv);
-                }
-                let pivot = &pivot[c + 1..end];
-                for row in lower.chunks_exact_mut(cols) {
-                    let f = row[c];
-                    if f == 0.0 {
-                        continue;
-                    }
-                    // The multiplier stays where the entry is cleared.
-                    for (x, &u) in row[c + 1..end].iter_mut().zip(pivot) {
-                        *x = md.reduce(*x - f * u);
-                    }
-                }
-                panel.push(c);
-                inverses.push(inv);
-                top += 1;
+                self.write_panel(top, j, panel);
+                self.sort_pivot_rows(top, &panel.cols);
+                let mut sorted = panel.cols.clone();
+                sorted.sort_unstable();
+                pivots.extend(sorted.into_iter().map(|c| j + c));
             }
-            if end < cols && !panel.is_empty() {
-                self.update_rest(first, &panel, &inverses, end);
-            }
-            // Clear the multipliers: below each pivot the matrix is zero.
-            for (t, &c) in panel.iter().enumerate() {
-                for i in first + t + 1..self.rows {
-                    self.data[i * cols + c] = 0.0;
-                }
-            }
-            pivots.extend_from_slice(&panel);
+            top += k;
             j = end;
         }
         top
     }
 
-    /// Applies a finished panel to the columns `rest..`: the panel's pivot
-    /// rows `first..first + k` by forward substitution, then every row
-    /// below them by one matrix product, reduced once per entry.
-    fn update_rest(&mut self, first: usize, pivots: &[usize], inverses: &[f64], rest: usize) {
+    /// Eliminates the panel `from..end` of rows `top..`, a row at a time
+    /// in a copy of the panel: each row is reduced by the panel's pivot
+    /// rows so far (their multipliers solved first, then one exact sum
+    /// reduced once per entry), and becomes the next pivot row if anything
+    /// is left. Each row is read once, and the pivot rows stay in cache.
+    /// Pivot rows are moved up to `top..` in the order they are found.
+    #[inline(always)]
+    fn factor_panel(&mut self, top: usize, from: usize, end: usize, panel: &mut Panel) {
+        let md = self.modulus;
+        let (cols, w) = (self.cols, end - from);
+        let n = self.rows - top;
+        panel.reset(n, w);
+        for i in 0..n {
+            let src = &self.data[(top + i) * cols + from..(top + i) * cols + end];
+            panel.rows[i * w..(i + 1) * w].copy_from_slice(src);
+        }
+        let mut acc = vec![0.0; w];
+        for i in 0..n {
+            let k = panel.cols.len();
+            let x = &panel.rows[i * w..(i + 1) * w];
+            let m = &mut panel.multipliers[i * w..i * w + k];
+            // m_t = x[c_t] - sum_{s<t} m_s u_s[c_t]: pivot row u_s is zero
+            // at the columns of the pivots found before it, so reducing by
+            // u_0, u_1, ... in turn clears c_0, c_1, ... for good. The sums
+            // are exact, so they are accumulated in m and reduced in turn.
+            for (m, &c) in m.iter_mut().zip(&panel.cols) {
+                *m = x[c];
+            }
+            for t in 0..k {
+                let f = md.reduce(m[t]);
+                m[t] = f;
+                if f != 0.0 {
+                    let (_, later) = m.split_at_mut(t + 1);
+                    let at = &panel.at_pivots[t * PANEL + t + 1..t * PANEL + k];
+                    for (y, &u) in later.iter_mut().zip(at) {
+                        *y -= f * u;
+                    }
+                }
+            }
+            acc.copy_from_slice(x);
+            for (t, &f) in m.iter().enumerate() {
+                if f != 0.0 {
+                    for (a, &u) in acc.iter_mut().zip(&panel.pivot_rows[t * w..(t + 1) * w]) {
+                        *a -= f * u;
+                    }
+                }
+            }
+            for a in &mut acc {
+                *a = md.reduce(*a);
+            }
+            let Some(c) = acc.iter().position(|&a| a != 0.0) else {
+                continue;
+            };
+            let inv = md.inverse(acc[c]);
+            for a in &mut acc {
+                *a = md.mul(*a, inv);
+            }
+            for (t, &ct) in panel.cols.iter().enumerate() {
+                panel.at_pivots[t * PANEL + k] = panel.pivot_rows[t * w + c];
+                debug_assert_eq!(acc[ct], 0.0);
+            }
+            panel.pivot_rows[k * w..(k + 1) * w].copy_from_slice(&acc);
+            panel.cols.push(c);
+            panel.inverses.push(inv);
+            // The new pivot row moves to place k, above every row not
+            // processed yet; the row it displaces has been processed.
+            if i != k {
+                self.swap_rows(top + i, top + k);
+                let (a, b) = panel.multipliers.split_at_mut(i * w);
+                a[k * w..(k + 1) * w].swap_with_slice(&mut b[..w]);
+            }
+        }
+    }
+
+    /// Applies a factored panel to the columns `rest..`: its pivot rows by
+    /// forward substitution, in the order they were found, then every row
+    /// below them by matrix products over tiles that are reduced while
+    /// they are still in cache.
+    #[inline(always)]
+    fn update_rest(&mut self, top: usize, panel: &Panel, rest: usize) {
         let md = self.modulus;
         let cols = self.cols;
-        let k = pivots.len();
+        let k = panel.cols.len();
         let width = cols - rest;
-        let below = self.rows - first - k;
-        let (upper, lower) = self.data.split_at_mut((first + k) * cols);
-        let upper = &mut upper[first * cols..];
+        let below = self.rows - top - k;
+        let (upper, lower) = self.data.split_at_mut((top + k) * cols);
+        let upper = &mut upper[top * cols..];
         // Pivot row t: (row_t - sum_{s<t} m_ts u_s) / pivot_t on the rest,
         // the sum exact in f64 and reduced once.
         let mut acc = vec![0.0; width];
         for t in 0..k {
             let (done, row) = upper.split_at_mut(t * cols);
-            let row = &mut row[..cols];
+            let row = &mut row[rest..cols];
             acc.fill(0.0);
-            for (s, &c) in pivots[..t].iter().enumerate() {
-                let m = row[c];
-                if m == 0.0 {
-                    continue;
-                }
-                let u = &done[s * cols + rest..(s + 1) * cols];
-                for (a, &v) in acc.iter_mut().zip(u) {
-                    *a += m * v;
+            let w = panel.width;
+            for (s, &m) in panel.multipliers[t * w..t * w + t].iter().enumerate() {
+                if m != 0.0 {
+                    let u = &done[s * cols + rest..(s + 1) * cols];
+                    for (a, &v) in acc.iter_mut().zip(u) {
+                        *a += m * v;
+                    }
                 }
             }
-            let inv = inverses[t];
-            for (x, &a) in row[rest..].iter_mut().zip(&acc) {
+            let inv = panel.inverses[t];
+            for (x, &a) in row.iter_mut().zip(&acc) {
                 *x = md.mul(md.reduce(*x - a), inv);
             }
-            for &c in &pivots[..t] {
-                row[c] = 0.0;
+        }
+        // Every other row: row -= sum_t m_it u_t, in transposed,
+        // column-major views of the same memory (faer 0.24.4 crashes on a
+        // row-major destination).
+        let upper = &upper[..k * cols];
+        for r0 in (0..below).step_by(TILE_ROWS) {
+            let rn = TILE_ROWS.min(below - r0);
+            let factors = MatRef::from_column_major_slice_with_stride(
+                &panel.multipliers[(k + r0) * panel.width..],
+                k,
+                rn,
+                panel.width,
+            );
+            for c0 in (0..width).step_by(TILE_COLS) {
+                let cn = TILE_COLS.min(width - c0);
+                let at = r0 * cols + rest + c0;
+                let dst =
+                    MatMut::from_column_major_slice_with_stride_mut(&mut lower[at..], cn, rn, cols);
+                let pivot_rows =
+                    MatRef::from_column_major_slice_with_stride(&upper[rest + c0..], cn, k, cols);
+                matmul(dst, Accum::Add, pivot_rows, factors, -1.0, Par::Seq);
+                for row in lower[at..].chunks_mut(cols).take(rn) {
+                    for x in &mut row[..cn] {
+                        *x = md.reduce(*x);
+                    }
+                }
             }
         }
-        if below == 0 {
+    }
+
+    /// Writes the panel back: pivot rows with their leading 1, every other
+    /// row zero.
+    #[inline(always)]
+    fn write_panel(&mut self, top: usize, from: usize, panel: &Panel) {
+        let cols = self.cols;
+        let w = panel.width;
+        let k = panel.cols.len();
+        for i in 0..self.rows - top {
+            let row = &mut self.data[(top + i) * cols + from..(top + i) * cols + from + w];
+            if i < k {
+                row.copy_from_slice(&panel.pivot_rows[i * w..(i + 1) * w]);
+            } else {
+                row.fill(0.0);
+            }
+        }
+    }
+
+    /// Orders the pivot rows `top..` by their pivot columns (`cols`, in the
+    /// order found): each is zero before its own pivot column, so sorted
+    /// they are in echelon form.
+    #[inline(always)]
+    fn sort_pivot_rows(&mut self, top: usize, cols: &[usize]) {
+        let n = self.cols;
+        let mut order: Vec<usize> = (0..cols.len()).collect();
+        order.sort_unstable_by_key(|&t| cols[t]);
+        if order.iter().enumerate().all(|(a, &b)| a == b) {
             return;
         }
-        // Every other row: row -= sum_t m_it u_t, one product.
-        let mut multipliers = vec![0.0; below * k];
-        for (i, row) in lower.chunks_exact(cols).enumerate() {
-            for (t, &c) in pivots.iter().enumerate() {
-                multipliers[i * k + t] = row[c];
-            }
-        }
-        // In transposed, column-major views of the same memory: faer 0.24.4
-        // crashes on a row-major destination.
-        let dst =
-            MatMut::from_column_major_slice_with_stride_mut(&mut lower[rest..], width, below, cols);
-        let pivot_rows =
-            MatRef::from_column_major_slice_with_stride(&upper[rest..], width, k, cols);
-        let factors = MatRef::from_column_major_slice(&multipliers, k, below);
-        matmul(dst, Accum::Add, pivot_rows, factors, -1.0, Par::Seq);
-        for row in lower.chunks_exact_mut(cols) {
-            for x in &mut row[rest..] {
-                *x = md.reduce(*x);
-            }
+        let rows = &mut self.data[top * n..(top + cols.len()) * n];
+        let copy = rows.to_vec();
+        for (to, &from) in order.iter().enumerate() {
+            rows[to * n..(to + 1) * n].copy_from_slice(&copy[from * n..(from + 1) * n]);
         }
     }
 

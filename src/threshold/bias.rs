@@ -385,6 +385,7 @@ pub fn scan(
         criterion: template.criterion,
         engine: crate::engine::Engine::base(RuleSet::Sound),
         runs: 1,
+        memory_limit: None,
     };
     let chosen: Vec<&Record> = truth
         .iter()

@@ -48,6 +48,9 @@ pub struct Setup<'r> {
     pub engine: Engine<'r>,
     /// Independent compressions per system; it spans if any of them does.
     pub runs: usize,
+    /// For the truth kind: refuse a system whose elimination is estimated
+    /// over this many bytes.
+    pub memory_limit: Option<u64>,
 }
 
 /// A sequence's rods and contacts, grown on demand: the first `n` rods of
@@ -499,7 +502,10 @@ fn compress(
 /// The exact truth of the first `n` rods, its realizations seeded by the
 /// sequence and `n`.
 fn truth_of(setup: &Setup, seq: &Sequence, n: usize) -> truth::Truth {
-    let opts = TruthOptions::seeded(run_seed(seq.seed, n as u64));
+    let opts = TruthOptions {
+        memory_limit: setup.memory_limit,
+        ..TruthOptions::seeded(run_seed(seq.seed, n as u64))
+    };
     truth::of_system(
         &seq.system,
         seq.contacts_of(n),
@@ -515,9 +521,21 @@ pub fn truth_spanning(setup: &Setup, seq: &Sequence, n: usize) -> Option<bool> {
     truth_of(setup, seq, n).spanning
 }
 
+/// The error of a truth refused for the memory limit.
+fn refusal(seq: &Sequence, n: usize, t: truth::Truth) -> Error {
+    Error::Memory(format!(
+        "truth of the first {n} rods of the sequence seeded {}: {} (raise it with --memory-limit)",
+        seq.seed,
+        t.reason.unwrap_or_default()
+    ))
+}
+
 /// [`truth_spanning`], where an undecided truth is an error rather than a guess.
 pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
     let t = truth_of(setup, seq, n);
+    if t.refused.is_some() {
+        return Err(refusal(seq, n, t));
+    }
     t.spanning.ok_or_else(|| {
         Error::Analysis(format!(
             "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
@@ -635,6 +653,11 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         while let Some(n) = search.next() {
             seq.reach(n)?;
             let t = truth_of(setup, seq, n);
+            if t.refused.is_some() {
+                // Over the memory limit is no verdict on the sequence: the
+                // study stops, and a rerun with more memory resumes it.
+                return Err(refusal(seq, n, t));
+            }
             let Some(spans) = t.spanning else {
                 if search.undecided(n) {
                     record.steps.push(Step::undecided(n));

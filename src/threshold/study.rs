@@ -343,6 +343,9 @@ pub struct RunOptions {
     /// only on its box and index. Never implicit, so that a run with other
     /// parameters cannot silently rewrite a committed study.
     pub extend: bool,
+    /// Truth refuses a system whose elimination would need more bytes
+    /// (the study then stops with the estimate, its records kept).
+    pub memory_limit: Option<u64>,
 }
 
 /// What [`run`] did.
@@ -378,6 +381,7 @@ pub fn run(
         criterion: spec.criterion,
         engine: Engine::with_rules(spec.rules, rules),
         runs: spec.runs,
+        memory_limit: opts.memory_limit,
     };
     let grid = match spec.method {
         Protocol::Nested => None,
@@ -836,6 +840,7 @@ mod tests {
             out: dir.to_path_buf(),
             shard,
             extend: false,
+            memory_limit: None,
         };
         run(spec, &[], &opts, &crate::progress::Silent).unwrap()
     }
@@ -907,6 +912,7 @@ mod tests {
                 out: dir.clone(),
                 shard: Shard::WHOLE,
                 extend: false,
+                memory_limit: None,
             };
             assert!(run(&spec, &[], &opts, &crate::progress::Silent).is_err());
             std::fs::write(&path, &clean).unwrap();
@@ -1065,6 +1071,7 @@ mod tests {
             out: dir.clone(),
             shard: Shard::WHOLE,
             extend: false,
+            memory_limit: None,
         };
         let err = run(&spec, &[], &opts, &crate::progress::Silent)
             .unwrap_err()

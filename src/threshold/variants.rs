@@ -360,6 +360,7 @@ pub fn run_studies(
             out: dir.clone(),
             shard: Shard::WHOLE,
             extend: false,
+            memory_limit: None,
         };
         progress.note(&format!("study {}", opts.out.display()));
         study::run(spec, rules, &opts, progress)?;

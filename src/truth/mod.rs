@@ -145,6 +145,9 @@ pub struct TruthOptions {
     /// guards the flexible answers against an unlucky draw. The float
     /// fallback proves nothing from one realization and always ranks twins.
     pub twins: bool,
+    /// Stop an elimination before a dense front that would take it past
+    /// this many bytes; the answer is then undecided ([`Truth::refused`]).
+    pub memory_limit: Option<u64>,
 }
 
 impl TruthOptions {
@@ -163,6 +166,7 @@ impl Default for TruthOptions {
             seed: 1,
             attempts: 8,
             twins: true,
+            memory_limit: None,
         }
     }
 }
@@ -206,6 +210,10 @@ pub struct Truth {
     /// the cost of truth grows with.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub largest_front: Option<(usize, usize)>,
+    /// Set when the elimination stopped for the memory limit, with the
+    /// front that would have passed it (the answer is then undecided).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refused: Option<sparse::Refused>,
     /// For a generated system: whether a rigid cluster spans under the
     /// criterion asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -265,6 +273,7 @@ impl Truth {
             gap: None,
             clusters: Vec::new(),
             largest_front: None,
+            refused: None,
             criterion: None,
             spanning: None,
             seconds: 0.0,
@@ -278,6 +287,25 @@ impl Truth {
 
     pub fn decided(&self) -> bool {
         self.method != Method::Undecided
+    }
+
+    /// Records an elimination stopped for the memory limit (`at_once`
+    /// twins sharing it): undecided, with the front that would pass it.
+    fn refuse(&mut self, e: sparse::Refused, at_once: u64, limit: Option<u64>) {
+        let limit = limit.expect("a refusal needs a limit");
+        self.reason = Some(format!(
+            "its elimination reached a dense front of {} x {} that would take it to about {}{}, over the memory limit of {}",
+            e.front.0,
+            e.front.1,
+            gib(e.bytes * at_once),
+            if at_once > 1 {
+                " (two twins at once)"
+            } else {
+                ""
+            },
+            gib(limit)
+        ));
+        self.refused = Some(e);
     }
 
     /// Records a decided rank of the matrix, the degrees of freedom it
@@ -386,6 +414,12 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
         rng
     };
     let (mut rng1, mut rng2, mut draws) = (stream(0), stream(2), stream(1));
+    // Twins that run at once hold their fronts at once.
+    let at_once = if opts.twins && rayon::current_num_threads() > 1 {
+        2
+    } else {
+        1
+    };
     let twin = Twin {
         topo,
         planes: &planes,
@@ -393,6 +427,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
         order: &order,
         parts: &parts,
         attempts: opts.attempts.max(1),
+        memory_limit: opts.memory_limit.map(|l| l / at_once),
     };
     // The twin, in the other prime, only checks the rank: its pivot rows
     // are kept (for kernel vectors) only if it beats the first.
@@ -402,7 +437,11 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     );
     let (first, second) = match (first, second.transpose()) {
         (Ok(f), Ok(s)) => (f, s),
-        (Err(why), _) | (_, Err(why)) => {
+        (Err(Stop::Memory(e)), _) | (_, Err(Stop::Memory(e))) => {
+            out.refuse(e, at_once, opts.memory_limit);
+            return finish(out);
+        }
+        (Err(Stop::Degenerate(why)), _) | (_, Err(Stop::Degenerate(why))) => {
             out.reason = Some(why);
             return finish(out);
         }
@@ -413,10 +452,14 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     let pruned = core.pruned_motions();
     match second {
         Some(t) if t.elim.rank > first.elim.rank => {
-            let elim = twin.eliminate(&t.rows, Some(&mut draws));
-            out.largest_front = Some(elim.largest_front);
-            let clusters = clusters::clusters(topo, &parts, &t.real, &elim.kernel);
-            out.decide(Method::Exact, elim.rank, pruned, clusters);
+            match twin.eliminate(&t.rows, Some(&mut draws)) {
+                Ok(elim) => {
+                    out.largest_front = Some(elim.largest_front);
+                    let clusters = clusters::clusters(topo, &parts, &t.real, &elim.kernel);
+                    out.decide(Method::Exact, elim.rank, pruned, clusters);
+                }
+                Err(e) => out.refuse(e, 1, opts.memory_limit),
+            }
         }
         _ => {
             let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
@@ -434,6 +477,21 @@ struct Twin<'a> {
     order: &'a [u32],
     parts: &'a matrix::Parts,
     attempts: usize,
+    /// Bytes one twin may use.
+    memory_limit: Option<u64>,
+}
+
+/// Why a twin stopped short of an elimination.
+enum Stop {
+    /// Every realization landed on a degenerate position.
+    Degenerate(String),
+    /// The elimination stopped before a front that would pass the limit.
+    Memory(sparse::Refused),
+}
+
+/// Bytes in GiB, for messages.
+fn gib(bytes: u64) -> String {
+    format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
 }
 
 /// One exact realization over a field, its matrix and their elimination.
@@ -452,35 +510,36 @@ impl Twin<'_> {
         &self,
         rng: &mut ChaCha8Rng,
         draws: Option<&mut ChaCha8Rng>,
-    ) -> std::result::Result<Ranked<F>, String> {
+    ) -> std::result::Result<Ranked<F>, Stop> {
         let mut why = String::new();
         for _ in 0..self.attempts {
             match realize::build::<F>(self.topo, self.planes, self.active, self.order, rng) {
                 Ok(real) => {
                     let rows = matrix::rows(self.topo, self.planes, self.parts, &real);
-                    let elim = self.eliminate(&rows, draws);
+                    let elim = self.eliminate(&rows, draws).map_err(Stop::Memory)?;
                     return Ok(Ranked { real, rows, elim });
                 }
                 Err(realize::Failure::Degenerate(w)) => why = w,
                 Err(realize::Failure::Broken(why)) => panic!("truth construction: {why}"),
             }
         }
-        Err(format!(
+        Err(Stop::Degenerate(format!(
             "every one of {} realizations landed on a degenerate position (the last: {why})",
             self.attempts
-        ))
+        )))
     }
 
-    /// Eliminates `rows`, with kernel vectors drawn from `draws` if given.
+    /// Eliminates `rows`, with kernel vectors drawn from `draws` if given,
+    /// within the memory limit.
     fn eliminate<F: Field>(
         &self,
         rows: &[sparse::SparseRow<F>],
         draws: Option<&mut ChaCha8Rng>,
-    ) -> sparse::Elimination<F> {
-        let width = matrix::WIDTH;
+    ) -> std::result::Result<sparse::Elimination<F>, sparse::Refused> {
+        let (width, groups, limit) = (matrix::WIDTH, self.parts.count, self.memory_limit);
         match draws {
-            Some(d) => sparse::eliminate(rows, self.parts.count, width, KERNEL_VECTORS, d),
-            None => sparse::rank(rows, self.parts.count, width),
+            Some(d) => sparse::eliminate(rows, groups, width, KERNEL_VECTORS, d, limit),
+            None => sparse::rank(rows, groups, width, limit),
         }
     }
 }

@@ -1446,3 +1446,95 @@ fn vtk_carries_each_rods_size_and_its_true_rigid_cluster() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn truth_over_the_memory_limit_is_refused_before_its_front_with_the_sizes() {
+    // gamma 48, L 5: its largest front needs about 10 MB; 2 MB is refused
+    // with exit 2, one line naming the front and the bytes.
+    fails(
+        &[
+            "truth",
+            "--gamma",
+            "48",
+            "--box",
+            "5",
+            "--density",
+            "78",
+            "--memory-limit",
+            "2M",
+        ],
+        "over the memory limit: truth refused this system: its elimination reached a dense front of",
+    );
+    fails(
+        &[
+            "truth",
+            "--gamma",
+            "23",
+            "--box",
+            "5",
+            "--density",
+            "34",
+            "--memory-limit",
+            "3X",
+        ],
+        "unknown unit",
+    );
+    fails(
+        &[
+            "truth",
+            "--gamma",
+            "23",
+            "--box",
+            "5",
+            "--density",
+            "34",
+            "--memory-limit=0G"],
+        "a memory limit must be positive",
+    );
+    let ok = rgc(&[
+        "truth",
+        "--gamma",
+        "48",
+        "--box",
+        "5",
+        "--density",
+        "78",
+        "--memory-limit",
+        "2G",
+    ]);
+    assert_eq!(ok.status.code(), Some(0));
+}
+
+#[test]
+fn a_truth_study_stops_at_the_memory_limit_and_keeps_no_false_record() {
+    let dir = std::env::temp_dir().join(format!("rgc-cli-memory-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.join("study");
+    let out = out.to_str().unwrap();
+    fails(
+        &[
+            "threshold",
+            "--kind",
+            "truth",
+            "--gamma",
+            "23",
+            "--boxes",
+            "3,4,5",
+            "--sequences",
+            "5",
+            "--memory-limit",
+            "20K",
+            "--quiet",
+            "--out",
+            out,
+        ],
+        "over the memory limit: truth of the first",
+    );
+    let records = std::fs::read_to_string(dir.join("study/records.jsonl")).unwrap_or_default();
+    assert_eq!(
+        records.lines().count(),
+        0,
+        "no record of a refused sequence"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

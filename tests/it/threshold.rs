@@ -37,6 +37,7 @@ fn run_in(spec: &StudySpec, dir: &Path, shard: Shard, threads: usize) -> study::
         out: dir.to_path_buf(),
         shard,
         extend: false,
+        memory_limit: None,
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -73,6 +74,7 @@ fn setup(kind: Kind, runs: usize) -> Setup<'static> {
         criterion: Criterion::Wrap,
         engine: Engine::base(RuleSet::Sound),
         runs,
+        memory_limit: None,
     }
 }
 
@@ -367,6 +369,7 @@ fn an_extended_study_equals_the_larger_study_run_at_once() {
         out: grown.clone(),
         shard: Shard { index: 1, count: 2 },
         extend,
+        memory_limit: None,
     };
     // Without --extend the smaller study is not grown, and the message says how.
     let err = study::run(&big, &[], &opts(false), &Silent)
@@ -410,6 +413,7 @@ fn another_study_in_the_same_directory_is_refused() {
         out: dir.clone(),
         shard: Shard::WHOLE,
         extend: false,
+        memory_limit: None,
     };
     let err = study::run(&b, &[], &opts, &Silent).unwrap_err().to_string();
     assert!(

@@ -13,6 +13,57 @@ use rgc::spanning::Criterion;
 use rgc::threshold::study::StudySpec;
 use rgc::{Error, Result};
 
+/// How much memory truth may use: `truth` and the studies that run it.
+#[derive(Args)]
+pub struct MemoryArgs {
+    /// Refuse, before its dense work, a system whose exact elimination is estimated to need more than this: bytes, or with a unit (`512M`, `4G`, `1.5GiB`). Default: the memory the machine has available now.
+    #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+    pub memory_limit: Option<u64>,
+}
+
+impl MemoryArgs {
+    /// The limit asked for, or else what the machine has available (none
+    /// where that cannot be read).
+    pub fn limit(&self) -> Option<u64> {
+        self.memory_limit.or_else(available_memory)
+    }
+}
+
+/// Bytes from `4G`, `512M`, `1.5GiB`, `100000` (binary units).
+fn parse_size(s: &str) -> std::result::Result<u64, String> {
+    let t = s.trim();
+    let split = t.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1,
+        "k" | "kb" | "kib" => 1 << 10,
+        "m" | "mb" | "mib" => 1 << 20,
+        "g" | "gb" | "gib" => 1 << 30,
+        "t" | "tb" | "tib" => 1 << 40,
+        other => {
+            return Err(format!(
+                "unknown unit {other:?} in {s:?} (use K, M, G or T)"
+            ));
+        }
+    };
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|_| format!("not a size: {s:?} (e.g. 4G, 512M or a number of bytes)"))?;
+    if !(value.is_finite() && value > 0.0) {
+        return Err(format!("a memory limit must be positive, not {s:?}"));
+    }
+    Ok((value * scale as f64) as u64)
+}
+
+/// `MemAvailable` of `/proc/meminfo`, in bytes.
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
 /// Which motifs the engine applies: every subcommand that compresses.
 #[derive(Args)]
 pub struct RuleArgs {

@@ -13,7 +13,7 @@ use rand::Rng;
 
 use super::quotient::{Element, Gathered};
 use crate::math::Field;
-use crate::math::echelon::{Block, Modulus};
+use crate::math::echelon::{Block, Modulus, Panel};
 
 /// A front's pivot rows, for back substitution.
 #[derive(Clone, Debug)]
@@ -40,6 +40,14 @@ pub struct Done {
     pub reduced: bool,
 }
 
+/// The rows and columns `front` will have: its elements' rows over the
+/// columns of its groups not cleared by [`pin`].
+pub fn size(front: &Gathered, scratch: &Scratch) -> (usize, usize) {
+    let live = |g: &u32| scratch.width - scratch.dead[*g as usize].count_ones() as usize;
+    let cols = front.own.iter().chain(&front.pattern).map(live).sum();
+    (front.elements.iter().map(|e| e.rows).sum(), cols)
+}
+
 /// Eliminates the own groups of `front` over groups of `width` columns,
 /// in `scratch` (reused from front to front).
 pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratch) -> Done {
@@ -50,12 +58,25 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
         elements,
         ..
     } = front;
-    let ngroups = own.len() + pattern.len();
-    let ncols = ngroups * width;
-    let owncols = own.len() * width;
-    for (k, &g) in own.iter().chain(&pattern).enumerate() {
+    // Front columns: the live columns of the own groups, then of the
+    // pattern's; `place` gives each group column its front column.
+    let groups: Vec<u32> = own.iter().chain(&pattern).copied().collect();
+    let mut cols: Vec<u32> = Vec::with_capacity(groups.len() * width);
+    let mut owncols = 0;
+    for (k, &g) in groups.iter().enumerate() {
         scratch.local[g as usize] = k as u32;
+        for j in 0..width {
+            let live = scratch.dead[g as usize] & (1 << j) == 0;
+            scratch.place[k * width + j] = if live { cols.len() as u32 } else { NONE };
+            if live {
+                cols.push(g * width as u32 + j as u32);
+            }
+        }
+        if k + 1 == own.len() {
+            owncols = cols.len();
+        }
     }
+    let ncols = cols.len();
     let nrows: usize = elements.iter().map(|e| e.rows).sum();
     let data = &mut scratch.dense;
     data.clear();
@@ -65,19 +86,21 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
     // every live row, and would otherwise be held twice at its peak.
     for e in elements {
         let ecols = e.groups.len() * width;
-        let places: Vec<usize> = e
+        let places: Vec<u32> = e
             .groups
             .iter()
-            .map(|&g| scratch.local[g as usize] as usize * width)
+            .flat_map(|&g| {
+                let k = scratch.local[g as usize] as usize;
+                scratch.place[k * width..(k + 1) * width].iter().copied()
+            })
             .collect();
         for row in e.data.chunks_exact(ecols) {
             let dense = &mut data[r * ncols..(r + 1) * ncols];
-            for (j, &at) in places.iter().enumerate() {
-                for (x, &v) in dense[at..at + width]
-                    .iter_mut()
-                    .zip(&row[j * width..(j + 1) * width])
-                {
-                    *x = v as f64;
+            for (&at, &v) in places.iter().zip(row) {
+                if at != NONE {
+                    dense[at as usize] = v as f64;
+                } else {
+                    debug_assert_eq!(v, 0.0, "a cleared column");
                 }
             }
             r += 1;
@@ -90,14 +113,10 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
         modulus,
     };
     let mut pivots = Vec::new();
-    let top = block.echelon(0, 0, owncols, &mut pivots);
+    let top = block.echelon_in(0, 0, owncols, &mut pivots, &mut scratch.panel);
     let mut work = (nrows * ncols * top) as f64;
     let factor = (keep && top > 0).then(|| Factor {
-        cols: own
-            .iter()
-            .chain(&pattern)
-            .flat_map(|&g| (0..width as u32).map(move |k| g * width as u32 + k))
-            .collect(),
+        cols: cols.clone(),
         pivots: pivots.iter().map(|&p| p as u32).collect(),
         rows: block.data[..top * ncols]
             .iter()
@@ -110,7 +129,7 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
         .collect();
     let reduced = live.len() > rest;
     if reduced {
-        let end = block.echelon(top, owncols, ncols, &mut Vec::new());
+        let end = block.echelon_in(top, owncols, ncols, &mut Vec::new(), &mut scratch.panel);
         work += ((nrows - top) * ncols * (end - top)) as f64;
         live = (top..end).collect();
     }
@@ -119,8 +138,14 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
     // the same groups, usually all of them, go on as one element.
     let mut left: Vec<Element> = Vec::new();
     let mut touched = Vec::with_capacity(pattern.len());
+    let mut full = vec![0.0; pattern.len() * width];
+    let places = &scratch.place[own.len() * width..groups.len() * width];
     for &i in &live {
-        let row = &block.data[i * ncols + owncols..(i + 1) * ncols];
+        let row = &block.data[i * ncols..(i + 1) * ncols];
+        for (x, &at) in full.iter_mut().zip(places) {
+            *x = if at == NONE { 0.0 } else { row[at as usize] };
+        }
+        let row = &full;
         touched.clear();
         touched.extend(
             row.chunks_exact(width)
@@ -156,21 +181,83 @@ pub fn eliminate(front: Gathered, width: usize, keep: bool, scratch: &mut Scratc
     }
 }
 
-/// Buffers reused from front to front, and the field's modulus.
+/// A group column that is not in the front (cleared before the order).
+const NONE: u32 = u32::MAX;
+
+/// Buffers reused from front to front, the field's modulus, and the columns
+/// cleared by [`pin`].
 pub struct Scratch {
     modulus: Modulus,
+    width: usize,
     dense: Vec<f64>,
     /// Each group's place in the current front.
     local: Vec<u32>,
+    /// Each group column's front column in the current front, or [`NONE`].
+    place: Vec<u32>,
+    /// Per group, a bit per column cleared by [`pin`].
+    dead: Vec<u64>,
+    panel: Panel,
 }
 
 impl Scratch {
-    pub fn new(modulus: Modulus, groups: usize) -> Scratch {
+    pub fn new(modulus: Modulus, groups: usize, width: usize) -> Scratch {
+        assert!(width <= 64, "at most 64 columns per group, not {width}");
         Scratch {
             modulus,
+            width,
             dense: Vec::new(),
             local: vec![0; groups],
+            place: vec![NONE; groups * width],
+            dead: vec![0; groups],
+            panel: Panel::default(),
         }
+    }
+}
+
+/// The rows of one group only, eliminated before the order starts.
+pub struct Pinned {
+    pub group: u32,
+    /// The group columns of the pivots, and the pivot rows over the
+    /// group's columns (each 1 at its pivot and zero before it).
+    pub pivots: Vec<usize>,
+    pub rows: Vec<f64>,
+    pub factor: Option<Factor>,
+}
+
+/// Brings an element over a single group to echelon form. Its pivot
+/// columns are then cleared from every other element of the group
+/// ([`super::quotient::Quotient::clear_columns`]) and left out of every
+/// front: a rod's spin row takes one of its six columns for good, which
+/// makes every front holding the rod a column and a row smaller (a sixth
+/// of the dense work is in those columns, cubed).
+pub fn pin(e: Element, keep: bool, scratch: &mut Scratch) -> Pinned {
+    let width = scratch.width;
+    let [g] = e.groups[..] else {
+        panic!("pin takes an element over one group, not {:?}", e.groups);
+    };
+    let mut data: Vec<f64> = e.data.iter().map(|&v| v as f64).collect();
+    let mut pivots = Vec::new();
+    let mut block = Block {
+        data: &mut data,
+        rows: e.rows,
+        cols: width,
+        modulus: scratch.modulus,
+    };
+    let top = block.echelon_in(0, 0, width, &mut pivots, &mut scratch.panel);
+    data.truncate(top * width);
+    for &c in &pivots {
+        scratch.dead[g as usize] |= 1 << c;
+    }
+    let factor = (keep && top > 0).then(|| Factor {
+        cols: (0..width as u32).map(|k| g * width as u32 + k).collect(),
+        pivots: pivots.iter().map(|&p| p as u32).collect(),
+        rows: data.iter().map(|&x| x as f32).collect(),
+    });
+    Pinned {
+        group: g,
+        pivots,
+        rows: data,
+        factor,
     }
 }
 

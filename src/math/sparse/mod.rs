@@ -55,12 +55,20 @@ pub struct Counts {
     pub reduced: usize,
     /// Groups eliminated in the dense tail.
     pub tail: usize,
+    /// Columns cleared before the order by rows over one group only.
+    pub pinned: usize,
 }
 
 /// The rank of the matrix of `rows` over `groups * width` columns, column
-/// `c` belonging to group `c / width`; no pivot row is kept.
-pub fn rank<F: Field>(rows: &[SparseRow<F>], groups: usize, width: usize) -> Elimination<F> {
-    factorize(rows, groups, width, false).0
+/// `c` belonging to group `c / width`; no pivot row is kept. With a
+/// `limit` in bytes, it stops before any front that would pass it.
+pub fn rank<F: Field>(
+    rows: &[SparseRow<F>],
+    groups: usize,
+    width: usize,
+    limit: Option<u64>,
+) -> Result<Elimination<F>, Refused> {
+    Ok(factorize(rows, groups, width, false, limit)?.0)
 }
 
 /// [`rank`], and `kernel_vectors` random kernel vectors drawn from `rng`.
@@ -72,8 +80,9 @@ pub fn eliminate<F: Field>(
     width: usize,
     kernel_vectors: usize,
     rng: &mut impl Rng,
-) -> Elimination<F> {
-    let (mut out, factors) = factorize(rows, groups, width, true);
+    limit: Option<u64>,
+) -> Result<Elimination<F>, Refused> {
+    let (mut out, factors) = factorize(rows, groups, width, true, limit)?;
     out.kernel = (0..kernel_vectors)
         .map(|_| {
             let x = front::kernel_vector::<F>(&factors, out.cols, rng);
@@ -86,16 +95,32 @@ pub fn eliminate<F: Field>(
             x
         })
         .collect();
-    out
+    Ok(out)
+}
+
+/// An elimination stopped before a front that would have taken it past
+/// its memory limit.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Refused {
+    /// Bytes it would have held with that front: the front in f64, the
+    /// live elements and the pivot rows kept (f32), and the input rows.
+    pub bytes: u64,
+    /// That front, rows times columns.
+    pub front: (usize, usize),
 }
 
 /// The elimination, with the pivot rows of every front if `keep` is set.
+/// Memory is checked before each front is assembled, on what it would
+/// hold: a pattern alone cannot size the fronts ahead (inside a rigid
+/// region the redundant rows vanish, which only their values tell), so
+/// the guard counts the real sizes as they come.
 fn factorize<F: Field>(
     rows: &[SparseRow<F>],
     groups: usize,
     width: usize,
     keep: bool,
-) -> (Elimination<F>, Vec<front::Factor>) {
+    limit: Option<u64>,
+) -> Result<(Elimination<F>, Vec<front::Factor>), Refused> {
     assert!(
         F::MODULUS < MAX_MODULUS,
         "the dense kernel needs a prime below 2^24, not {}",
@@ -107,7 +132,7 @@ fn factorize<F: Field>(
         "a row entry beyond the {cols} columns"
     );
     let mut quotient = Quotient::new(rows, groups, width);
-    let mut scratch = front::Scratch::new(Modulus::new(F::MODULUS), groups);
+    let mut scratch = front::Scratch::new(Modulus::new(F::MODULUS), groups, width);
     let mut factors = Vec::new();
     let mut out = Elimination {
         rank: 0,
@@ -118,8 +143,28 @@ fn factorize<F: Field>(
         work: 0.0,
         counts: Counts::default(),
     };
+    for e in quotient.take_single() {
+        let pinned = front::pin(e, keep, &mut scratch);
+        quotient.clear_columns(pinned.group, width, &pinned.pivots, &pinned.rows);
+        out.rank += pinned.pivots.len();
+        out.counts.pinned += pinned.pivots.len();
+        factors.extend(pinned.factor);
+    }
+    let input: usize = rows.iter().map(|r| r.len() * 8 + 24).sum();
+    let mut factor_bytes = 0;
     while let Some(g) = quotient.next() {
         let gathered = quotient.gather(g);
+        if let Some(limit) = limit {
+            let (r, c) = front::size(&gathered, &scratch);
+            let elements = (quotient.live_blocks() * width + r * c) * 4;
+            let bytes = (input + elements + factor_bytes + r * c * 8) as u64;
+            if bytes > limit {
+                return Err(Refused {
+                    bytes,
+                    front: (r, c),
+                });
+            }
+        }
         if gathered.tail {
             out.counts.tail += gathered.own.len();
         } else {
@@ -130,6 +175,9 @@ fn factorize<F: Field>(
         out.counts.reduced += usize::from(done.reduced);
         quotient.settle(&pattern, done.left);
         out.rank += done.pivots;
+        if keep {
+            factor_bytes += done.pivots * done.size.1 * 4;
+        }
         out.fronts += 1;
         out.work += done.work;
         let (r, c) = done.size;
@@ -139,7 +187,7 @@ fn factorize<F: Field>(
         factors.extend(done.factor);
     }
     out.counts.rescored = quotient.rescored();
-    (out, factors)
+    Ok((out, factors))
 }
 
 #[cfg(test)]
@@ -273,7 +321,7 @@ mod tests {
         let rank = rank_exact(&dense(rows, cols));
         let nullity = cols - rank;
         let k = nullity + 2;
-        let e = eliminate(rows, groups, 6, k, &mut ChaCha8Rng::seed_from_u64(5));
+        let e = eliminate(rows, groups, 6, k, &mut ChaCha8Rng::seed_from_u64(5), None).unwrap();
         assert_eq!(e.rank, rank, "rank");
         let mut m = Matrix::zeros(0, cols);
         for x in &e.kernel {
@@ -312,8 +360,11 @@ mod tests {
             total.rescored += c.rescored;
             total.mass += c.mass;
             total.reduced += c.reduced;
+            total.pinned += c.pinned;
         }
-        // Lazy rescoring and mass elimination (with amalgamation) ran.
+        // Lazy rescoring, mass elimination (with amalgamation) and the
+        // clearing of spin columns ran.
+        assert!(total.pinned > 0, "{total:?}");
         assert!(total.rescored > 0, "{total:?}");
         assert!(total.mass > 0, "{total:?}");
     }
@@ -359,10 +410,35 @@ mod tests {
                 .collect();
             rows.push(sum);
         }
-        let e = eliminate(&rows, groups, width, 1, &mut rng);
+        let e = eliminate(&rows, groups, width, 1, &mut rng, None).unwrap();
         assert_eq!(e.rank, 180);
         assert_eq!(e.rank, rank_exact(&dense(&rows, groups * width)));
         assert_eq!((e.counts.tail, e.fronts), (groups, 1), "{:?}", e.counts);
+    }
+
+    #[test]
+    fn a_memory_limit_stops_before_the_front_that_would_pass_it() {
+        // The dense matrix of the tail test is one front of 240 x 300: 576
+        // KB in f64. A limit below that stops before it, naming it; one above
+        // lets the same elimination finish with the same rank.
+        let (groups, width) = (50, 6);
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let rows: Vec<SparseRow<Q1>> = (0..240)
+            .map(|_| {
+                (0..(groups * width) as u32)
+                    .map(|c| (c, Q1::random_nonzero(&mut rng)))
+                    .collect()
+            })
+            .collect();
+        let refused = rank(&rows, groups, width, Some(500_000)).unwrap_err();
+        assert_eq!(refused.front, (240, 300));
+        assert!(
+            refused.bytes > 500_000 && refused.bytes < 2_000_000,
+            "{refused:?}"
+        );
+        let e = rank(&rows, groups, width, Some(refused.bytes)).expect("within the limit");
+        assert_eq!(e.rank, rank(&rows, groups, width, None).unwrap().rank);
+        assert_eq!(e.rank, 240);
     }
 
     #[test]
@@ -382,7 +458,7 @@ mod tests {
                 .collect();
             rows.push(row);
         }
-        let e = eliminate(&rows, groups, 6, 1, &mut rng);
+        let e = eliminate(&rows, groups, 6, 1, &mut rng, None).unwrap();
         assert_eq!(e.rank, groups, "one independent bar per link");
         assert_eq!(e.counts.tail, 0, "{:?}", e.counts);
         assert!(e.largest_front.1 <= 3 * 6, "{:?}", e.largest_front);
@@ -396,7 +472,7 @@ mod tests {
         fn rank_matches_dense(seed in 0u64..1_000_000, groups in 1usize..12, width in 1usize..4, n in 0usize..40) {
             let rows = random_rows(seed, groups, width, n);
             let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 7);
-            let e = eliminate(&rows, groups, width, 2, &mut rng);
+            let e = eliminate(&rows, groups, width, 2, &mut rng, None).unwrap();
             prop_assert_eq!(e.rank, rank_exact(&dense(&rows, groups * width)));
             prop_assert_eq!(e.kernel.len(), 2);
         }
@@ -412,7 +488,7 @@ mod tests {
             vec![(0, one), (2, one)],
             vec![(3, one)],
         ];
-        let e = eliminate(&rows, 2, 2, 1, &mut ChaCha8Rng::seed_from_u64(1));
+        let e = eliminate(&rows, 2, 2, 1, &mut ChaCha8Rng::seed_from_u64(1), None).unwrap();
         assert_eq!(e.rank, 4);
         assert!(e.kernel[0].iter().all(|v| v.is_zero()));
     }

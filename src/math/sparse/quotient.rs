@@ -79,6 +79,7 @@ pub struct Quotient {
     element_mark: Vec<u32>,
     stamp: u32,
     rescored: usize,
+    modulus: Modulus,
 }
 
 impl Quotient {
@@ -99,6 +100,7 @@ impl Quotient {
             element_mark: Vec::new(),
             stamp: 0,
             rescored: 0,
+            modulus,
         };
         let mut index: FxHashMap<Vec<u32>, usize> = FxHashMap::default();
         let mut built: Vec<Element> = Vec::new();
@@ -118,6 +120,7 @@ impl Quotient {
                 built.len() - 1
             });
             let e = &mut built[k];
+            e.rows += 1;
             let ncols = e.groups.len() * width;
             let start = e.data.len();
             e.data.resize(start + ncols, 0.0);
@@ -126,7 +129,6 @@ impl Quotient {
                 let l = e.groups.binary_search(&g).expect("its own group");
                 e.data[start + l * width + c as usize % width] = modulus.centre(v.residue()) as f32;
             }
-            e.rows += 1;
         }
         for e in built {
             q.insert(e);
@@ -135,6 +137,50 @@ impl Quotient {
             q.requeue(g);
         }
         q
+    }
+
+    /// Takes out every element over one group only: rows that constrain a
+    /// single part (a rod's spin, a class's wrap), eliminated before the
+    /// order starts (see [`Quotient::clear_columns`]).
+    pub fn take_single(&mut self) -> Vec<Element> {
+        let mut out = Vec::new();
+        for slot in &mut self.elements {
+            if slot.as_ref().is_some_and(|e| e.groups.len() == 1) {
+                let e = slot.take().expect("live");
+                self.live_rows -= e.rows;
+                self.live_blocks -= e.rows;
+                out.push(e);
+            }
+        }
+        out
+    }
+
+    /// Clears the columns `pivots` of group `g` from every live element by
+    /// the matching rows of `pivot_rows` (over the group's `width` columns,
+    /// each 1 at its pivot column and zero before it): a column operation
+    /// inside one group, so no element gains a group. Afterwards those
+    /// columns are zero everywhere and the fronts leave them out.
+    pub fn clear_columns(&mut self, g: u32, width: usize, pivots: &[usize], pivot_rows: &[f64]) {
+        let md = self.modulus;
+        for &e in &self.adjacent[g as usize] {
+            let Some(e) = self.elements[e as usize].as_mut() else {
+                continue;
+            };
+            let ecols = e.groups.len() * width;
+            let at = e.groups.binary_search(&g).expect("its own group") * width;
+            for row in e.data.chunks_exact_mut(ecols) {
+                let block = &mut row[at..at + width];
+                for (t, &c) in pivots.iter().enumerate() {
+                    let f = block[c] as f64;
+                    if f != 0.0 {
+                        let u = &pivot_rows[t * width..(t + 1) * width];
+                        for (x, &v) in block.iter_mut().zip(u) {
+                            *x = md.reduce(*x as f64 - f * v) as f32;
+                        }
+                    }
+                }
+            }
+        }
     }
 
     fn next_stamp(&mut self) -> u32 {
@@ -325,6 +371,12 @@ impl Quotient {
             elements: self.elements.iter_mut().filter_map(Option::take).collect(),
             tail: true,
         }
+    }
+
+    /// Row-group blocks of the live elements: their storage, in blocks of
+    /// `width` values.
+    pub fn live_blocks(&self) -> usize {
+        self.live_blocks
     }
 
     /// Groups queued again because their degree had grown.

@@ -12,7 +12,7 @@ use rgc::threshold::sequence::{Kind, Record};
 use rgc::threshold::study::{self, MotifSet, RunOptions, Shard, StudySpec};
 use rgc::{Error, Result, plot, rule_file};
 
-use crate::args::{RuleArgs, StudyArgs};
+use crate::args::{MemoryArgs, RuleArgs, StudyArgs};
 use crate::progress::Reporter;
 
 #[derive(Args)]
@@ -24,6 +24,8 @@ pub struct ThresholdArgs {
     study: StudyArgs,
     #[command(flatten)]
     rules: RuleArgs,
+    #[command(flatten)]
+    memory: MemoryArgs,
     /// Independent compressions per system; it spans if any run finds a spanning body.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
     runs: u64,
@@ -74,6 +76,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         out: a.out.clone(),
         shard,
         extend: a.extend,
+        memory_limit: (a.kind == Kind::Truth).then(|| a.memory.limit()).flatten(),
     };
     let compiled: Vec<_> = rules.iter().map(rgc::engine::CompiledRule::new).collect();
     let done = study::run(&spec, &compiled, &opts, &Reporter::new(a.quiet || a.json))?;

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::args::RodsArgs;
+use crate::args::{MemoryArgs, RodsArgs};
 
 use rgc::contacts;
 use rgc::graph::ContactGraph;
@@ -25,6 +25,8 @@ pub struct TruthArgs {
     /// Or a rod system: read with --rods, or generated.
     #[command(flatten)]
     rods: RodsArgs,
+    #[command(flatten)]
+    memory: MemoryArgs,
     /// Seed of the generated rods (and of the realizations).
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -37,7 +39,10 @@ pub struct TruthArgs {
 }
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
-    let opts = TruthOptions::seeded(a.seed);
+    let opts = TruthOptions {
+        memory_limit: a.memory.limit(),
+        ..TruthOptions::seeded(a.seed)
+    };
     let inputs = [a.graph6.is_some(), a.edges.is_some(), a.rods.given()];
     if inputs.iter().filter(|&&on| on).count() != 1 {
         return Err(Error::Parameter(
@@ -58,6 +63,12 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
             truth::of_system(&system, &contacts, &graph, a.criterion, opts)
         }
     };
+    if t.refused.is_some() {
+        return Err(Error::Memory(format!(
+            "truth refused this system: {} (raise it with --memory-limit)",
+            t.reason.as_deref().unwrap_or_default()
+        )));
+    }
     if a.json {
         return super::print_json(&t, out);
     }
