@@ -338,7 +338,12 @@ pub struct TruthRow {
 /// without showing as growth. So `rgc bench --truth` runs each system in a
 /// child process of its own.
 pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRow> {
-    let params = RodParams::new(TRUTH_GAMMA, l as f64, density)?;
+    measure_truth_at(TRUTH_GAMMA, density, l, seed)
+}
+
+/// [`measure_truth`] at aspect ratio `gamma`.
+pub fn measure_truth_at(gamma: f64, density: f64, l: usize, seed: u64) -> crate::Result<TruthRow> {
+    let params = RodParams::new(gamma, l as f64, density)?;
     Ok(one_thread(|| {
         let system = RodSystem::generate(params, seed);
         let found = contacts::detect(&system);
@@ -358,7 +363,7 @@ pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRo
         let cpu_seconds = thread_cpu_seconds().zip(cpu_before).map(|(b, a)| b - a);
         let peak_mib = peak_rss_mib();
         TruthRow {
-            gamma: TRUTH_GAMMA,
+            gamma,
             density,
             box_len: l,
             seed,
@@ -413,6 +418,96 @@ impl PowerLaw {
     pub fn at(&self, x: f64) -> f64 {
         self.prefactor * x.powf(self.exponent)
     }
+}
+
+/// The systems of the aspect-ratio benchmark of truth, `(gamma, density,
+/// box side)`: each near its aspect ratio's true threshold (rho V_ex about
+/// 2.7), where truth works hardest, in boxes of growing size.
+pub const ASPECT_SYSTEMS: [(f64, f64, usize); 10] = [
+    (23.0, 34.0, 8),
+    (23.0, 34.0, 10),
+    (23.0, 34.0, 12),
+    (48.0, 78.0, 5),
+    (48.0, 78.0, 6),
+    (48.0, 78.0, 7),
+    (98.0, 165.0, 4),
+    (98.0, 165.0, 5),
+    (98.0, 165.0, 6),
+    (98.0, 165.0, 7),
+];
+
+/// The largest system, added on request: minutes and gigabytes.
+pub const ASPECT_LARGE: (f64, f64, usize) = (98.0, 165.0, 10);
+
+/// The pair whose cost per rod the benchmark compares: slender rods
+/// against gamma 23 at about the same number of rods (56,595 and 58,752).
+pub const ASPECT_PAIR: [(f64, usize); 2] = [(98.0, 7), (23.0, 12)];
+
+/// How truth's CPU time and memory grow with the rods at one aspect ratio.
+#[derive(Clone, Debug, Serialize)]
+pub struct AspectScaling {
+    pub gamma: f64,
+    pub time: Option<PowerLaw>,
+    pub memory: Option<PowerLaw>,
+}
+
+/// What the aspect-ratio benchmark of truth found.
+#[derive(Clone, Debug, Serialize)]
+pub struct AspectReport {
+    pub rows: Vec<TruthRow>,
+    pub scaling: Vec<AspectScaling>,
+    /// CPU seconds per rod of the first system of [`ASPECT_PAIR`] over
+    /// that of the second, measured in this run.
+    pub per_rod_ratio: Option<f64>,
+}
+
+/// Truth on every system of [`ASPECT_SYSTEMS`] (and [`ASPECT_LARGE`] if
+/// `large`), seed 1, each by `measure(gamma, density, box, seed)`, with the
+/// growth per aspect ratio and the cost per rod of [`ASPECT_PAIR`].
+pub fn run_truth_aspects(
+    large: bool,
+    mut measure: impl FnMut(f64, f64, usize, u64) -> crate::Result<TruthRow>,
+    progress: &impl Progress,
+) -> crate::Result<AspectReport> {
+    let systems: Vec<_> = ASPECT_SYSTEMS
+        .iter()
+        .copied()
+        .chain(large.then_some(ASPECT_LARGE))
+        .collect();
+    progress.start("truth systems", systems.len() as u64);
+    let mut rows = Vec::new();
+    for (gamma, density, l) in systems {
+        rows.push(measure(gamma, density, l, 1)?);
+        progress.advance(1);
+    }
+    progress.finish();
+    let cpu = |r: &TruthRow| r.cpu_seconds.unwrap_or(r.seconds);
+    let mut gammas: Vec<f64> = rows.iter().map(|r| r.gamma).collect();
+    gammas.dedup();
+    let scaling = gammas
+        .into_iter()
+        .map(|gamma| {
+            let at = || rows.iter().filter(move |r| r.gamma == gamma);
+            AspectScaling {
+                gamma,
+                time: PowerLaw::fit(at().map(|r| (r.n_rods as f64, cpu(r)))),
+                memory: PowerLaw::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
+            }
+        })
+        .collect();
+    let per_rod = |(gamma, l): (f64, usize)| {
+        rows.iter()
+            .find(|r| r.gamma == gamma && r.box_len == l)
+            .map(|r| cpu(r) / r.n_rods as f64)
+    };
+    let per_rod_ratio = per_rod(ASPECT_PAIR[0])
+        .zip(per_rod(ASPECT_PAIR[1]))
+        .map(|(a, b)| a / b);
+    Ok(AspectReport {
+        rows,
+        scaling,
+        per_rod_ratio,
+    })
 }
 
 /// Box sides of the tail fit: the largest ones of a plan.

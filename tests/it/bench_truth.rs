@@ -151,3 +151,47 @@ fn prediction_extrapolates_the_largest_boxes_only() {
     // 1e-12 (38 L^3)^3 <= 600 s up to L = 13.
     assert_eq!(report.predicted_largest_box, Some(13));
 }
+
+#[test]
+fn the_aspect_benchmark_fits_each_gamma_and_compares_the_cost_per_rod() {
+    // Rows made up to follow known laws: CPU = 1e-6 N^1.5 at gamma 98 and
+    // 1e-7 N at the others, memory = N / 1000 MiB. The fits must find the
+    // exponents, and the ratio the per-rod costs of gamma 98 L 7 and gamma
+    // 23 L 12.
+    let mut seen = Vec::new();
+    let report = bench::run_truth_aspects(
+        false,
+        |gamma, density, l, seed| {
+            seen.push((gamma, l));
+            let real = bench::measure_truth_at(gamma, 10.0, 3, seed)?;
+            let n = rgc::rods::RodParams::new(gamma, l as f64, density)?.n_rods();
+            let cpu = if gamma == 98.0 {
+                1e-6 * (n as f64).powf(1.5)
+            } else {
+                1e-7 * n as f64
+            };
+            Ok(TruthRow {
+                n_rods: n,
+                box_len: l,
+                cpu_seconds: Some(cpu),
+                truth_mib: n as f64 / 1000.0,
+                ..real
+            })
+        },
+        &Silent,
+    )
+    .unwrap();
+    assert_eq!(seen.len(), bench::ASPECT_SYSTEMS.len());
+    assert_eq!(report.scaling.len(), 3);
+    for s in &report.scaling {
+        let time = s.time.expect("three sizes per gamma");
+        let want = if s.gamma == 98.0 { 1.5 } else { 1.0 };
+        assert!((time.exponent - want).abs() < 1e-9, "{s:?}");
+        assert!((s.memory.unwrap().exponent - 1.0).abs() < 1e-9, "{s:?}");
+    }
+    let n98 = rgc::rods::RodParams::new(98.0, 7.0, 165.0)
+        .unwrap()
+        .n_rods() as f64;
+    let want = (1e-6 * n98.powf(1.5) / n98) / 1e-7;
+    assert!((report.per_rod_ratio.unwrap() / want - 1.0).abs() < 1e-9);
+}

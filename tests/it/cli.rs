@@ -1488,7 +1488,8 @@ fn truth_over_the_memory_limit_is_refused_before_its_front_with_the_sizes() {
             "5",
             "--density",
             "34",
-            "--memory-limit=0G"],
+            "--memory-limit=0G",
+        ],
         "a memory limit must be positive",
     );
     let ok = rgc(&[

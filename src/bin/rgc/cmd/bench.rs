@@ -64,7 +64,13 @@ pub struct BenchArgs {
     /// Also measure the reach: box sides 3, 4, ... up to this one at density 38 (seed 1) until one system takes longer than --truth-max-seconds.
     #[arg(long, requires = "truth", value_parser = clap::value_parser!(u64).range(3..=100))]
     truth_reach: Option<u64>,
-    /// Truth on one system, `density,box,seed`, as a JSON row: what `--truth` runs in a child process per system.
+    /// Instead: truth on systems near the true threshold at gamma 23, 48 and 98, one thread each; their growth with the rods per gamma, and the cost per rod of gamma 98 (L 7) over gamma 23 (L 12) in the same run.
+    #[arg(long, conflicts_with = "truth")]
+    truth_aspects: bool,
+    /// With --truth-aspects: add gamma 98, L 10 (165,000 rods; minutes and gigabytes).
+    #[arg(long, requires = "truth_aspects")]
+    truth_large: bool,
+    /// Truth on one system, `gamma,density,box,seed`, as a JSON row: what `--truth` runs in a child process per system.
     #[arg(long, hide = true, conflicts_with_all = ["rank", "truth"])]
     truth_system: Option<String>,
 }
@@ -94,6 +100,9 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
     }
     if a.truth {
         return truth(a, out);
+    }
+    if a.truth_aspects {
+        return truth_aspects(a, out);
     }
     bench::check_max_rods(a.max_rods)?;
     let sets = if a.no_rules {
@@ -358,7 +367,7 @@ fn truth(a: BenchArgs, out: &mut String) -> Result<()> {
         &plan,
         a.truth_max_seconds,
         a.truth_reach.map(|b| b as usize),
-        in_child,
+        |density, l, seed| in_child(bench::TRUTH_GAMMA, density, l, seed),
         &Reporter::new(a.json),
     )?;
     if let Some(path) = &a.out {
@@ -372,17 +381,72 @@ fn truth(a: BenchArgs, out: &mut String) -> Result<()> {
     Ok(())
 }
 
-/// Truth on `density,box,seed` in this process.
+fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
+    let report = bench::run_truth_aspects(a.truth_large, in_child, &Reporter::new(a.json))?;
+    if let Some(path) = &a.out {
+        let text = serde_json::to_string_pretty(&report).expect("truth report serializes");
+        output::write_atomic(path, text + "\n")?;
+    }
+    if a.json {
+        return super::print_json(&report, out);
+    }
+    say!(
+        out,
+        "gamma   rho   L    rods  core     front       CPU s  truth MiB"
+    );
+    for r in &report.rows {
+        say!(
+            out,
+            "{:>5} {:>5} {:>3} {:>7} {:>5} {:>11} {:>9.2} {:>10.1}",
+            r.gamma,
+            r.density,
+            r.box_len,
+            r.n_rods,
+            r.core_rods,
+            r.largest_front
+                .map_or("-".into(), |(rows, cols)| format!("{rows}x{cols}")),
+            r.cpu_seconds.unwrap_or(r.seconds),
+            r.truth_mib
+        );
+    }
+    for s in &report.scaling {
+        say!(
+            out,
+            "gamma {}: CPU time ~ {}; truth memory ~ {}",
+            s.gamma,
+            law(s.time),
+            law(s.memory)
+        );
+    }
+    if let Some(ratio) = report.per_rod_ratio {
+        let [(g1, l1), (g2, l2)] = bench::ASPECT_PAIR;
+        say!(
+            out,
+            "CPU per rod, gamma {g1} L {l1} over gamma {g2} L {l2}: {ratio:.1}x"
+        );
+    }
+    Ok(())
+}
+
+/// A fitted growth law as `N^a (R² b)`.
+fn law(l: Option<PowerLaw>) -> String {
+    l.map_or("too few sizes to fit".into(), |l| {
+        format!("N^{:.2} (R² {:.2})", l.exponent, l.r2)
+    })
+}
+
+/// Truth on `gamma,density,box,seed` in this process.
 fn one_system(spec: &str) -> Result<TruthRow> {
     let bad = || {
         Error::Parameter(format!(
-            "--truth-system wants density,box,seed, got {spec:?}"
+            "--truth-system wants gamma,density,box,seed, got {spec:?}"
         ))
     };
-    let [density, l, seed] = spec.split(',').collect::<Vec<_>>()[..] else {
+    let [gamma, density, l, seed] = spec.split(',').collect::<Vec<_>>()[..] else {
         return Err(bad());
     };
-    bench::measure_truth(
+    bench::measure_truth_at(
+        gamma.trim().parse().map_err(|_| bad())?,
         density.trim().parse().map_err(|_| bad())?,
         l.trim().parse().map_err(|_| bad())?,
         seed.trim().parse().map_err(|_| bad())?,
@@ -393,9 +457,9 @@ fn one_system(spec: &str) -> Result<TruthRow> {
 /// memory is its own: in one long process, pages the allocator kept from
 /// earlier systems would hide what later ones need. (The standard library
 /// cannot read a child's peak memory, so the child reports it.)
-fn in_child(density: f64, l: usize, seed: u64) -> Result<TruthRow> {
+fn in_child(gamma: f64, density: f64, l: usize, seed: u64) -> Result<TruthRow> {
     let exe = std::env::current_exe().map_err(|e| Error::io("rgc", e))?;
-    let spec = format!("{density},{l},{seed}");
+    let spec = format!("{gamma},{density},{l},{seed}");
     let child = Command::new(&exe)
         .args(["bench", "--truth-system", &spec])
         .output()
@@ -459,11 +523,6 @@ fn truth_table(r: &TruthReport, out: &mut String) {
             "(the peak could not be reset before truth: the figures include generation and contact detection)"
         );
     }
-    let law = |l: Option<PowerLaw>| {
-        l.map_or("too few sizes to fit".into(), |l| {
-            format!("N^{:.2} (R² {:.2})", l.exponent, l.r2)
-        })
-    };
     for s in &r.scaling {
         say!(
             out,
