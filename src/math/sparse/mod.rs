@@ -152,7 +152,7 @@ fn factorize<F: Field>(
     }
     let input: usize = rows.iter().map(|r| r.len() * 8 + 24).sum();
     let mut factor_bytes = 0;
-    while let Some(g) = quotient.next() {
+    while let Some(g) = quotient.next_group() {
         let gathered = quotient.gather(g);
         if let Some(limit) = limit {
             let (r, c) = front::size(&gathered, &scratch);

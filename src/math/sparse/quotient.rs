@@ -244,7 +244,7 @@ impl Quotient {
     /// are recomputed lazily, as in the minimum-degree codes that keep
     /// exact degrees: a group whose elements changed is queued again when
     /// it comes up with a larger degree than it was queued with.
-    pub fn next(&mut self) -> Option<u32> {
+    pub fn next_group(&mut self) -> Option<u32> {
         while let Some(Reverse((d, g))) = self.queue.pop() {
             if self.done[g as usize] {
                 continue;
