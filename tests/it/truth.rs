@@ -166,6 +166,98 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
     }
 }
 
+/// Certification rests on truth, so its bodies are checked against two
+/// decisions independent of the one that certified them: an exact truth
+/// from other random draws, and the float path (singular values of float
+/// realizations, no exact arithmetic), on boxes small enough for the float
+/// path's dense rank (L = 2.2). In such small boxes `sound` does compress
+/// bodies that are not rigid (a 320-rod body in two of the three runs at
+/// rho 44, seed 4, rejected by both decisions), which certification splits.
+#[test]
+fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
+    use rgc::engine::{Engine, RuleSet};
+    use rgc::spanning::{Criterion, cluster_spans};
+    let (mut certified_spans, mut sound_refuted) = (0, 0);
+    for (rho, seed) in [(32.0, 1), (36.0, 2), (40.0, 3), (44.0, 4)] {
+        let (sys, contacts, graph) = system(23.0, 2.2, rho, seed);
+        let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+        let topo = Topology::periodic(&graph, &shifts).unwrap();
+        let exact = rgc::truth::of_system(
+            &sys,
+            &contacts,
+            &graph,
+            Criterion::Wrap,
+            TruthOptions::seeded(1000 + seed),
+        );
+        let floats = rgc::truth::truth_in_floats(&topo, TruthOptions::seeded(2000 + seed));
+        assert_eq!(exact.method, Method::Exact);
+        assert_eq!(
+            floats.method,
+            Method::Float,
+            "rho {rho}: {:?}",
+            floats.reason
+        );
+        assert_eq!(floats.dof, exact.dof, "rho {rho}: the float path's DOF");
+        let member = |clusters: &[rgc::truth::Cluster]| {
+            let mut of_rod = vec![Vec::new(); graph.n_nodes()];
+            for (k, c) in clusters.iter().enumerate() {
+                for &r in &c.rods {
+                    of_rod[r as usize].push(k);
+                }
+            }
+            of_rod
+        };
+        let decisions = [
+            (member(&exact.clusters), "exact"),
+            (member(&floats.clusters), "float"),
+        ];
+        let inside = |of_rod: &[Vec<usize>], rods: &[u32]| {
+            of_rod[rods[0] as usize]
+                .iter()
+                .any(|k| rods.iter().all(|r| of_rod[*r as usize].contains(k)))
+        };
+        for (k, run) in Engine::base(RuleSet::Sound)
+            .runs(&graph, seed, 3)
+            .into_iter()
+            .enumerate()
+        {
+            let refuted = |rods: &[u32]| decisions.iter().all(|(of, _)| !inside(of, rods));
+            sound_refuted += run.bodies.iter().filter(|b| refuted(&b.rods)).count();
+            let run =
+                rgc::engine::certify::certify(&topo, run, rgc::engine::run_seed(seed, k as u64));
+            for b in &run.bodies {
+                for (of_rod, by) in &decisions {
+                    assert!(
+                        inside(of_rod, &b.rods),
+                        "rho {rho}: a certified body of {} rods in no {by} cluster",
+                        b.rods.len()
+                    );
+                }
+            }
+            if run
+                .bodies
+                .iter()
+                .any(|b| cluster_spans(&sys, &contacts, &graph, &b.rods, Criterion::Wrap))
+            {
+                certified_spans += 1;
+                assert_eq!(
+                    exact.spanning,
+                    Some(true),
+                    "rho {rho}: certified spans, truth does not"
+                );
+            }
+        }
+    }
+    assert!(
+        certified_spans > 0,
+        "no certified run spanned: the spanning check never ran"
+    );
+    assert!(
+        sound_refuted > 0,
+        "no sound body for certification to split"
+    );
+}
+
 /// Truth is the same with one thread and with two.
 #[test]
 fn truth_is_the_same_for_one_and_two_threads() {
