@@ -23,12 +23,14 @@ mod planes;
 pub mod rods;
 mod stability;
 mod threshold;
+mod transition;
 
 pub use bias::bias_chart;
 pub use compare::{compare_chart, speed_accuracy_chart};
 pub use planes::forced_planes_chart;
 pub use stability::stability_chart;
 pub use threshold::{study_charts, threshold_charts, threshold_vs_vex};
+pub use transition::transition_chart;
 
 /// What drawing on a backend returns.
 type Drawn<DB> = std::result::Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;

@@ -11,4 +11,5 @@ pub mod planes;
 pub mod report;
 pub mod sequence;
 pub mod study;
+pub mod transition;
 pub mod variants;

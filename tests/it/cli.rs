@@ -1540,6 +1540,33 @@ fn a_truth_study_stops_at_the_memory_limit_and_keeps_no_false_record() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A small truth study (gamma 23, boxes 3, 4, 5, six sequences each, seed
+/// 3: about 4 s) written to `dir`; returns what it printed.
+fn small_truth_study(dir: &std::path::Path) -> String {
+    let out = rgc(&[
+        "threshold",
+        "--kind",
+        "truth",
+        "--gamma",
+        "23",
+        "--boxes",
+        "3,4,5",
+        "--sequences",
+        "6",
+        "--seed",
+        "3",
+        "--quiet",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 #[test]
 fn a_truth_study_killed_midway_resumes_to_the_same_summary() {
     // The whole study, then a copy cut after 7 of its 18 records with the
@@ -1548,30 +1575,7 @@ fn a_truth_study_killed_midway_resumes_to_the_same_summary() {
     let root = std::env::temp_dir().join(format!("rgc-cli-resume-truth-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&root);
     let (whole, cut) = (root.join("whole"), root.join("cut"));
-    let run = |dir: &std::path::Path| {
-        let out = rgc(&[
-            "threshold",
-            "--kind",
-            "truth",
-            "--gamma",
-            "23",
-            "--boxes",
-            "3,4,5",
-            "--sequences",
-            "6",
-            "--seed",
-            "3",
-            "--quiet",
-            "--out",
-            dir.to_str().unwrap(),
-        ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    };
+    let run = small_truth_study;
     run(&whole);
     let records = std::fs::read_to_string(whole.join("records.jsonl")).unwrap();
     let lines: Vec<&str> = records.lines().collect();
@@ -1609,5 +1613,76 @@ fn a_truth_study_killed_midway_resumes_to_the_same_summary() {
         v
     };
     assert_eq!(criticals(&whole), criticals(&cut));
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn transition_reports_the_jump_per_box_and_the_share_above_the_threshold() {
+    let root = std::env::temp_dir().join(format!("rgc-cli-transition-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let study = root.join("study");
+    small_truth_study(&study);
+    let prefix = root.join("transition");
+    let v = json(&[
+        "transition",
+        study.to_str().unwrap(),
+        "--bins",
+        "4",
+        "--out",
+        prefix.to_str().unwrap(),
+        "--json",
+    ]);
+    let t = &v[0];
+    assert_eq!(t["gamma"], 23.0);
+    let jumps = t["jumps"].as_array().unwrap();
+    assert_eq!(jumps.len(), 3, "{t}");
+    for j in jumps {
+        let (mean, lo, hi) = (
+            j["mean"].as_f64().unwrap(),
+            j["min"].as_f64().unwrap(),
+            j["max"].as_f64().unwrap(),
+        );
+        assert!(lo <= mean && mean <= hi && hi <= 1.0, "{j}");
+        assert!(j["sequences"].as_u64().unwrap() <= 6);
+        assert!(j["at_critical"].as_f64().unwrap() > mean, "{j}");
+    }
+    let shares = t["shares"].as_array().unwrap();
+    assert!(!shares.is_empty() && shares.len() <= 4);
+    assert!(
+        shares.iter().all(|s| s["box_len"] == 5.0),
+        "the largest box by default"
+    );
+    for ext in ["json", "csv", "svg", "png"] {
+        assert!(root.join(format!("transition.{ext}")).exists(), "{ext}");
+    }
+    let csv = std::fs::read_to_string(root.join("transition.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "a header and a row per box");
+    // Files are not replaced without --force; a compression study has no
+    // largest true clusters.
+    fails(
+        &[
+            "transition",
+            study.to_str().unwrap(),
+            "--out",
+            prefix.to_str().unwrap(),
+        ],
+        "exists",
+    );
+    let spec = std::fs::read_to_string(study.join("study.json")).unwrap();
+    let rigid = root.join("rigid");
+    std::fs::create_dir_all(&rigid).unwrap();
+    std::fs::write(
+        rigid.join("study.json"),
+        spec.replace("\"truth\"", "\"rigid\""),
+    )
+    .unwrap();
+    fails(
+        &["transition", rigid.to_str().unwrap()],
+        "a --kind truth study",
+    );
+    fails(
+        &["transition", study.to_str().unwrap(), "--box", "7"],
+        "box 7 has no records",
+    );
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -56,6 +56,8 @@ enum Command {
     Merge(cmd::merge::MergeArgs),
     /// Finished studies of the same sequences compared sequence by sequence: mean shift of the critical density per box.
     Paired(cmd::paired::PairedArgs),
+    /// The order of the rigidity transition from truth studies: the jump of the largest true cluster at the critical rod per box, and its share of the rods above the threshold.
+    Transition(cmd::transition::TransitionArgs),
     /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same sequences.
     Compare(cmd::compare::CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
@@ -106,6 +108,7 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Threshold(a) => cmd::threshold::run(a, out),
         Command::Merge(a) => cmd::merge::run(a, out),
         Command::Paired(a) => cmd::paired::run(a, out),
+        Command::Transition(a) => cmd::transition::run(a, out),
         Command::Compare(a) => cmd::compare::run(a, out),
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),

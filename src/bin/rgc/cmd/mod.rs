@@ -31,7 +31,26 @@ pub mod sample;
 pub mod stability;
 pub mod threshold;
 pub mod tradeoff;
+pub mod transition;
 pub mod truth;
+
+/// Refuses to replace `PREFIX.ext` for any of `exts` unless `force`: an
+/// exploratory run never silently replaces committed results.
+fn refuse_existing(prefix: &std::path::Path, exts: &[&str], force: bool) -> Result<()> {
+    if force {
+        return Ok(());
+    }
+    for ext in exts {
+        let path = std::path::PathBuf::from(format!("{}.{ext}", prefix.display()));
+        if path.exists() {
+            return Err(rgc::Error::Parameter(format!(
+                "{} exists; choose another --out, or --force to replace it",
+                path.display()
+            )));
+        }
+    }
+    Ok(())
+}
 
 fn print_json(value: &impl Serialize, out: &mut String) -> Result<()> {
     let text = serde_json::to_string_pretty(value).expect("reports serialize");

@@ -30,18 +30,8 @@ pub fn run(a: PairedArgs, out: &mut String) -> Result<()> {
             a.dirs.len()
         )));
     }
-    if let Some(prefix) = &a.out
-        && !a.force
-    {
-        for ext in ["json", "csv"] {
-            let path = PathBuf::from(format!("{}.{ext}", prefix.display()));
-            if path.exists() {
-                return Err(Error::Parameter(format!(
-                    "{} exists; choose another --out, or --force to replace it",
-                    path.display()
-                )));
-            }
-        }
+    if let Some(prefix) = &a.out {
+        super::refuse_existing(prefix, &["json", "csv"], a.force)?;
     }
     let pairings = a
         .dirs

@@ -1,0 +1,101 @@
+//! `rgc transition`: the order of the rigidity transition from truth
+//! studies (the jump of the largest true cluster at the critical rod, and
+//! its share of the rods above the threshold).
+
+use std::path::PathBuf;
+
+use clap::Args;
+use rgc::Result;
+use rgc::plot;
+use rgc::threshold::transition::{self, Transition};
+
+#[derive(Args)]
+pub struct TransitionArgs {
+    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress.
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// The box of the P_inf curve [default: each study's largest box with records].
+    #[arg(long = "box")]
+    box_len: Option<f64>,
+    /// Density bins of the P_inf curve.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=100))]
+    bins: u64,
+    /// Write PREFIX.json, PREFIX.csv, PREFIX.svg and PREFIX.png.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Replace those files if they exist.
+    #[arg(long)]
+    force: bool,
+    /// Print the transitions as JSON and nothing else.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
+    let with = |prefix: &PathBuf, ext: &str| PathBuf::from(format!("{}.{ext}", prefix.display()));
+    if let Some(prefix) = &a.out {
+        super::refuse_existing(prefix, &["json", "csv", "svg", "png"], a.force)?;
+    }
+    let all = a
+        .dirs
+        .iter()
+        .map(|d| transition::of_dir(d, a.box_len, a.bins as usize))
+        .collect::<Result<Vec<Transition>>>()?;
+    let mut files = Vec::new();
+    if let Some(prefix) = &a.out {
+        files = transition::write(prefix, &all, &super::command_line())?;
+        let (svg, png) = (with(prefix, "svg"), with(prefix, "png"));
+        plot::transition_chart(&all, &svg, &png)?;
+        files.extend([svg, png]);
+    }
+    if a.json {
+        return super::print_json(&all, out);
+    }
+    for t in &all {
+        say!(out, "{} (gamma {}):", t.study, t.gamma);
+        say!(
+            out,
+            "{:>6} {:>9} {:>22} {:>8} {:>8} {:>13}",
+            "box",
+            "sequences",
+            "jump (95%)",
+            "min",
+            "max",
+            "at critical"
+        );
+        for j in &t.jumps {
+            say!(
+                out,
+                "{:>6} {:>9} {:>12.4} +- {:<6.4} {:>8.4} {:>8.4} {:>13.4}",
+                j.box_len,
+                j.sequences,
+                j.mean,
+                j.half_width,
+                j.min,
+                j.max,
+                j.at_critical
+            );
+        }
+        if let Some(first) = t.shares.first() {
+            say!(
+                out,
+                "largest cluster's share at spanning steps, L = {}:",
+                first.box_len
+            );
+            for s in &t.shares {
+                say!(
+                    out,
+                    "  density {:>8.3}: {:.4} (sd {:.4}, {} steps)",
+                    s.density,
+                    s.mean,
+                    s.sd,
+                    s.steps
+                );
+            }
+        }
+    }
+    for f in &files {
+        say!(out, "wrote {}", f.display());
+    }
+    Ok(())
+}
