@@ -8,7 +8,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, colour, error_bars, legend, render, span, tick};
+use super::chart::{Chart, Drawn, colour, error_bars, legend, render, span, tick};
 use crate::threshold::bias::VariantBias;
 use crate::{Error, Result};
 

@@ -10,7 +10,7 @@ use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{Chart, Drawn, RHO, colour, error_bars, log_ticks, render, span, tick};
+use super::chart::{Chart, Drawn, RHO, colour, error_bars, log_ticks, render, span, tick};
 use crate::threshold::fss::Estimate;
 use crate::threshold::variants::VariantOutcome;
 use crate::{Error, Result};

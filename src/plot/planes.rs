@@ -8,7 +8,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, colour, error_bars, legend, render, span};
+use super::chart::{Chart, Drawn, colour, error_bars, legend, render, span};
 use crate::threshold::planes::GammaScan;
 use crate::{Error, Result};
 

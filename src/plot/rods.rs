@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, colour, render};
+use super::chart::{Chart, Drawn, colour, render};
 use crate::rods::RodSystem;
 use crate::sample::ReportedBodies;
 use crate::spanning::Criterion;

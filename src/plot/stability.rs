@@ -5,7 +5,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, render};
+use super::chart::{Chart, Drawn, render};
 use crate::Result;
 use crate::math::float::RankRule;
 use crate::rigidity::Method;

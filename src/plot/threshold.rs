@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, RHO, colour, error_bars, legend, log_ticks, render, show, span, tick};
+use super::chart::{
+    Chart, Drawn, RHO, colour, error_bars, legend, log_ticks, render, show, span, tick,
+};
 use crate::threshold::aspect::{PowerLaw, VexFit};
 use crate::threshold::fss::{self, BoxData, Estimate, Fss, Protocol};
 use crate::threshold::report::StudyReport;

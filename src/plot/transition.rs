@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Chart, Drawn, error_bars, render};
+use super::chart::{Chart, Drawn, error_bars, render};
 use crate::Result;
 use crate::threshold::transition::Transition;
 
@@ -78,7 +78,7 @@ fn jumps<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) 
             .label(format!("gamma {}", t.gamma))
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
     }
-    super::legend(&mut chart, SeriesLabelPosition::UpperRight)
+    super::chart::legend(&mut chart, SeriesLabelPosition::UpperRight)
 }
 
 fn shares<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) -> Drawn<DB> {
@@ -118,5 +118,5 @@ fn shares<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition])
                 .map(|s| Circle::new((s.density, s.mean), 3, c.filled())),
         )?;
     }
-    super::legend(&mut chart, SeriesLabelPosition::LowerRight)
+    super::chart::legend(&mut chart, SeriesLabelPosition::LowerRight)
 }
