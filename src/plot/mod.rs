@@ -9,6 +9,7 @@
 mod bias;
 mod chart;
 mod compare;
+mod paired;
 mod planes;
 pub mod rods;
 mod stability;
@@ -16,6 +17,7 @@ mod threshold;
 mod transition;
 pub use bias::bias_chart;
 pub use compare::{compare_chart, speed_accuracy_chart};
+pub use paired::paired_chart;
 pub use planes::forced_planes_chart;
 pub use stability::stability_chart;
 pub use threshold::{study_charts, threshold_charts, threshold_vs_vex};

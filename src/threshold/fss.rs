@@ -92,7 +92,7 @@ impl Default for FssOptions {
 
 /// A point estimate with its bootstrap percentile interval (absent without
 /// bootstrap or when no resample succeeded).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Estimate {
     pub value: f64,
     pub lo: Option<f64>,

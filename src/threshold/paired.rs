@@ -65,6 +65,12 @@ pub struct Difference {
     pub mean: Estimate,
     /// The same in mean contact number units (times the excluded volume).
     pub mean_vex: Estimate,
+    /// The reference's mean critical density over these sequences.
+    #[serde(default)]
+    pub reference_mean: f64,
+    /// The shift as a share of `reference_mean` (0.18 is 18% above it).
+    #[serde(default)]
+    pub relative: Estimate,
     /// Sequences where the other study first spans below the reference, and above it.
     pub below: usize,
     pub above: usize,
@@ -74,16 +80,18 @@ impl Difference {
     /// Of the pairs, from two on.
     pub fn of(box_len: Option<f64>, pairs: &[(f64, f64)], gamma: f64) -> Option<Difference> {
         let mean = mean_interval(&pairs.iter().map(|(r, o)| o - r).collect::<Vec<_>>())?;
-        let vex = excluded_volume(gamma);
-        let scale = |x: f64| x * vex;
+        let reference_mean = pairs.iter().map(|(r, _)| r).sum::<f64>() / pairs.len() as f64;
+        let scaled = |k: f64| Estimate {
+            value: k * mean.value,
+            lo: mean.lo.map(|x| k * x),
+            hi: mean.hi.map(|x| k * x),
+        };
         Some(Difference {
             box_len,
             sequences: pairs.len(),
-            mean_vex: Estimate {
-                value: scale(mean.value),
-                lo: mean.lo.map(scale),
-                hi: mean.hi.map(scale),
-            },
+            mean_vex: scaled(excluded_volume(gamma)),
+            reference_mean,
+            relative: scaled(1.0 / reference_mean),
             mean,
             below: pairs.iter().filter(|(r, o)| o < r).count(),
             above: pairs.iter().filter(|(r, o)| o > r).count(),
@@ -162,6 +170,18 @@ pub struct Pairing {
     pub comparison: Comparison,
 }
 
+impl Pairing {
+    /// `other - reference`, each by its directory's name.
+    pub fn label(&self) -> String {
+        let name = |p: &str| {
+            Path::new(p)
+                .file_name()
+                .map_or(p.to_string(), |n| n.to_string_lossy().into_owned())
+        };
+        format!("{} - {}", name(&self.other), name(&self.reference))
+    }
+}
+
 /// Reads the studies in `reference` and `other` and compares them.
 pub fn of_dirs(reference: &Path, other: &Path) -> Result<Pairing> {
     let read = |dir: &Path| -> Result<(StudySpec, Vec<Record>)> {
@@ -199,19 +219,27 @@ struct Row<'a> {
     lo_vex: Option<f64>,
     #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
     hi_vex: Option<f64>,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    reference_mean: f64,
+    #[serde(serialize_with = "cell::fixed::<6, _>")]
+    relative: f64,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    relative_lo: Option<f64>,
+    #[serde(serialize_with = "cell::fixed_opt::<6, _>")]
+    relative_hi: Option<f64>,
     below: usize,
     above: usize,
 }
 
-/// Writes `PREFIX.json` (with the command that made it) and `PREFIX.csv`
-/// atomically; the paths written.
+/// Writes `PREFIX.json` (with the command that made it), `PREFIX.csv` and
+/// `PREFIX.md` atomically; the paths written.
 pub fn write(prefix: &Path, pairings: &[Pairing], command: &str) -> Result<Vec<PathBuf>> {
     let with = |ext: &str| {
         let mut name = prefix.as_os_str().to_owned();
         name.push(format!(".{ext}"));
         PathBuf::from(name)
     };
-    let (json, csv) = (with("json"), with("csv"));
+    let (json, csv, md) = (with("json"), with("csv"), with("md"));
     let doc = serde_json::json!({ "command": command, "pairings": pairings });
     output::write_atomic(
         &json,
@@ -231,12 +259,58 @@ pub fn write(prefix: &Path, pairings: &[Pairing], command: &str) -> Result<Vec<P
             mean_vex: d.mean_vex.value,
             lo_vex: d.mean_vex.lo,
             hi_vex: d.mean_vex.hi,
+            reference_mean: d.reference_mean,
+            relative: d.relative.value,
+            relative_lo: d.relative.lo,
+            relative_hi: d.relative.hi,
             below: d.below,
             above: d.above,
         })
     });
     output::write_csv(&csv, rows)?;
-    Ok(vec![json, csv])
+    output::write_atomic(&md, markdown(pairings, command))?;
+    Ok(vec![json, csv, md])
+}
+
+/// One table per pairing: the shift per box and over all boxes, in density,
+/// in `rho V_ex` and as a share of the reference, with the sequences that
+/// moved down and up.
+pub fn markdown(pairings: &[Pairing], command: &str) -> String {
+    let interval = |e: &Estimate, k: f64, digits: usize| match (e.lo, e.hi) {
+        (Some(lo), Some(hi)) => format!(
+            "{:+.digits$} [{:+.digits$}, {:+.digits$}]",
+            k * e.value,
+            k * lo,
+            k * hi
+        ),
+        _ => format!("{:+.digits$}", k * e.value),
+    };
+    let mut s = String::from("# Paired shifts of the critical density\n\n");
+    s += "Each study minus its reference on the same sequences (same seed, same rods): the mean shift of the critical density with a 95% normal interval (1.96 sd / sqrt n), the same in `rho V_ex`, as a share of the reference's mean critical density, and the sequences that moved down and up. Sequences either study left undecided are left out.\n\n";
+    s += &format!("Made by `{command}`.\n");
+    for p in pairings {
+        let c = &p.comparison;
+        s += &format!(
+            "\n## {} (gamma {}, seed {})\n\n| box | sequences | reference mean | shift | shift x V_ex | share | below | above |\n|---|---|---|---|---|---|---|---|\n",
+            p.label(),
+            c.gamma,
+            c.seed
+        );
+        for d in c.boxes.iter().chain([&c.all]) {
+            s += &format!(
+                "| {} | {} | {:.3} | {} | {} | {}% | {} | {} |\n",
+                d.box_len.map_or("all".into(), |l| l.to_string()),
+                d.sequences,
+                d.reference_mean,
+                interval(&d.mean, 1.0, 3),
+                interval(&d.mean_vex, 1.0, 4),
+                interval(&d.relative, 100.0, 1),
+                d.below,
+                d.above
+            );
+        }
+    }
+    s
 }
 
 #[cfg(test)]
@@ -340,7 +414,40 @@ mod tests {
         assert!(close(d.mean_vex.value, vex));
         assert!(close(d.mean_vex.lo.unwrap(), (1.0 - half) * vex));
         assert!(close(d.mean_vex.hi.unwrap(), (1.0 + half) * vex));
+        // References 1, 2, 3, 0: mean 1.5, so the shift is 2/3 of it.
+        assert_eq!(d.reference_mean, 1.5);
+        assert!(close(d.relative.value, 1.0 / 1.5));
+        assert!(close(d.relative.lo.unwrap(), (1.0 - half) / 1.5));
+        assert!(close(d.relative.hi.unwrap(), (1.0 + half) / 1.5));
         assert_eq!(Difference::of(None, &pairs[..1], 10.0), None);
+    }
+
+    #[test]
+    fn the_markdown_has_one_row_per_box_and_one_for_all() {
+        let d = |box_len| Difference::of(box_len, &[(10.0, 11.0), (10.0, 13.0)], 10.0).unwrap();
+        let pairing = Pairing {
+            reference: "results/g10-truth".into(),
+            other: "results/g10-rigid-sound".into(),
+            comparison: Comparison {
+                gamma: 10.0,
+                seed: 1,
+                boxes: vec![d(Some(4.0)), d(Some(5.0))],
+                all: d(None),
+            },
+        };
+        assert_eq!(pairing.label(), "g10-rigid-sound - g10-truth");
+        let md = markdown(&[pairing], "rgc paired a b");
+        assert!(md.contains("Made by `rgc paired a b`."), "{md}");
+        assert!(
+            md.contains("## g10-rigid-sound - g10-truth (gamma 10, seed 1)"),
+            "{md}"
+        );
+        // Shifts 1 and 3: mean 2, sd sqrt 2, half-width 1.96; 20% of 10.
+        let row = "| 4 | 2 | 10.000 | +2.000 [+0.040, +3.960] |";
+        assert!(md.contains(row), "{md}");
+        assert!(md.contains("| +20.0 [+0.4, +39.6]% | 0 | 2 |"), "{md}");
+        assert_eq!(md.matches("| all | 2 |").count(), 1, "{md}");
+        assert_eq!(md.lines().filter(|l| l.starts_with("| ")).count(), 4);
     }
 
     #[test]

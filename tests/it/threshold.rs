@@ -643,6 +643,18 @@ fn paired_differences_compare_the_same_sequences() {
     assert!(crate::cli::rgc(&args).status.success());
     let csv = std::fs::read_to_string(root.join("paired.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3 + 1);
+    // The table and the chart: a row per box and one over all boxes.
+    let md = std::fs::read_to_string(root.join("paired.md")).unwrap();
+    assert_eq!(
+        md.lines().filter(|l| l.starts_with("| ")).count(),
+        1 + 3 + 1
+    );
+    for ext in ["svg", "png"] {
+        let bytes = std::fs::metadata(root.join(format!("paired.{ext}")))
+            .unwrap()
+            .len();
+        assert!(bytes > 1000, "paired.{ext}: {bytes} bytes");
+    }
     let o = crate::cli::rgc(&args);
     assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
     std::fs::remove_dir_all(root).unwrap();

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use rgc::plot;
 use rgc::threshold::paired::{self, Difference};
 use rgc::{Error, Result};
 
@@ -12,10 +13,10 @@ pub struct PairedArgs {
     /// Study directories in pairs: REFERENCE OTHER [REFERENCE OTHER ...].
     #[arg(required = true, num_args = 2..)]
     dirs: Vec<PathBuf>,
-    /// Write PREFIX.json and PREFIX.csv.
+    /// Write PREFIX.json, PREFIX.csv, PREFIX.md, PREFIX.svg and PREFIX.png.
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Replace PREFIX.json and PREFIX.csv if they exist.
+    /// Replace those files if they exist.
     #[arg(long)]
     force: bool,
     /// Print the pairings as JSON and nothing else.
@@ -31,17 +32,21 @@ pub fn run(a: PairedArgs, out: &mut String) -> Result<()> {
         )));
     }
     if let Some(prefix) = &a.out {
-        super::refuse_existing(prefix, &["json", "csv"], a.force)?;
+        super::refuse_existing(prefix, &["json", "csv", "md", "svg", "png"], a.force)?;
     }
     let pairings = a
         .dirs
         .chunks(2)
         .map(|p| paired::of_dirs(&p[0], &p[1]))
         .collect::<Result<Vec<_>>>()?;
-    let files = match &a.out {
-        Some(prefix) => paired::write(prefix, &pairings, &super::command_line())?,
-        None => Vec::new(),
-    };
+    let mut files = Vec::new();
+    if let Some(prefix) = &a.out {
+        files = paired::write(prefix, &pairings, &super::command_line())?;
+        let with = |ext: &str| PathBuf::from(format!("{}.{ext}", prefix.display()));
+        let (svg, png) = (with("svg"), with("png"));
+        plot::paired_chart(&pairings, &svg, &png)?;
+        files.extend([svg, png]);
+    }
     if a.json {
         return super::print_json(&pairings, out);
     }
@@ -63,11 +68,12 @@ pub fn run(a: PairedArgs, out: &mut String) -> Result<()> {
         );
         say!(
             out,
-            "{:>6} {:>9} {:>30} {:>30} {:>6} {:>6}",
+            "{:>6} {:>9} {:>30} {:>30} {:>8} {:>6} {:>6}",
             "box",
             "sequences",
             "rho (95%)",
             "rho V_ex (95%)",
+            "share",
             "below",
             "above"
         );
@@ -75,10 +81,11 @@ pub fn run(a: PairedArgs, out: &mut String) -> Result<()> {
             let b = d.box_len.map_or("all".into(), |l| l.to_string());
             say!(
                 out,
-                "{b:>6} {:>9} {:>30} {:>30} {:>6} {:>6}",
+                "{b:>6} {:>9} {:>30} {:>30} {:>7.1}% {:>6} {:>6}",
                 d.sequences,
                 interval(d, false),
                 interval(d, true),
+                100.0 * d.relative.value,
                 d.below,
                 d.above
             );
