@@ -20,5 +20,5 @@ pub use compare::{compare_chart, speed_accuracy_chart};
 pub use paired::paired_chart;
 pub use planes::forced_planes_chart;
 pub use stability::stability_chart;
-pub use threshold::{study_charts, threshold_charts, threshold_vs_vex};
+pub use threshold::{VexSeries, study_charts, threshold_charts, threshold_vs_vex};
 pub use transition::transition_chart;

@@ -390,37 +390,43 @@ impl Chart for Width<'_> {
     }
 }
 
-/// Draws thresholds against `1/V_ex` across aspect ratios, `points` as
-/// `(gamma, 1/V_ex, threshold)`, on log-log axes with the two fits of the
-/// paper's Fig. D that [`crate::threshold::aspect::fit`] made of them.
+/// Draws thresholds against `1/V_ex` on log-log axes: each series (one kind
+/// of study, with its label) in its own colour, with its intervals, its fit
+/// at exponent 1 (dashed) and its free power law.
 pub fn threshold_vs_vex(
-    points: &[(f64, f64, Estimate)],
-    fit: &VexFit,
+    series: &[VexSeries<'_>],
     title: &str,
     svg: &Path,
     png: &Path,
 ) -> Result<()> {
-    if points.is_empty() {
+    if series.iter().all(|s| s.points.is_empty()) {
         return Err(Error::Parameter(
             "no thresholds to plot against 1/V_ex".into(),
         ));
     }
-    render(&Vex { title, points, fit }, SIZE, svg, png)
+    render(&Vex { title, series }, SIZE, svg, png)
+}
+
+/// One kind of threshold on the `1/V_ex` chart.
+pub struct VexSeries<'a> {
+    pub label: &'a str,
+    /// `(gamma, 1/V_ex, threshold)`.
+    pub points: &'a [(f64, f64, Estimate)],
+    pub fit: &'a VexFit,
 }
 
 struct Vex<'a> {
     title: &'a str,
-    points: &'a [(f64, f64, Estimate)],
-    fit: &'a VexFit,
+    series: &'a [VexSeries<'a>],
 }
 
 impl Chart for Vex<'_> {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
         root.fill(&WHITE)?;
-        let (x0, x1) = span(self.points.iter().map(|p| p.1), 0.0);
+        let points = || self.series.iter().flat_map(|s| s.points.iter());
+        let (x0, x1) = span(points().map(|p| p.1), 0.0);
         let (y0, y1) = span(
-            self.points
-                .iter()
+            points()
                 .flat_map(|p| [Some(p.2.value), p.2.lo, p.2.hi])
                 .flatten(),
             0.0,
@@ -445,49 +451,67 @@ impl Chart for Vex<'_> {
             .axis_desc_style(("sans-serif", 18))
             .draw()?;
         let ends = |f: &dyn Fn(f64) -> f64| vec![(x0, f(x0)), (x1, f(x1))];
-        let black = BLACK.stroke_width(2);
-        let c = self.fit.fixed;
-        chart
-            .draw_series(DashedLineSeries::new(ends(&|x| c * x), 4, 6, black))?
-            .label(format!("ρc = {c:.3} / V_ex (exponent fixed to 1)"))
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (6, 0)], black)
-                    + PathElement::new(vec![(12, 0), (18, 0)], black)
-            });
-        if let Some(PowerLaw {
-            a,
-            m,
-            m_interval,
-            r2,
-        }) = self.fit.free
-        {
-            let grey = RGBColor(128, 128, 128).stroke_width(3);
-            let m_text = m_interval.map_or(format!("{m:.3}"), |(lo, hi)| {
-                format!("{m:.3} [{lo:.3}, {hi:.3}]")
+        for (i, s) in self.series.iter().enumerate() {
+            let c = colour(i);
+            let dashed = c.stroke_width(2);
+            let k = s.fit.fixed;
+            let k_text = s.fit.fixed_interval.map_or(format!("{k:.3}"), |(lo, hi)| {
+                format!("{k:.3} [{lo:.3}, {hi:.3}]")
             });
             chart
-                .draw_series(LineSeries::new(ends(&|x| a * x.powf(m)), grey))?
+                .draw_series(DashedLineSeries::new(ends(&|x| k * x), 4, 6, dashed))?
                 .label(format!(
-                    "ρc = {a:.3} (1/V_ex)^m, m = {m_text}, R² = {r2:.4}"
+                    "{}: ρc = {k_text} / V_ex (exponent fixed to 1)",
+                    s.label
                 ))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
+                .legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (6, 0)], dashed)
+                        + PathElement::new(vec![(12, 0), (18, 0)], dashed)
+                });
+            if let Some(PowerLaw {
+                a,
+                m,
+                m_interval,
+                r2,
+            }) = s.fit.free
+            {
+                let line = c.mix(0.45).stroke_width(3);
+                let m_text = m_interval.map_or(format!("{m:.3}"), |(lo, hi)| {
+                    format!("{m:.3} [{lo:.3}, {hi:.3}]")
+                });
+                chart
+                    .draw_series(LineSeries::new(ends(&|x| a * x.powf(m)), line))?
+                    .label(format!(
+                        "{}: ρc = {a:.3} (1/V_ex)^m, m = {m_text}, R² = {r2:.4}",
+                        s.label
+                    ))
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], line));
+            }
+            let bars = s
+                .points
+                .iter()
+                .filter_map(|p| Some((p.1, p.2.lo?, p.2.hi?)));
+            error_bars(&mut chart, bars, c.to_rgba(), 5)?;
+            chart
+                .draw_series(
+                    s.points
+                        .iter()
+                        .map(|p| Circle::new((p.1, p.2.value), 6, c.filled())),
+                )?
+                .label(format!("{}: threshold with its interval", s.label))
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
         }
-        let blue = colour(0);
-        let bars = self
-            .points
-            .iter()
-            .filter_map(|p| Some((p.1, p.2.lo?, p.2.hi?)));
-        error_bars(&mut chart, bars, blue.to_rgba(), 5)?;
-        chart
-            .draw_series(
-                self.points
-                    .iter()
-                    .map(|p| Circle::new((p.1, p.2.value), 6, blue.filled())),
-            )?
-            .label("threshold with its interval")
-            .legend(move |(x, y)| Circle::new((x + 10, y), 5, blue.filled()));
-        chart.draw_series(self.points.iter().map(|p| {
+        // Each aspect ratio is named once, under its first point.
+        let mut named: Vec<f64> = Vec::new();
+        let labelled: Vec<_> = points()
+            .filter(|p| {
+                let fresh = !named.contains(&p.0);
+                named.push(p.0);
+                fresh
+            })
+            .collect();
+        chart.draw_series(labelled.iter().map(|p| {
             Text::new(
                 format!("γ = {}", p.0),
                 (p.1 * 1.06, p.2.value * 0.9),

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::{DMatrix, DVector};
 use serde::{Serialize, Serializer};
 
-use super::fss::Estimate;
+use super::fss::{ContactFits, Estimate, LinearFit};
 use super::report::Summary;
 use super::sequence::Kind;
 use crate::{Error, Result};
@@ -35,6 +35,7 @@ pub struct AspectRow {
     pub nu: f64,
     /// The study directory, as given.
     pub study: String,
+    pub kind: Kind,
 }
 
 impl AspectRow {
@@ -70,12 +71,80 @@ pub struct VexFit {
     pub free: Option<PowerLaw>,
 }
 
+/// Maxwell's isostatic count for rods: a rod has 5 degrees of freedom and
+/// a contact removes 3 shared by two rods, so `5 = 3c/2` at `c = 10/3`. It
+/// counts the contacts of rods that can bear load, the 2-core's `c2`.
+pub const MAXWELL: f64 = 10.0 / 3.0;
+
+/// The mean contact numbers at a study's threshold: each the line fitted to
+/// its sequences' contact points, evaluated at the threshold (the interval
+/// is the line at the ends of the threshold's interval), over all boxes
+/// (`box_len` empty) or in one.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ContactRow {
+    pub kind: Kind,
+    #[serde(serialize_with = "plain")]
+    pub gamma: f64,
+    #[serde(rename = "box", serialize_with = "plain_or_empty")]
+    pub box_len: Option<f64>,
+    pub points: usize,
+    #[serde(serialize_with = "six")]
+    pub c0: f64,
+    #[serde(serialize_with = "six_or_empty")]
+    pub c0_lo: Option<f64>,
+    #[serde(serialize_with = "six_or_empty")]
+    pub c0_hi: Option<f64>,
+    #[serde(serialize_with = "six")]
+    pub c1: f64,
+    #[serde(serialize_with = "six_or_empty")]
+    pub c1_lo: Option<f64>,
+    #[serde(serialize_with = "six_or_empty")]
+    pub c1_hi: Option<f64>,
+    #[serde(serialize_with = "six")]
+    pub c2: f64,
+    #[serde(serialize_with = "six_or_empty")]
+    pub c2_lo: Option<f64>,
+    #[serde(serialize_with = "six_or_empty")]
+    pub c2_hi: Option<f64>,
+    /// `c2 - 10/3`: below zero, the threshold lies below Maxwell's count.
+    #[serde(serialize_with = "six")]
+    pub c2_minus_maxwell: f64,
+}
+
+impl ContactRow {
+    fn of(kind: Kind, gamma: f64, f: &ContactFits) -> ContactRow {
+        let e = |l: &LinearFit| l.at_threshold;
+        let (c0, c1, c2) = (e(&f.c0), e(&f.c1), e(&f.c2));
+        // The interval is the line at the threshold's ends: order it.
+        let lo = |e: Estimate| e.lo.zip(e.hi).map(|(a, b)| a.min(b));
+        let hi = |e: Estimate| e.lo.zip(e.hi).map(|(a, b)| a.max(b));
+        ContactRow {
+            kind,
+            gamma,
+            box_len: f.box_len,
+            points: f.points,
+            c0: c0.value,
+            c0_lo: lo(c0),
+            c0_hi: hi(c0),
+            c1: c1.value,
+            c1_lo: lo(c1),
+            c1_hi: hi(c1),
+            c2: c2.value,
+            c2_lo: lo(c2),
+            c2_hi: hi(c2),
+            c2_minus_maxwell: c2.value - MAXWELL,
+        }
+    }
+}
+
 /// Finished studies of one kind at several aspect ratios, and their fits.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AspectRatios {
     pub kind: Kind,
     pub rows: Vec<AspectRow>,
     pub fit: VexFit,
+    /// Contact numbers at each study's threshold, over all boxes, then per box.
+    pub contacts: Vec<ContactRow>,
 }
 
 impl AspectRatios {
@@ -95,6 +164,7 @@ fn points(rows: &[AspectRow]) -> Vec<(f64, f64, Estimate)> {
 /// contact and a rigidity threshold do not go on one line) and fits them.
 pub fn read(studies: &[PathBuf]) -> Result<AspectRatios> {
     let mut rows = Vec::new();
+    let mut contacts = Vec::new();
     let mut kind = None;
     for dir in studies {
         let path = dir.join("summary.json");
@@ -112,6 +182,10 @@ pub fn read(studies: &[PathBuf]) -> Result<AspectRatios> {
             )));
         }
         kind = Some(s.study.kind);
+        if let Some(c) = &s.fss.contact_numbers {
+            let of = |f| ContactRow::of(s.study.kind, s.study.gamma, f);
+            contacts.extend([&c.pooled].into_iter().chain(&c.per_box).map(of));
+        }
         let t = s.fss.threshold;
         rows.push(AspectRow {
             gamma: s.study.gamma,
@@ -122,12 +196,14 @@ pub fn read(studies: &[PathBuf]) -> Result<AspectRatios> {
             threshold_times_vex: s.threshold_times_vex,
             nu: s.fss.nu.value,
             study: dir.display().to_string(),
+            kind: s.study.kind,
         });
     }
     Ok(AspectRatios {
         kind: kind.unwrap_or_default(),
         fit: fit(&points(&rows))?,
         rows,
+        contacts,
     })
 }
 
@@ -198,20 +274,40 @@ pub fn fit(points: &[(f64, f64, Estimate)]) -> Result<VexFit> {
     })
 }
 
-/// The studies and both fits, as `rgc aspect-ratios` writes them.
+/// One kind's studies, their fits and contact numbers, as `rgc
+/// aspect-ratios` writes them.
 #[derive(Serialize)]
 struct AspectFile<'a> {
     kind: Kind,
     rows: &'a [AspectRow],
     fit: &'a VexFit,
+    contacts: &'a [ContactRow],
+    /// Studies of other kinds drawn beside these.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    beside: Vec<AspectFile<'a>>,
 }
 
-/// Writes the rows and the fits as JSON.
-pub fn write_json(path: &Path, r: &AspectRatios) -> Result<()> {
+impl<'a> AspectFile<'a> {
+    fn of(r: &'a AspectRatios) -> Self {
+        AspectFile {
+            kind: r.kind,
+            rows: &r.rows,
+            fit: &r.fit,
+            contacts: &r.contacts,
+            beside: Vec::new(),
+        }
+    }
+}
+
+/// Writes the rows, fits and contact numbers of `all[0]` as JSON, with the
+/// other kinds' (drawn beside them) under `beside`.
+pub fn write_json(path: &Path, all: &[AspectRatios]) -> Result<()> {
+    let Some((first, rest)) = all.split_first() else {
+        return Err(Error::Parameter("no thresholds to write".into()));
+    };
     let file = AspectFile {
-        kind: r.kind,
-        rows: &r.rows,
-        fit: &r.fit,
+        beside: rest.iter().map(AspectFile::of).collect(),
+        ..AspectFile::of(first)
     };
     crate::output::write_atomic(
         path,
@@ -222,6 +318,43 @@ pub fn write_json(path: &Path, r: &AspectRatios) -> Result<()> {
 /// Writes the rows as CSV with a header (fields quoted where they need it).
 pub fn write_csv(path: &Path, rows: &[AspectRow]) -> Result<()> {
     crate::output::write_csv(path, rows)
+}
+
+/// Writes the contact numbers at every threshold as CSV and as a Markdown
+/// table against Maxwell's count.
+pub fn write_contacts(csv: &Path, md: &Path, all: &[AspectRatios]) -> Result<()> {
+    let rows: Vec<&ContactRow> = all.iter().flat_map(|r| &r.contacts).collect();
+    crate::output::write_csv(csv, rows.iter().copied())?;
+    crate::output::write_atomic(md, contacts_markdown(&rows))
+}
+
+/// The contact numbers at each threshold, one row per study and box.
+pub fn contacts_markdown(rows: &[&ContactRow]) -> String {
+    let show = |v: f64, lo: Option<f64>, hi: Option<f64>| match lo.zip(hi) {
+        Some((lo, hi)) => format!("{v:.3} [{lo:.3}, {hi:.3}]"),
+        None => format!("{v:.3}"),
+    };
+    let mut s = String::from("# Mean contact numbers at the threshold\n\n");
+    s += "`c0` over all rods, `c1` over rods with a contact, `c2` over the 2-core (rods with two or more contacts after rods with one are pruned, repeatedly): each the line fitted to the sequences' contact points, at the threshold, with the line at the ends of the threshold's interval. Maxwell's isostatic count for rods (5 degrees of freedom per rod, 3 constraints per contact shared by two rods) is `c = 10/3`, and it applies to the rods that can bear load: `c2`.\n\n";
+    s += "| kind | gamma | box | points | c0 | c1 | c2 | c2 - 10/3 |\n|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {:+.3} |\n",
+            match r.kind {
+                Kind::Contact => "contact",
+                Kind::Rigid => "3D-RGC",
+                Kind::Truth => "truth",
+            },
+            r.gamma,
+            r.box_len.map_or("all".into(), |l| l.to_string()),
+            r.points,
+            show(r.c0, r.c0_lo, r.c0_hi),
+            show(r.c1, r.c1_lo, r.c1_hi),
+            show(r.c2, r.c2_lo, r.c2_hi),
+            r.c2_minus_maxwell
+        );
+    }
+    s
 }
 
 /// Six decimals, as the other tables of `results/` print their densities.
@@ -238,6 +371,10 @@ fn plain<S: Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.serialize_str(&x.to_string())
 }
 
+fn plain_or_empty<S: Serializer>(x: &Option<f64>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(&x.map_or(String::new(), |v| v.to_string()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -249,6 +386,37 @@ mod tests {
             hi: None,
         };
         (1.0, inv_vex, e)
+    }
+
+    #[test]
+    fn contact_rows_order_their_intervals_and_measure_from_maxwell() {
+        let line = |value: f64, lo: f64, hi: f64| LinearFit {
+            intercept: 0.0,
+            slope: 0.0,
+            r2: 1.0,
+            at_threshold: Estimate {
+                value,
+                lo: Some(lo),
+                hi: Some(hi),
+            },
+        };
+        // c1 falls with density here: the line at the threshold's low end is its high end.
+        let f = ContactFits {
+            box_len: Some(5.0),
+            points: 7,
+            c0: line(2.6, 2.5, 2.7),
+            c1: line(2.9, 3.0, 2.8),
+            c2: line(3.5, 3.4, 3.6),
+        };
+        let r = ContactRow::of(Kind::Truth, 23.0, &f);
+        assert_eq!((r.c1_lo, r.c1_hi), (Some(2.8), Some(3.0)));
+        assert_eq!((r.c2_lo, r.c2_hi), (Some(3.4), Some(3.6)));
+        assert!((r.c2_minus_maxwell - (3.5 - 10.0 / 3.0)).abs() < 1e-15);
+        let md = contacts_markdown(&[&r]);
+        assert!(
+            md.contains("| truth | 23 | 5 | 7 | 2.600 [2.500, 2.700] | 2.900 [2.800, 3.000] | 3.500 [3.400, 3.600] | +0.167 |"),
+            "{md}"
+        );
     }
 
     #[test]
@@ -321,6 +489,7 @@ mod tests {
             threshold_times_vex: 1.5,
             nu: 0.9,
             study: "runs/a,b".into(),
+            kind: Kind::Truth,
         };
         let path = std::env::temp_dir().join(format!("rgc-aspect-{}.csv", std::process::id()));
         write_csv(&path, &[row]).unwrap();
@@ -328,8 +497,8 @@ mod tests {
         std::fs::remove_file(&path).unwrap();
         assert_eq!(
             text,
-            "gamma,inv_vex,threshold,threshold_lo,threshold_hi,threshold_times_vex,nu,study\n\
-             23,0.500000,19.250000,,20.000000,1.500000,0.900000,\"runs/a,b\"\n"
+            "gamma,inv_vex,threshold,threshold_lo,threshold_hi,threshold_times_vex,nu,study,kind\n\
+             23,0.500000,19.250000,,20.000000,1.500000,0.900000,\"runs/a,b\",truth\n"
         );
     }
 }

@@ -665,6 +665,44 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
         svg.contains("Contact threshold against"),
         "a contact study is titled so"
     );
+    // Each study's contact numbers at its threshold, over all boxes and per
+    // box, against Maxwell's count.
+    let contacts = std::fs::read_to_string(base.join("vex-contacts.csv")).unwrap();
+    assert_eq!(contacts.lines().count(), 1 + 2 * (1 + 3), "{contacts}");
+    let md = std::fs::read_to_string(base.join("vex-contacts.md")).unwrap();
+    assert!(md.contains("| contact | 10 | all |"), "{md}");
+    assert!(md.contains("| contact | 20 | 5 |"), "{md}");
+    // Contact percolation sits far below Maxwell's count.
+    assert_eq!(md.matches(" | -").count(), 8, "{md}");
+    // Another kind goes beside, with its own fit, not into the first's.
+    let out = rgc(&[
+        "aspect-ratios",
+        &dirs[0],
+        &dirs[1],
+        "--beside",
+        &dirs[2],
+        "--out",
+        stem.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let both: Value =
+        serde_json::from_str(&std::fs::read_to_string(stem.with_extension("json")).unwrap())
+            .unwrap();
+    assert_eq!(both["fit"], fit["fit"]);
+    assert_eq!(both["beside"][0]["kind"], "rigid");
+    assert_eq!(both["beside"][0]["rows"].as_array().unwrap().len(), 1);
+    let csv = std::fs::read_to_string(stem.with_extension("csv")).unwrap();
+    assert_eq!(
+        csv.lines().filter(|l| l.ends_with(",rigid")).count(),
+        1,
+        "{csv}"
+    );
+    let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+    assert!(svg.contains("3D-RGC: threshold with its interval"));
     fails(
         &[
             "aspect-ratios",

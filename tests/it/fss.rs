@@ -446,7 +446,12 @@ fn csv_and_charts_are_written() {
     let (svg, png) = (dir.join("vex.svg"), dir.join("vex.png"));
     let title = "Rigidity threshold against the inverse excluded volume";
     let fit = rgc::threshold::aspect::fit(&points).unwrap();
-    rgc::plot::threshold_vs_vex(&points, &fit, title, &svg, &png).unwrap();
+    let series = rgc::plot::VexSeries {
+        label: "3D-RGC",
+        points: &points,
+        fit: &fit,
+    };
+    rgc::plot::threshold_vs_vex(&[series], title, &svg, &png).unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.contains(title), "{text}");
     assert!(std::fs::read(&png).unwrap().len() > 10_000);
