@@ -14,17 +14,21 @@
 //! * [`realize`] — an exact realization over F_p in that order;
 //! * [`matrix`] — the rigidity matrix in body frames, six columns per part;
 //! * [`crate::math::sparse`] — its exact rank and random kernel vectors;
-//! * [`clusters`] — the rigid clusters those vectors imply.
+//! * [`clusters`] — the rigid clusters those vectors imply;
+//! * [`contract`] — those clusters contracted, for the second twin's check.
 //!
 //! Two independent realizations (twins) are ranked; the generic rank is the
 //! larger (Schwartz–Zippel), and they agree except with probability about
-//! `1/p`. Where no rational construction order exists, [`fallback`] decides
+//! `1/p`. The second twin confirms the first's kernel dimension with the
+//! first's clusters contracted, and ranks the whole matrix only where the
+//! two differ. Where no rational construction order exists, [`fallback`] decides
 //! in floats: twin realizations by numerical projection ([`projection`]),
 //! the same matrix ranked by its singular values where they show a clear
 //! gap, clusters from the kernel basis ([`Method::Float`]). Where that is
 //! not clear either, truth answers "undecided" and says why: never a guess.
 
 pub mod clusters;
+pub mod contract;
 pub mod fallback;
 pub mod matrix;
 pub mod order;
@@ -289,23 +293,26 @@ impl Truth {
         self.method != Method::Undecided
     }
 
-    /// Records an elimination stopped for the memory limit (`at_once`
-    /// twins sharing it): undecided, with the front that would pass it.
-    fn refuse(&mut self, e: sparse::Refused, at_once: u64, limit: Option<u64>) {
+    /// Records an elimination stopped for the memory limit: undecided,
+    /// with the front that would pass it.
+    fn refuse(&mut self, e: sparse::Refused, limit: Option<u64>) {
         let limit = limit.expect("a refusal needs a limit");
         self.reason = Some(format!(
-            "its elimination reached a dense front of {} x {} that would take it to about {}{}, over the memory limit of {}",
+            "its elimination reached a dense front of {} x {} that would take it to about {}, over the memory limit of {}",
             e.front.0,
             e.front.1,
-            gib(e.bytes * at_once),
-            if at_once > 1 {
-                " (two twins at once)"
-            } else {
-                ""
-            },
+            gib(e.bytes),
             gib(limit)
         ));
         self.refused = Some(e);
+    }
+
+    /// Records why a twin stopped short of an answer.
+    fn stop(&mut self, stop: Stop, limit: Option<u64>) {
+        match stop {
+            Stop::Memory(e) => self.refuse(e, limit),
+            Stop::Degenerate(why) => self.reason = Some(why),
+        }
     }
 
     /// Records a decided rank of the matrix, the degrees of freedom it
@@ -406,20 +413,14 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
         }
     };
     // Each twin draws its realization from its own stream, and kernel
-    // vectors come from a third, so that the twins can run at once and
-    // nothing depends on how many draws came before.
+    // vectors come from a third, so that nothing depends on how many draws
+    // came before.
     let stream = |k| {
         let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
         rng.set_stream(k);
         rng
     };
     let (mut rng1, mut rng2, mut draws) = (stream(0), stream(2), stream(1));
-    // Twins that run at once hold their fronts at once.
-    let at_once = if opts.twins && rayon::current_num_threads() > 1 {
-        2
-    } else {
-        1
-    };
     let twin = Twin {
         topo,
         planes: &planes,
@@ -427,44 +428,75 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
         order: &order,
         parts: &parts,
         attempts: opts.attempts.max(1),
-        memory_limit: opts.memory_limit.map(|l| l / at_once),
+        memory_limit: opts.memory_limit,
     };
-    // The twin, in the other prime, only checks the rank: its pivot rows
-    // are kept (for kernel vectors) only if it beats the first.
-    let (first, second) = rayon::join(
-        || twin.rank::<Q1>(&mut rng1, Some(&mut draws)),
-        || opts.twins.then(|| twin.rank::<Q2>(&mut rng2, None)),
-    );
-    let (first, second) = match (first, second.transpose()) {
-        (Ok(f), Ok(s)) => (f, s),
-        (Err(Stop::Memory(e)), _) | (_, Err(Stop::Memory(e))) => {
-            out.refuse(e, at_once, opts.memory_limit);
-            return finish(out);
-        }
-        (Err(Stop::Degenerate(why)), _) | (_, Err(Stop::Degenerate(why))) => {
-            out.reason = Some(why);
+    let pruned = core.pruned_motions();
+    let first = match twin.rank::<Q1>(&mut rng1, Some(&mut draws)) {
+        Ok(f) => f,
+        Err(stop) => {
+            out.stop(stop, opts.memory_limit);
             return finish(out);
         }
     };
     out.rows = first.rows.len();
     out.largest_front = Some(first.elim.largest_front);
-    out.twins_agree = second.as_ref().map(|t| t.elim.rank == first.elim.rank);
-    let pruned = core.pruned_motions();
-    match second {
-        Some(t) if t.elim.rank > first.elim.rank => {
-            match twin.eliminate(&t.rows, Some(&mut draws)) {
-                Ok(elim) => {
-                    out.largest_front = Some(elim.largest_front);
-                    let clusters = clusters::clusters(topo, &parts, &t.real, &elim.kernel);
-                    out.decide(Method::Exact, elim.rank, pruned, clusters);
-                }
-                Err(e) => out.refuse(e, 1, opts.memory_limit),
-            }
+    let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
+    if !opts.twins {
+        out.decide(Method::Exact, first.elim.rank, pruned, clusters);
+        return finish(out);
+    }
+    // The twin, in the other prime, checks the kernel's dimension with the
+    // first twin's clusters contracted: that is all it needs to confirm
+    // (MODEL §10). Only where the two differ does it rank the whole matrix,
+    // and then the larger rank wins.
+    let contraction = contract::of_clusters(topo, &parts, &clusters);
+    let kernel = |rank: usize, count: usize| count * matrix::WIDTH - rank;
+    let second = match twin.realize::<Q2>(&mut rng2) {
+        Ok(s) => s,
+        Err(stop) => {
+            out.stop(stop, opts.memory_limit);
+            return finish(out);
         }
-        _ => {
-            let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
+    };
+    let contracted = contraction.rows(&second.0, &second.1);
+    let checked = sparse::rank(
+        &contracted,
+        contraction.count,
+        matrix::WIDTH,
+        opts.memory_limit,
+    );
+    match checked {
+        Ok(c) if kernel(c.rank, contraction.count) == kernel(first.elim.rank, parts.count) => {
+            out.twins_agree = Some(true);
             out.decide(Method::Exact, first.elim.rank, pruned, clusters);
+            return finish(out);
         }
+        Ok(_) => {}
+        Err(e) => {
+            out.refuse(e, opts.memory_limit);
+            return finish(out);
+        }
+    }
+    let (real, rows) = second;
+    let whole = match twin.eliminate::<Q2>(&rows, None) {
+        Ok(w) => w,
+        Err(e) => {
+            out.refuse(e, opts.memory_limit);
+            return finish(out);
+        }
+    };
+    out.twins_agree = Some(whole.rank == first.elim.rank);
+    if whole.rank > first.elim.rank {
+        match twin.eliminate(&rows, Some(&mut draws)) {
+            Ok(elim) => {
+                out.largest_front = Some(elim.largest_front);
+                let clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
+                out.decide(Method::Exact, elim.rank, pruned, clusters);
+            }
+            Err(e) => out.refuse(e, opts.memory_limit),
+        }
+    } else {
+        out.decide(Method::Exact, first.elim.rank, pruned, clusters);
     }
     finish(out)
 }
@@ -477,7 +509,7 @@ struct Twin<'a> {
     order: &'a [u32],
     parts: &'a matrix::Parts,
     attempts: usize,
-    /// Bytes one twin may use.
+    /// Bytes an elimination may use.
     memory_limit: Option<u64>,
 }
 
@@ -503,21 +535,18 @@ struct Ranked<F> {
 
 impl Twin<'_> {
     /// Builds a realization over `F` (redrawn while it lands on a
-    /// degenerate position) and eliminates its matrix, with kernel vectors
-    /// drawn from `draws` if given; `Err` says why no realization could be
-    /// built.
-    fn rank<F: Field>(
+    /// degenerate position) and its matrix; `Err` says why no realization
+    /// could be built.
+    fn realize<F: Field>(
         &self,
         rng: &mut ChaCha8Rng,
-        draws: Option<&mut ChaCha8Rng>,
-    ) -> std::result::Result<Ranked<F>, Stop> {
+    ) -> std::result::Result<(realize::Realization<F>, Vec<sparse::SparseRow<F>>), Stop> {
         let mut why = String::new();
         for _ in 0..self.attempts {
             match realize::build::<F>(self.topo, self.planes, self.active, self.order, rng) {
                 Ok(real) => {
                     let rows = matrix::rows(self.topo, self.planes, self.parts, &real);
-                    let elim = self.eliminate(&rows, draws).map_err(Stop::Memory)?;
-                    return Ok(Ranked { real, rows, elim });
+                    return Ok((real, rows));
                 }
                 Err(realize::Failure::Degenerate(w)) => why = w,
                 Err(realize::Failure::Broken(why)) => panic!("truth construction: {why}"),
@@ -527,6 +556,18 @@ impl Twin<'_> {
             "every one of {} realizations landed on a degenerate position (the last: {why})",
             self.attempts
         )))
+    }
+
+    /// [`Twin::realize`], and the elimination of its matrix with kernel
+    /// vectors drawn from `draws` if given.
+    fn rank<F: Field>(
+        &self,
+        rng: &mut ChaCha8Rng,
+        draws: Option<&mut ChaCha8Rng>,
+    ) -> std::result::Result<Ranked<F>, Stop> {
+        let (real, rows) = self.realize(rng)?;
+        let elim = self.eliminate(&rows, draws).map_err(Stop::Memory)?;
+        Ok(Ranked { real, rows, elim })
     }
 
     /// Eliminates `rows`, with kernel vectors drawn from `draws` if given,

@@ -27,6 +27,7 @@ mod spanning;
 mod stability;
 mod threshold;
 mod truth;
+mod truth_contract;
 mod truth_motions;
 
 use std::path::PathBuf;
