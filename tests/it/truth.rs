@@ -79,7 +79,8 @@ fn truth_and_certified_reject_every_false_compression_up_to_8_rods() {
     assert_eq!(per_size, vec![2, 30]);
 }
 
-fn system(
+/// A generated periodic system: its rods, contacts and contact graph.
+pub fn system(
     gamma: f64,
     box_len: f64,
     rho: f64,

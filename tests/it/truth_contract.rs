@@ -20,12 +20,7 @@ struct Case {
 }
 
 fn case(gamma: f64, box_len: f64, rho: f64, seed: u64) -> Case {
-    let system = rgc::rods::RodSystem::generate(
-        rgc::rods::RodParams::new(gamma, box_len, rho).unwrap(),
-        seed,
-    );
-    let contacts = rgc::contacts::detect(&system);
-    let graph = rgc::graph::ContactGraph::from_contacts(system.len(), &contacts);
+    let (system, contacts, graph) = crate::truth::system(gamma, box_len, rho, seed);
     let t = rgc::truth::of_system(
         &system,
         &contacts,
