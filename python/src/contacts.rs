@@ -1,0 +1,80 @@
+//! Contacts as arrays: pairs, points, axis parameters and image offsets.
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2};
+use pyo3::prelude::*;
+use rgc::contacts::Contact;
+
+use crate::system::PyRods;
+
+/// The contacts of a rod system, one row each.
+#[pyclass(name = "Contacts", module = "rgc", frozen)]
+pub struct PyContacts {
+    pub contacts: Vec<Contact>,
+    pub n_rods: usize,
+}
+
+fn rows<T: Copy + numpy::Element, const K: usize>(
+    contacts: &[Contact],
+    f: impl Fn(&Contact) -> [T; K],
+) -> Array2<T> {
+    let flat: Vec<T> = contacts.iter().flat_map(f).collect();
+    Array2::from_shape_vec((contacts.len(), K), flat).expect("K values per contact")
+}
+
+#[pymethods]
+impl PyContacts {
+    fn __len__(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// The two rods of each contact, first < second: int64, shape (M, 2).
+    #[getter]
+    fn pairs<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        rows(&self.contacts, |c| c.rods.map(i64::from)).into_pyarray(py)
+    }
+
+    /// Contact points, wrapped into the box: float64, shape (M, 3).
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(&self.contacts, |c| [c.point.x, c.point.y, c.point.z]).into_pyarray(py)
+    }
+
+    /// Arc length from each rod's centre to its closest point: float64, shape (M, 2).
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(&self.contacts, |c| c.params).into_pyarray(py)
+    }
+
+    /// The periodic image of the second rod that touches the first, in box
+    /// sides per axis: int64, shape (M, 3).
+    #[getter]
+    fn shifts<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        rows(&self.contacts, |c| c.shift.map(i64::from)).into_pyarray(py)
+    }
+
+    /// Rods of the system the contacts belong to.
+    #[getter]
+    fn n_rods(&self) -> usize {
+        self.n_rods
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Contacts({} contacts between {} rods)",
+            self.contacts.len(),
+            self.n_rods
+        )
+    }
+}
+
+/// Every contact of `rods` (cores closer than the sum of the radii),
+/// periodic images included.
+#[pyfunction]
+pub fn contacts(py: Python<'_>, rods: &PyRods) -> PyContacts {
+    let system = &rods.system;
+    PyContacts {
+        contacts: py.detach(|| rgc::contacts::detect(system)),
+        n_rods: system.len(),
+    }
+}

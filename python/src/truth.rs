@@ -1,0 +1,113 @@
+//! The exact truth of a rod system: per-rod cluster labels.
+
+use numpy::ndarray::Array1;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::prelude::*;
+
+use rgc::graph::ContactGraph;
+use rgc::truth::{Method, TruthOptions};
+
+use crate::compress::criterion;
+use crate::system::PyRods;
+
+/// Rigid clusters of the exact truth and the degrees of freedom.
+#[pyclass(name = "Truth", module = "rgc", frozen)]
+pub struct PyTruth {
+    cluster_idx: Vec<i64>,
+    clusters: Vec<Vec<u32>>,
+    /// Internal degrees of freedom, or None when undecided.
+    #[pyo3(get)]
+    dof: Option<usize>,
+    /// Whether a rigid cluster spans (None when undecided).
+    #[pyo3(get)]
+    spanning: Option<bool>,
+    /// 'exact', 'float' or 'undecided'.
+    #[pyo3(get)]
+    method: &'static str,
+    /// Why truth is undecided (or how a float answer was reached).
+    #[pyo3(get)]
+    reason: Option<String>,
+    /// The whole answer as `rgc truth --json` prints it, as JSON text.
+    #[pyo3(get)]
+    report: String,
+}
+
+#[pymethods]
+impl PyTruth {
+    /// Per rod, the index of the largest rigid cluster holding it
+    /// (clusters largest first; a hinge rod lies in several), or -1:
+    /// int64, shape (N,).
+    #[getter]
+    fn cluster_idx<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        Array1::from(self.cluster_idx.clone()).into_pyarray(py)
+    }
+
+    /// Each cluster's rods: a list of int64 arrays, largest first.
+    #[getter]
+    fn clusters<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyArray1<i64>>> {
+        self.clusters
+            .iter()
+            .map(|c| Array1::from_iter(c.iter().map(|&r| i64::from(r))).into_pyarray(py))
+            .collect()
+    }
+
+    /// Whether truth could not decide.
+    #[getter]
+    fn undecided(&self) -> bool {
+        self.method == "undecided"
+    }
+
+    fn __repr__(&self) -> String {
+        let dof = self.dof.map_or("None".to_string(), |d| d.to_string());
+        format!(
+            "Truth(method={:?}, dof={dof}, clusters={})",
+            self.method,
+            self.clusters.len()
+        )
+    }
+}
+
+/// The exact generic rigidity of `rods` (the same answer as `rgc truth`
+/// with that seed): degrees of freedom, rigid clusters and spanning under
+/// 'wrap' or 'faces'. `memory_limit` in bytes refuses a system whose
+/// elimination would pass it (undecided, with the reason).
+#[pyfunction]
+#[pyo3(signature = (rods, criterion="wrap", seed=1, memory_limit=None))]
+pub fn truth(
+    py: Python<'_>,
+    rods: &PyRods,
+    criterion: &str,
+    seed: u64,
+    memory_limit: Option<u64>,
+) -> PyResult<PyTruth> {
+    let criterion = self::criterion(criterion)?;
+    let system = &rods.system;
+    let t = py.detach(|| {
+        let contacts = rgc::contacts::detect(system);
+        let graph = ContactGraph::from_contacts(system.len(), &contacts);
+        let opts = TruthOptions {
+            memory_limit,
+            ..TruthOptions::seeded(seed)
+        };
+        rgc::truth::of_system(system, &contacts, &graph, criterion, opts)
+    });
+    let mut cluster_idx = vec![-1i64; system.len()];
+    for (k, c) in t.clusters.iter().enumerate().rev() {
+        for &r in &c.rods {
+            cluster_idx[r as usize] = k as i64;
+        }
+    }
+    Ok(PyTruth {
+        cluster_idx,
+        clusters: t.clusters.iter().map(|c| c.rods.clone()).collect(),
+        dof: t.dof,
+        spanning: t.spanning,
+        method: match t.method {
+            Method::Exact => "exact",
+            Method::Float => "float",
+            Method::Undecided => "undecided",
+        },
+        reason: t.reason.clone(),
+        report: serde_json::to_string(&t).map_err(crate::value_error)?,
+    })
+}

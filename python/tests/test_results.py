@@ -1,0 +1,120 @@
+"""Contacts, compression, truth and pattern checks: the same answers as the
+command line for the same seed, arrays typed and shaped as documented."""
+
+import json
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import rgc
+
+
+@pytest.fixture(scope="module")
+def system():
+    return rgc.generate(rgc.Box(5.0), density=40, gamma=23, seed=1)
+
+
+def groups(labels):
+    """Sets of indices per non-negative label."""
+    out = {}
+    for i, k in enumerate(labels):
+        if k >= 0:
+            out.setdefault(int(k), set()).add(i)
+    return sorted((frozenset(v) for v in out.values()), key=lambda s: (-len(s), min(s)))
+
+
+def test_contacts_match_the_command_line(system, cli, tmp_path):
+    c = rgc.contacts(system)
+    assert c.pairs.dtype == np.int64 and c.pairs.shape == (len(c), 2)
+    assert c.points.shape == (len(c), 3) and c.params.shape == (len(c), 2)
+    assert c.shifts.dtype == np.int64 and c.shifts.shape == (len(c), 3)
+    assert np.all(c.pairs[:, 0] < c.pairs[:, 1])
+    edges = tmp_path / "edges.txt"
+    cli("sample", "--gamma", 23, "--box", 5, "--density", 40, "--seed", 1, "--save-contacts", edges)
+    theirs = sorted(tuple(map(int, l.split())) for l in edges.read_text().splitlines() if l and not l.startswith("#"))
+    assert sorted(map(tuple, c.pairs.tolist())) == theirs
+    # Contact points lie within both radii of the cores, up to the box images.
+    g = rgc.to_networkx(c)
+    assert g.number_of_nodes() == len(system) and g.number_of_edges() == len(c)
+
+
+def test_compression_matches_the_command_line(system, cli, tmp_path):
+    k = rgc.compress(system, rules="sound", runs=2, seed=1)
+    assert k.body_idx.dtype == np.int64 and k.body_idx.shape == (len(system),)
+    bodies = tmp_path / "bodies.json"
+    report = json.loads(
+        cli("sample", "--gamma", 23, "--box", 5, "--density", 40, "--seed", 1, "--runs", 2, "--save-bodies", bodies, "--json")
+    )
+    theirs = json.loads(bodies.read_text())
+    assert theirs["run"] == k.run
+    ours = groups(k.body_idx)
+    assert ours == sorted((frozenset(b["rods"]) for b in theirs["bodies"]), key=lambda s: (-len(s), min(s)))
+    assert k.spans.tolist() == [b["spans"] for b in theirs["bodies"]]
+    assert k.spanning == report["rigid_spanning"]
+    assert json.loads(k.report)["motifs"] == report["motifs"]
+
+
+def test_truth_matches_the_command_line(system, cli):
+    t = rgc.truth(system, seed=1)
+    theirs = json.loads(cli("truth", "--gamma", 23, "--box", 5, "--density", 40, "--seed", 1, "--json"))
+    assert t.method == theirs["method"] == "exact" and not t.undecided
+    assert t.dof == theirs["dof"]
+    assert t.spanning == theirs["spanning"]
+    assert [c.tolist() for c in t.clusters] == [c["rods"] for c in theirs["clusters"]]
+    # Every rod's label is the largest cluster holding it.
+    assert t.cluster_idx.dtype == np.int64 and t.cluster_idx.shape == (len(system),)
+    for k, c in enumerate(t.clusters):
+        assert np.all(t.cluster_idx[c] <= k)
+
+
+def test_rods_from_a_csv_equivalent_give_the_same_truth(system, cli, tmp_path):
+    csv = tmp_path / "rods.csv"
+    rows = np.column_stack([system.centres, system.directions, system.lengths, system.radii])
+    np.savetxt(csv, rows, delimiter=",", header="x,y,z,dx,dy,dz,length,radius", comments="", fmt="%.17g")
+    theirs = json.loads(cli("truth", "--rods", csv, "--box", 5, "--json"))
+    again = rgc.Rods.from_arrays(rgc.Box(5.0), rows[:, :3], directions=rows[:, 3:6], lengths=rows[:, 6], radii=rows[:, 7])
+    t = rgc.truth(again)
+    assert t.dof == theirs["dof"] and [c.tolist() for c in t.clusters] == [c["rods"] for c in theirs["clusters"]]
+
+
+def test_check_takes_graph6_and_networkx():
+    nx = pytest.importorskip("networkx")
+    # The triangular prism: rigid only where its two triangles' planes allow.
+    assert rgc.check("E{Sw")["class"] == "component-dependent"
+    # K_{3,3} without forced planes is flexible; two triangles sharing an edge are not rods-only Maxwell.
+    v = rgc.check(nx.complete_bipartite_graph(3, 3))
+    assert v["class"] in ("flexible", "component-dependent") and v["rigid"] is not True
+    with pytest.raises(ValueError):
+        rgc.check("not graph6 at all!")
+
+
+def test_bad_names_are_value_errors(system):
+    with pytest.raises(ValueError, match="rules must be 'sound', 'paper' or 'certified'"):
+        rgc.compress(system, rules="fast")
+    with pytest.raises(ValueError, match="criterion must be 'wrap' or 'faces'"):
+        rgc.truth(system, criterion="corners")
+    with pytest.raises(ValueError, match="runs must be at least 1"):
+        rgc.compress(system, runs=0)
+
+
+def test_the_interpreter_runs_on_during_truth():
+    big = rgc.generate(rgc.Box(8.0), density=36, gamma=23, seed=2)
+    ticks = 0
+    worker = threading.Thread(target=rgc.truth, args=(big,))
+    worker.start()
+    while worker.is_alive():
+        ticks += 1
+        time.sleep(0.001)
+    worker.join()
+    assert ticks > 20, f"the main thread ran {ticks} times while truth worked"
+
+
+def test_load_study_reads_a_committed_study(root):
+    s = rgc.load_study(root / "results" / "g48-truth")
+    assert s["spec"]["kind"] == "truth" and s["spec"]["gamma"] == 48.0
+    assert len(s["records"]) == 400
+    assert s["summary"]["study"]["boxes"] == [5.0, 6.0, 7.0, 8.0]
+    with pytest.raises(ValueError, match="not a study directory"):
+        rgc.load_study(root / "results")
