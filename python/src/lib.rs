@@ -6,6 +6,7 @@
 //! one-line message, and every array is typed (float64 coordinates, int64
 //! labels).
 
+mod bench;
 mod check;
 mod compress;
 mod contacts;
@@ -32,5 +33,6 @@ fn _rgc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compress::compress, m)?)?;
     m.add_function(wrap_pyfunction!(truth::truth, m)?)?;
     m.add_function(wrap_pyfunction!(check::check_graph6, m)?)?;
+    m.add_function(wrap_pyfunction!(bench::library_seconds, m)?)?;
     Ok(())
 }
