@@ -2,7 +2,7 @@
 library's own time for the same work, measured in the same run on a 40k-rod
 system (gamma 23, L = 10, density 40). Writes results/bench-python.json.
 
-    python python/bench.py [--repeat 5] [--out results/bench-python.json]
+    python python/benches/overhead.py [--repeat 5] [--out results/bench-python.json]
 """
 
 import argparse
@@ -42,7 +42,7 @@ def main():
         rows.append(row)
         print(f"{what:>8}: {len(rods)} rods, through Python {row['python_s']:.3f} s, library {row['library_s']:.3f} s, ratio {row['ratio']:.3f} (median of {a.repeat})")
     if a.out:
-        doc = {"command": "python python/bench.py " + " ".join(f"--{k} {v}" for k, v in vars(a).items() if v is not None), "rows": rows}
+        doc = {"command": "python python/benches/overhead.py " + " ".join(f"--{k} {v}" for k, v in vars(a).items() if v is not None), "rows": rows}
         tmp = Path(a.out + ".tmp")
         tmp.write_text(json.dumps(doc, indent=2) + "\n")
         tmp.replace(a.out)
