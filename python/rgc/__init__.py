@@ -62,6 +62,10 @@ def to_rustworkx(c: Contacts) -> Any:
 
 Contacts.to_networkx = to_networkx  # type: ignore[attr-defined]
 Contacts.to_rustworkx = to_rustworkx  # type: ignore[attr-defined]
+Compression.motifs = property(  # type: ignore[attr-defined]
+    lambda self: json.loads(self.report)["motifs"],
+    doc="Motif instances compressed in the reported run, by motif.",
+)
 
 
 def check(graph: Any, seed: int = 1) -> dict:

@@ -92,6 +92,9 @@ class Compression:
     @property
     def spans(self) -> BoolArray:
         """Per body whether it spans, shape (B,)."""
+    @property
+    def motifs(self) -> dict[str, int]:
+        """Motif instances compressed in the reported run, by motif."""
     spanning: bool
     runs_spanning: int
     run: int

@@ -35,9 +35,11 @@ def test_contacts_match_the_command_line(system, cli, tmp_path):
     cli("sample", "--gamma", 23, "--box", 5, "--density", 40, "--seed", 1, "--save-contacts", edges)
     theirs = sorted(tuple(map(int, l.split())) for l in edges.read_text().splitlines() if l and not l.startswith("#"))
     assert sorted(map(tuple, c.pairs.tolist())) == theirs
-    # Contact points lie within both radii of the cores, up to the box images.
-    g = rgc.to_networkx(c)
+    g = c.to_networkx()
     assert g.number_of_nodes() == len(system) and g.number_of_edges() == len(c)
+    a, b = c.pairs[0]
+    assert np.array_equal(g.edges[int(a), int(b)]["point"], c.points[0])
+    assert np.array_equal(g.edges[int(a), int(b)]["shift"], c.shifts[0])
 
 
 def test_compression_matches_the_command_line(system, cli, tmp_path):
@@ -53,7 +55,7 @@ def test_compression_matches_the_command_line(system, cli, tmp_path):
     assert ours == sorted((frozenset(b["rods"]) for b in theirs["bodies"]), key=lambda s: (-len(s), min(s)))
     assert k.spans.tolist() == [b["spans"] for b in theirs["bodies"]]
     assert k.spanning == report["rigid_spanning"]
-    assert json.loads(k.report)["motifs"] == report["motifs"]
+    assert k.motifs == report["motifs"] and sum(k.motifs.values()) > 0
 
 
 def test_truth_matches_the_command_line(system, cli):
