@@ -116,13 +116,22 @@ impl PyBox {
     }
 }
 
-/// An (N, 3) array, or an error naming it.
+/// An (N, 3) array of finite numbers, or an error naming it (a NaN would
+/// otherwise wrap silently into the box).
 fn points3(a: &ArrayView2<'_, f64>, what: &str) -> PyResult<Array2<f64>> {
     if a.ncols() != 3 {
         return Err(value_error(format!(
             "{what} must have shape (N, 3), got {:?}",
             a.shape()
         )));
+    }
+    if let Some((i, _)) = a
+        .rows()
+        .into_iter()
+        .enumerate()
+        .find(|(_, r)| r.iter().any(|x| !x.is_finite()))
+    {
+        return Err(value_error(format!("{what} row {i} is not finite")));
     }
     Ok(a.to_owned())
 }

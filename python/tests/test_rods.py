@@ -106,6 +106,11 @@ def test_generated_systems_are_reproducible():
             lambda: rgc.Rods.from_arrays(rgc.Box(4.0), np.ones((1, 3)), quaternions=np.zeros((1, 4)), lengths=1.0, radii=0.1),
             "quaternion 0 is not a rotation",
         ),
+        (
+            lambda: rgc.Rods.from_arrays(rgc.Box(4.0), np.array([[1.0, np.nan, 1.0]]), directions=np.ones((1, 3)), lengths=1.0, radii=0.1),
+            "centres row 0 is not finite",
+        ),
+        (lambda: rgc.Box(4.0).wrap(np.array([[np.inf, 0.0, 0.0]])), "points row 0 is not finite"),
         (lambda: rgc.generate(rgc.Box(4.0), density=40, seed=1), "give either gamma or radius"),
         (lambda: rgc.generate(rgc.Box(4.0), density=40, gamma=0.5), "gamma must be at least 1"),
         (lambda: rgc.generate(rgc.Box(4.0), density=-1, gamma=10), "density must be a positive finite number"),
