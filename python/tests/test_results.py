@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import rgc
+from geometry import quaternions_onto
 
 
 @pytest.fixture(scope="module")
@@ -79,6 +80,19 @@ def test_rods_from_a_csv_equivalent_give_the_same_truth(system, cli, tmp_path):
     again = rgc.Rods.from_arrays(rgc.Box(5.0), rows[:, :3], directions=rows[:, 3:6], lengths=rows[:, 6], radii=rows[:, 7])
     t = rgc.truth(again)
     assert t.dof == theirs["dof"] and [c.tolist() for c in t.clusters] == [c["rods"] for c in theirs["clusters"]]
+
+
+def test_centred_quaternion_input_gives_the_contacts_of_the_equivalent_csv(system, cli, tmp_path):
+    csv = tmp_path / "rods.csv"
+    rows = np.column_stack([system.centres, system.directions, system.lengths, system.radii])
+    np.savetxt(csv, rows, delimiter=",", header="x,y,z,dx,dy,dz,length,radius", comments="", fmt="%.17g")
+    edges = tmp_path / "edges.txt"
+    cli("sample", "--rods", csv, "--box", 5, "--save-contacts", edges)
+    theirs = sorted(tuple(map(int, l.split())) for l in edges.read_text().splitlines() if l and not l.startswith("#"))
+    hoomd = rgc.Rods.from_arrays(rgc.Box(5.0, centred=True), system.centres - 2.5,
+                                 quaternions=quaternions_onto(system.directions),
+                                 lengths=system.lengths, radii=system.radii)
+    assert sorted(map(tuple, rgc.contacts(hoomd).pairs.tolist())) == theirs
 
 
 def test_check_takes_graph6_and_networkx():

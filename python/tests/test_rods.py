@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import rgc
+from geometry import quaternions_onto
 
 
 def random_rods(n, side, seed):
@@ -41,13 +42,7 @@ def test_quaternions_and_centred_boxes_give_the_same_contacts():
     sys = rgc.generate(b, density=30, gamma=10, seed=4)
     # The same rods given as HOOMD would: a centred box, and quaternions
     # rotating the body axis x onto each direction.
-    d = sys.directions
-    x = np.array([1.0, 0.0, 0.0])
-    axis = np.cross(x, d)
-    s = np.linalg.norm(axis, axis=1)
-    angle = np.arctan2(s, d @ x)
-    axis /= np.where(s > 0, s, 1.0)[:, None]
-    q = np.column_stack([np.cos(angle / 2), axis * np.sin(angle / 2)[:, None]])
+    q = quaternions_onto(sys.directions)
     centred = rgc.Box(5.0, centred=True)
     shifted = sys.centres - 2.5
     again = rgc.Rods.from_arrays(centred, shifted, quaternions=q, lengths=sys.lengths, radii=sys.radii)
