@@ -13,6 +13,8 @@ import json
 from pathlib import Path
 from typing import Any, Union
 
+import numpy as np
+
 from ._rgc import Box, Compression, Contacts, Rods, Truth
 from ._rgc import check_graph6 as _check_graph6
 from ._rgc import compress, contacts, generate, truth
@@ -60,6 +62,31 @@ def to_rustworkx(c: Contacts) -> Any:
     return g
 
 
+_from_arrays = Rods.from_arrays
+
+
+def _float64(a: Any) -> Any:
+    """Any array-like (float32 from OVITO or gsd, lists) as contiguous float64;
+    numbers and None as they are."""
+    if a is None or isinstance(a, (int, float)):
+        return a
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def from_arrays(box, centres, directions=None, quaternions=None, lengths=None, radii=None, axis=(1.0, 0.0, 0.0)):
+    return _from_arrays(
+        box,
+        _float64(centres),
+        _float64(directions),
+        _float64(quaternions),
+        _float64(lengths),
+        _float64(radii),
+        tuple(float(x) for x in axis),
+    )
+
+
+from_arrays.__doc__ = _from_arrays.__doc__
+Rods.from_arrays = staticmethod(from_arrays)  # type: ignore[method-assign]
 Contacts.to_networkx = to_networkx  # type: ignore[attr-defined]
 Contacts.to_rustworkx = to_rustworkx  # type: ignore[attr-defined]
 Compression.motifs = property(  # type: ignore[attr-defined]

@@ -50,3 +50,39 @@ def test_load_study_gives_data_frames_with_pandas(root):
     s = rgc.load_study(root / "results" / "g48-truth")
     assert isinstance(s["records"], pd.DataFrame) and len(s["records"]) == 400
     assert list(s["boxes"]["box"]) == [5.0, 6.0, 7.0, 8.0]
+
+
+def readme_ovito_modifier(frame, data):
+    """The README's OVITO modifier, verbatim but for its name."""
+    cell = data.cell
+    box = rgc.Box(np.diag(cell.matrix[:, :3]), periodic="xyz")
+    rods = rgc.Rods.from_arrays(box, data.particles.positions - cell.matrix[:, 3],
+                                quaternions=data.particles.orientations[:, [3, 0, 1, 2]],
+                                lengths=1.0, radii=np.asarray(data.particles["Radius"]))
+    data.particles_.create_property("body", data=rgc.compress(rods).body_idx)
+    data.particles_.create_property("true_cluster", data=rgc.truth(rods).cluster_idx)
+
+
+def test_the_readme_ovito_modifier_in_a_pipeline():
+    pytest.importorskip("ovito", reason="ovito (a large download with Qt) is optional: tests/run does not install it")
+    from ovito.data import DataCollection
+    from ovito.pipeline import Pipeline, PythonSource
+
+    sys = rgc.generate(rgc.Box(5.0), density=40, gamma=23, seed=1)
+
+    def source(frame, data):
+        cell = np.zeros((3, 4))
+        cell[:, :3] = np.diag([5.0, 5.0, 5.0])
+        cell[:, 3] = -2.5
+        data.create_cell(cell, pbc=(True, True, True))
+        p = data.create_particles(count=len(sys))
+        p.create_property("Position", data=sys.centres - 2.5)
+        # OVITO keeps quaternions as (x, y, z, w).
+        p.create_property("Orientation", data=quaternions_onto(sys.directions)[:, [1, 2, 3, 0]])
+        p.create_property("Radius", data=sys.radii)
+
+    pipeline = Pipeline(source=PythonSource(function=source))
+    pipeline.modifiers.append(readme_ovito_modifier)
+    out = pipeline.compute()
+    assert np.array_equal(np.asarray(out.particles["body"]), rgc.compress(sys).body_idx)
+    assert np.array_equal(np.asarray(out.particles["true_cluster"]), rgc.truth(sys).cluster_idx)

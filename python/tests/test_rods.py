@@ -37,6 +37,16 @@ def test_arrays_round_trip():
     assert r.centres.dtype == np.float64 and r.centres.shape == (50, 3)
 
 
+def test_float32_and_lists_are_taken_as_float64():
+    b = rgc.Box(6.0)
+    centres, d = random_rods(20, 6.0, 2)
+    exact = rgc.Rods.from_arrays(b, centres, directions=d, lengths=1.0, radii=0.05)
+    lists = rgc.Rods.from_arrays(b, centres.tolist(), directions=d.tolist(), lengths=[1.0] * 20, radii=0.05)
+    assert np.array_equal(exact.centres, lists.centres)
+    single = rgc.Rods.from_arrays(b, centres.astype(np.float32), directions=d.astype(np.float32), lengths=1.0, radii=0.05)
+    assert np.allclose(single.centres, centres, atol=1e-5)
+
+
 def test_quaternions_and_centred_boxes_give_the_same_contacts():
     b = rgc.Box(5.0)
     sys = rgc.generate(b, density=30, gamma=10, seed=4)
