@@ -54,7 +54,8 @@ impl Format {
         }
     }
 
-    fn name(self) -> &'static str {
+    /// What a file of this format is called in messages.
+    pub fn name(self) -> &'static str {
         match self {
             Format::Csv => "rods CSV",
             Format::Json => "rods JSON",
@@ -94,6 +95,7 @@ impl Columns {
     /// defaults: e.g. `dx=c_u[1],dy=c_u[2],dz=c_u[3],length=1,radius=0.02`.
     pub fn parse(text: &str) -> Result<Self> {
         let mut cols = Columns::default();
+        let mut given = [false; FIELDS.len()];
         for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
             let Some((key, value)) = pair.split_once('=') else {
                 return Err(Error::Parameter(format!(
@@ -106,6 +108,12 @@ impl Columns {
                     FIELDS.join(", ")
                 )));
             };
+            if std::mem::replace(&mut given[k], true) {
+                return Err(Error::Parameter(format!(
+                    "LAMMPS column mapping: {:?} is given twice",
+                    FIELDS[k]
+                )));
+            }
             let value = value.trim();
             cols.0[k] = match value.parse::<f64>() {
                 Ok(v) => Source::Value(v),
@@ -178,6 +186,12 @@ pub fn parse(text: &str, path: &Path, format: Format, opts: &ReadOptions) -> Res
         Format::Json => parse_json(text, &bad)?,
         Format::Lammps => parse_lammps(text, &opts.columns, &bad)?,
     };
+    if raws.is_empty() {
+        return Err(Error::Parameter(format!(
+            "{}: the file holds no rods",
+            path.display()
+        )));
+    }
     let domain = box_of(path, opts, file_box)?;
     let mut rods = Vec::with_capacity(raws.len());
     let mut lines = Vec::with_capacity(raws.len());
@@ -264,6 +278,15 @@ fn parse_csv(text: &str, bad: &impl Fn(usize, String) -> Error) -> Result<Vec<Ra
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
     let header = reader.headers().map_err(|e| bad(1, e.to_string()))?.clone();
+    if let Some(twice) = FIELDS
+        .iter()
+        .find(|f| header.iter().filter(|h| h == *f).count() > 1)
+    {
+        return Err(bad(
+            1,
+            format!("the header names the column {twice:?} twice"),
+        ));
+    }
     let at: Vec<usize> = FIELDS
         .iter()
         .map(|f| {
@@ -426,6 +449,12 @@ struct JsonFile<'a> {
 }
 
 fn parse_json(text: &str, bad: &impl Fn(usize, String) -> Error) -> Result<(Vec<Raw>, FileBox)> {
+    if text.trim_start().starts_with('[') {
+        return Err(bad(
+            1,
+            "a rods JSON file is an object {\"box\": [LX, LY, LZ], \"periodic\": \"xyz\", \"rods\": [...]} (box and periodic optional), not a bare list".into(),
+        ));
+    }
     let file: JsonFile = serde_json::from_str(text).map_err(|e| bad(e.line(), e.to_string()))?;
     // Each rod's raw text lies inside `text`, so its offset gives its line.
     let line_of = |raw: &RawValue| {

@@ -458,7 +458,9 @@ impl RodSystem {
             } else {
                 1.0
             };
-            let key = [rod.center, rod.axis * sign].map(|v| v.map(f64::to_bits));
+            // `+ 0.0` turns -0.0 into 0.0: the two differ bit for bit, and a
+            // reversed axis with a zero component would otherwise slip through.
+            let key = [rod.center, rod.axis * sign].map(|v| v.map(|u| (u + 0.0).to_bits()));
             if let Some(first) = seen.insert(key, i) {
                 return Err(fault(
                     i,

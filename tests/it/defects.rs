@@ -1,5 +1,5 @@
-//! The defects of issue 8, found by trying the tool as a new user would:
-//! each test here fails without its fix. Every test works in its own
+//! The defects of issues 8 and 23, found by trying the tool as a new user
+//! would: each test here fails without its fix. Every test works in its own
 //! scratch folder, named by the process and the test.
 
 use std::path::{Path, PathBuf};
@@ -676,4 +676,118 @@ fn a_compression_records_its_motifs_in_order() {
     let d6 = c.sequence.iter().filter(|&&x| x == Motif::D6).count();
     assert_eq!(d6, m.d6 as usize);
     assert_eq!(serde_json::to_value(Motif::D2B).unwrap(), "3D2B");
+}
+
+/// Issue 23, defect 1: a rod given twice with its direction reversed is the
+/// same rod, also when an axis component is exactly zero (-0.0 and 0.0
+/// differ bit for bit).
+#[test]
+fn a_rod_given_twice_reversed_is_refused_whatever_the_signed_zeros() {
+    let dir = scratch("reversed");
+    for (i, (a, b)) in [
+        ("1,0,0", "-1,0,0"),
+        ("0,1,0", "0,-1,-0"),
+        ("1,2,0", "-1,-2,0"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let csv = dir.join(format!("d{i}.csv"));
+        std::fs::write(
+            &csv,
+            format!("x,y,z,dx,dy,dz,length,radius\n1,1,1,{a},1,0.02\n1,1,1,{b},1,0.02\n"),
+        )
+        .unwrap();
+        refused(
+            &["truth", "--rods", s(&csv), "--box", "4"],
+            "line 3: the same rod as line 2 (same centre and axis line)",
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Issue 23, defect 2: input that was silently ignored or overwritten.
+#[test]
+fn ignored_or_overwritten_input_is_refused() {
+    let dir = scratch("ignored");
+    let csv = dir.join("rods.csv");
+    std::fs::write(&csv, "x,y,z,dx,dy,dz,length,radius\n1,1,1,1,0,0,1,0.02\n").unwrap();
+    refused(
+        &[
+            "truth",
+            "--rods",
+            s(&csv),
+            "--box",
+            "4",
+            "--lammps-columns",
+            "x=xu",
+        ],
+        "--lammps-columns applies to LAMMPS dumps;",
+    );
+    let twice = dir.join("twice.csv");
+    std::fs::write(
+        &twice,
+        "x,y,z,dx,dy,dz,length,radius,x\n1,1,1,1,0,0,1,0.02,2\n",
+    )
+    .unwrap();
+    refused(
+        &["truth", "--rods", s(&twice), "--box", "4"],
+        "line 1: the header names the column \"x\" twice",
+    );
+    let dump = dir.join("rods.dump");
+    std::fs::write(&dump, "ITEM: TIMESTEP\n0\n").unwrap();
+    refused(
+        &[
+            "truth",
+            "--rods",
+            s(&dump),
+            "--box",
+            "4",
+            "--lammps-columns",
+            "x=xu,x=xs",
+        ],
+        "LAMMPS column mapping: \"x\" is given twice",
+    );
+    let out = dir.join("x.json");
+    refused(
+        &[
+            "sample",
+            "--gamma",
+            "23",
+            "--box",
+            "3",
+            "--density",
+            "30",
+            "--save-bodies",
+            s(&out),
+            "--save-rods",
+            s(&out),
+        ],
+        "--save-rods and --save-bodies both write",
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Issue 23, defect 7: a rods file with a header and no rods is refused,
+/// not run on an empty system.
+#[test]
+fn a_rods_file_without_rods_is_refused() {
+    let dir = scratch("empty-file");
+    let csv = dir.join("empty.csv");
+    std::fs::write(&csv, "x,y,z,dx,dy,dz,length,radius\n# nothing\n").unwrap();
+    refused(
+        &["truth", "--rods", s(&csv), "--box", "4"],
+        "the file holds no rods",
+    );
+    let json = dir.join("empty.json");
+    std::fs::write(&json, r#"{"box": [4, 4, 4], "rods": []}"#).unwrap();
+    refused(&["sample", "--rods", s(&json)], "the file holds no rods");
+    // Defect 6: a bare list says what a rods JSON file is.
+    std::fs::write(&json, "[]").unwrap();
+    refused(
+        &["sample", "--rods", s(&json), "--box", "4"],
+        "line 1: a rods JSON file is an object {\"box\": [LX, LY, LZ]",
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }

@@ -181,6 +181,17 @@ impl RodsArgs {
                 Some(text) => Columns::parse(text)?,
                 None => Columns::default(),
             };
+            let format = match self.rods_format {
+                Some(f) => f,
+                None => file::Format::of_path(path)?,
+            };
+            if self.lammps_columns.is_some() && format != file::Format::Lammps {
+                return Err(Error::Parameter(format!(
+                    "--lammps-columns applies to LAMMPS dumps; {} is read as {}",
+                    path.display(),
+                    format.name()
+                )));
+            }
             let opts = ReadOptions {
                 format: self.rods_format,
                 sides,

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::graph::{graphml, io as graphio};
 use rgc::sample::sample_with;
-use rgc::{Result, output};
+use rgc::{Error, Result, output};
 
 use crate::args::SystemArgs;
 
@@ -39,15 +39,25 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     if let Some(path) = &a.save_rods {
         rgc::rods::file::Format::of_path(path)?;
     }
-    for path in a
-        .save_rods
+    let outputs = [
+        ("--save-rods", &a.save_rods),
+        ("--save-contacts", &a.save_contacts),
+        ("--save-bodies", &a.save_bodies),
+        ("--save-graphml", &a.save_graphml),
+        ("--save-vtk", &a.save_vtk),
+    ];
+    let given: Vec<(&str, &PathBuf)> = outputs
         .iter()
-        .chain(&a.save_contacts)
-        .chain(&a.save_bodies)
-        .chain(&a.save_graphml)
-        .chain(&a.save_vtk)
-    {
+        .filter_map(|(flag, p)| Some((*flag, p.as_ref()?)))
+        .collect();
+    for (i, (flag, path)) in given.iter().enumerate() {
         output::check_file(path)?;
+        if let Some((other, _)) = given[..i].iter().find(|(_, p)| p == path) {
+            return Err(Error::Parameter(format!(
+                "{other} and {flag} both write {}: one would overwrite the other",
+                path.display()
+            )));
+        }
     }
     let rules = super::load(&a.system.engine.rules.rule_files)?;
     let s = sample_with(&opts, &rules)?;
