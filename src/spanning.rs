@@ -34,6 +34,16 @@ pub enum Criterion {
     Faces,
 }
 
+impl std::fmt::Display for Criterion {
+    /// The name on the command line and in files.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Criterion::Wrap => "wrap",
+            Criterion::Faces => "faces",
+        })
+    }
+}
+
 /// Whether the cluster made of `rods` spans, using only contacts with both
 /// ends in `rods`. `graph` must be `ContactGraph::from_contacts(system.len(),
 /// contacts)`, so that graph edge `k` is `contacts[k]`. The internal contacts

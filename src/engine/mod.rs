@@ -50,6 +50,17 @@ pub enum RuleSet {
     Certified,
 }
 
+impl std::fmt::Display for RuleSet {
+    /// The name on the command line and in files.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            RuleSet::Sound => "sound",
+            RuleSet::Paper => "paper",
+            RuleSet::Certified => "certified",
+        })
+    }
+}
+
 /// The base motifs, by the paper's names (serialized as [`MotifCounts`]
 /// names them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -137,6 +137,17 @@ pub enum Method {
     Undecided,
 }
 
+impl std::fmt::Display for Method {
+    /// The name in files.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Method::Exact => "exact",
+            Method::Float => "float",
+            Method::Undecided => "undecided",
+        })
+    }
+}
+
 /// Options of a truth evaluation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TruthOptions {

@@ -791,3 +791,41 @@ fn a_rods_file_without_rods_is_refused() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 23, defect 6: plain-text output names criteria, rule sets and
+/// methods as the command line spells them, not by Rust's debug names.
+#[test]
+fn plain_text_output_uses_the_command_line_names() {
+    let sample = [
+        "sample",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "30",
+        "--truth",
+    ];
+    let out = text(&succeeds(&sample).stdout);
+    for needle in ["contact spanning (wrap):", "rules sound)", "truth (exact):"] {
+        assert!(out.contains(needle), "{needle:?} in {out}");
+    }
+    let truth = [
+        "truth",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "30",
+        "--criterion",
+        "faces",
+    ];
+    let out = text(&succeeds(&truth).stdout);
+    for needle in ["spanning (faces):", "method: exact, twins agree: true"] {
+        assert!(out.contains(needle), "{needle:?} in {out}");
+    }
+    for debug in ["Wrap", "Faces", "Sound", "Exact"] {
+        assert!(!out.contains(debug), "{debug} in {out}");
+    }
+}

@@ -88,12 +88,7 @@ pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
         if rows.is_empty() {
             continue;
         }
-        say!(
-            out,
-            "{title}, rules {:?}, {} motif orders:",
-            a.rules,
-            a.runs
-        );
+        say!(out, "{title}, rules {}, {} motif orders:", a.rules, a.runs);
         say!(out, "{}", audit::table(rows));
     }
     say!(

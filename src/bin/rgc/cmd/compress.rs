@@ -115,7 +115,7 @@ pub fn run(a: CompressArgs, out: &mut String) -> Result<()> {
         .count();
     say!(
         out,
-        "{} rods, {} contacts -> {} nodes (run {best} of {}, rules {:?})",
+        "{} rods, {} contacts -> {} nodes (run {best} of {}, rules {})",
         report.nodes,
         report.contacts,
         report.components,

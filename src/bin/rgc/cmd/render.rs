@@ -58,7 +58,7 @@ pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
     let method = if opts.truth {
         "exact truth".to_string()
     } else {
-        format!("rules {}", format!("{:?}", opts.rules).to_lowercase())
+        format!("rules {}", opts.rules)
     };
     let title = format!(
         "{rods}, box {}, density {density} ({} rods), seed {}, {method}",

@@ -100,7 +100,7 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     );
     say!(
         out,
-        "contact spanning ({:?}): {}; rigid spanning: {} ({} of {} runs, rules {:?})",
+        "contact spanning ({}): {}; rigid spanning: {} ({} of {} runs, rules {})",
         r.criterion,
         r.contact_spanning,
         r.rigid_spanning,
@@ -121,7 +121,7 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
         let spanning = t.spanning.map_or("undecided".into(), |s| s.to_string());
         say!(
             out,
-            "truth ({:?}): rigid spanning {spanning}; {} true rigid clusters, largest {} rods; {:.3} s",
+            "truth ({}): rigid spanning {spanning}; {} true rigid clusters, largest {} rods; {:.3} s",
             t.method,
             t.clusters,
             t.largest_cluster_rods,

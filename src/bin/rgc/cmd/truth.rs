@@ -135,19 +135,19 @@ fn summary(t: &Truth, out: &mut String) {
         );
     }
     if let (Some(c), Some(s)) = (t.criterion, t.spanning) {
-        say!(out, "spanning ({c:?}): {s}");
+        say!(out, "spanning ({c}): {s}");
     }
     let reason = t.reason.as_deref().unwrap_or_default();
     match t.method {
         Method::Undecided => say!(out, "method: undecided: {reason}"),
         Method::Float => say!(
             out,
-            "method: Float, twins agree: true, singular-value gap {:.1e} ({reason})",
+            "method: float, twins agree: true, singular-value gap {:.1e} ({reason})",
             t.gap.unwrap_or(f64::NAN)
         ),
         Method::Exact => say!(
             out,
-            "method: Exact, twins agree: {}",
+            "method: exact, twins agree: {}",
             t.twins_agree == Some(true)
         ),
     }
