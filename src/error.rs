@@ -57,3 +57,39 @@ impl Error {
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// A number for a message, as written when that is short, else in
+/// scientific notation: a box of 1e300 is not 301 digits.
+pub fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 16 {
+        plain
+    } else {
+        format!("{x:.4e}")
+    }
+}
+
+/// A computed number for a message: four decimals in the usual range,
+/// scientific notation outside it.
+pub fn four(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.4e}")
+    }
+}
+
+#[cfg(test)]
+mod short_tests {
+    use super::{four, short};
+
+    #[test]
+    fn numbers_in_messages_stay_short() {
+        assert_eq!(short(40.0), "40");
+        assert_eq!(short(0.02), "0.02");
+        assert_eq!(short(1e300), "1.0000e300");
+        assert_eq!(four(2.0869565217391304), "2.0870");
+        assert_eq!(four(4e300), "4.0000e300");
+        assert_eq!(four(0.0), "0.0000");
+    }
+}

@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 use super::{Cut, Domain, MAX_RODS, Rod, RodParams, RodSystem};
+use crate::error::{four, short};
 use crate::{Error, Result};
 
 /// A distribution of a positive size (length or radius).
@@ -290,14 +291,16 @@ impl Ensemble {
         let n = rho * domain.volume();
         if n >= MAX_RODS as f64 {
             return Err(Error::Parameter(format!(
-                "density {rho} in a box of volume {} means {n:.3e} rods, more than the {MAX_RODS} that fit in memory",
-                domain.volume()
+                "density {} in a box of volume {} means {n:.3e} rods, more than the {MAX_RODS} that fit in memory",
+                short(rho),
+                short(domain.volume())
             )));
         }
         if self.n_rods() == 0 {
             return Err(Error::Parameter(format!(
-                "density {rho} in a box of volume {} gives no rods",
-                domain.volume()
+                "density {} in a box of volume {} gives no rods",
+                short(rho),
+                short(domain.volume())
             )));
         }
         let reach = 2.0 * (self.length.bound() + 2.0 * self.radius.bound());
@@ -330,12 +333,13 @@ impl Ensemble {
             let r = &system.rods[i];
             return Err(Error::Parameter(format!(
                 "rod {i} was drawn with length {} and radius {}: the periodic side {} along {} must exceed \
-                 2 (l + 2r) = {limit:.4}, so that two rods touch through at most one image; use a larger box \
+                 2 (l + 2r) = {}, so that two rods touch through at most one image; use a larger box \
                  or a narrower distribution",
-                r.length,
-                r.radius,
-                self.domain.sides[k],
+                short(r.length),
+                short(r.radius),
+                short(self.domain.sides[k]),
                 ["x", "y", "z"][k],
+                four(limit),
             )));
         }
         Ok(system)

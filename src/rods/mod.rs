@@ -14,6 +14,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
+use crate::error::{four, short};
 use crate::{Error, Result};
 
 /// Largest number of rods a system may hold (about 400 bytes each through the
@@ -71,12 +72,16 @@ impl RodParams {
         let n = density * box_len.powi(3);
         if n >= MAX_RODS as f64 {
             return Err(Error::Parameter(format!(
-                "density {density} in a box of side {box_len} means {n:.3e} rods, more than the {MAX_RODS} that fit in memory"
+                "density {} in a box of side {} means {n:.3e} rods, more than the {MAX_RODS} that fit in memory",
+                short(density),
+                short(box_len)
             )));
         }
         if p.n_rods() == 0 {
             return Err(Error::Parameter(format!(
-                "density {density} in a box of side {box_len} gives no rods (N = round(rho L^3) = 0)"
+                "density {} in a box of side {} gives no rods (N = round(rho L^3) = 0)",
+                short(density),
+                short(box_len)
             )));
         }
         Ok(p)
@@ -477,9 +482,10 @@ impl RodSystem {
                 None,
                 format!(
                     "box side {} along {} is too small: a periodic side must exceed two reaches \
-                     of the largest rods, 2 (l + 2r) = {limit:.4}, so that two rods touch through at most one image",
-                    domain.sides[k],
+                     of the largest rods, 2 (l + 2r) = {}, so that two rods touch through at most one image",
+                    short(domain.sides[k]),
                     ["x", "y", "z"][k],
+                    four(limit),
                 ),
             ));
         }

@@ -829,3 +829,30 @@ fn plain_text_output_uses_the_command_line_names() {
         assert!(!out.contains(debug), "{debug} in {out}");
     }
 }
+
+/// Issue 23, defect 6: huge numbers in messages are short, not 300 digits.
+#[test]
+fn huge_numbers_in_messages_are_short() {
+    let dir = scratch("huge");
+    refused(
+        &[
+            "sample",
+            "--gamma",
+            "23",
+            "--box",
+            "1e300",
+            "--density",
+            "40",
+        ],
+        "density 40 in a box of side 1.0000e300 means inf rods",
+    );
+    let csv = dir.join("wide.csv");
+    std::fs::write(&csv, "x,y,z,dx,dy,dz,length,radius\n1,1,1,1,0,0,1,1e300\n").unwrap();
+    refused(
+        &["truth", "--rods", s(&csv), "--box", "4"],
+        "2 (l + 2r) = 4.0000e300, so that",
+    );
+    let out = rgc(&["truth", "--rods", s(&csv), "--box", "4"]);
+    assert!(text(&out.stderr).len() < 250, "{}", text(&out.stderr));
+    std::fs::remove_dir_all(dir).unwrap();
+}
