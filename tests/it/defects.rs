@@ -856,3 +856,33 @@ fn huge_numbers_in_messages_are_short() {
     assert!(text(&out.stderr).len() < 250, "{}", text(&out.stderr));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 23, defect 3: an `--out` prefix that is a directory is refused,
+/// not written as the hidden files `DIR/.png` and `DIR/.svg`.
+#[test]
+fn an_out_prefix_that_is_a_directory_is_refused() {
+    let dir = scratch("out-dir");
+    let slash = format!("{}/", s(&dir));
+    for out in [slash.as_str(), s(&dir)] {
+        refused(
+            &[
+                "render",
+                "--gamma",
+                "23",
+                "--box",
+                "3",
+                "--density",
+                "30",
+                "--out",
+                out,
+            ],
+            "is a directory: give a file name prefix",
+        );
+        refused(
+            &["transition", "results/g48-truth", "--out", out],
+            "is a directory: give a file name prefix",
+        );
+    }
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -36,7 +36,21 @@ pub mod truth;
 
 /// Refuses to replace `PREFIX.ext` for any of `exts` unless `force`: an
 /// exploratory run never silently replaces committed results.
+/// An `--out` prefix must end in a file name: `DIR/` would write the
+/// hidden files `DIR/.png` and `DIR/.svg`.
+fn check_prefix(prefix: &std::path::Path) -> Result<()> {
+    let text = prefix.to_string_lossy();
+    if text.ends_with('/') || prefix.file_name().is_none() || prefix.is_dir() {
+        return Err(rgc::Error::Parameter(format!(
+            "--out {text} is a directory: give a file name prefix, such as {}",
+            prefix.join("name").display()
+        )));
+    }
+    Ok(())
+}
+
 fn refuse_existing(prefix: &std::path::Path, exts: &[&str], force: bool) -> Result<()> {
+    check_prefix(prefix)?;
     if force {
         return Ok(());
     }

@@ -31,6 +31,7 @@ pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
         azimuth: a.azimuth,
         elevation: a.elevation,
     };
+    super::check_prefix(&a.out)?;
     let (png, svg) = (
         PathBuf::from(format!("{}.png", a.out.display())),
         PathBuf::from(format!("{}.svg", a.out.display())),
