@@ -168,6 +168,18 @@ pub fn sample_fields(sample: &Sample, criterion: Criterion) -> Vec<Field> {
 }
 
 /// Writes a sample's rods with [`sample_fields`] to `path` atomically.
+/// The file is VTK XML PolyData, which VTK reads by the `.vtp` extension;
+/// its legacy reader refuses XML under `.vtk`, so that name is refused.
+pub fn check_extension(path: &Path) -> Result<()> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("vtp") => Ok(()),
+        _ => Err(crate::Error::Parameter(format!(
+            "--save-vtk writes VTK XML PolyData: name the file .vtp, not {} (VTK's legacy reader refuses XML under .vtk)",
+            path.display()
+        ))),
+    }
+}
+
 pub fn save_sample(sample: &Sample, criterion: Criterion, path: &Path) -> Result<()> {
     output::write_atomic(
         path,

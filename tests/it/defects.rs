@@ -886,3 +886,44 @@ fn an_out_prefix_that_is_a_directory_is_refused() {
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 23, defect 3: `--save-vtk` writes XML PolyData, which VTK reads as
+/// `.vtp` only; a legacy `.vtk` name is refused before the work.
+#[test]
+fn a_vtk_file_must_be_named_vtp() {
+    let dir = scratch("vtk-name");
+    let legacy = dir.join("rods.vtk");
+    refused(
+        &[
+            "sample",
+            "--gamma",
+            "23",
+            "--box",
+            "3",
+            "--density",
+            "30",
+            "--save-vtk",
+            s(&legacy),
+        ],
+        "--save-vtk writes VTK XML PolyData: name the file .vtp",
+    );
+    assert!(!legacy.exists());
+    let xml = dir.join("rods.VTP");
+    succeeds(&[
+        "sample",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "30",
+        "--save-vtk",
+        s(&xml),
+    ]);
+    assert!(
+        std::fs::read_to_string(&xml)
+            .unwrap()
+            .contains("<VTKFile type=\"PolyData\"")
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

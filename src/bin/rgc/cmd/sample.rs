@@ -39,6 +39,9 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     if let Some(path) = &a.save_rods {
         rgc::rods::file::Format::of_path(path)?;
     }
+    if let Some(path) = &a.save_vtk {
+        rgc::vtk::check_extension(path)?;
+    }
     let outputs = [
         ("--save-rods", &a.save_rods),
         ("--save-contacts", &a.save_contacts),
