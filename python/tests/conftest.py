@@ -14,7 +14,7 @@ def cli():
     """Runs the rgc binary (``RGC_BIN``, or the release build) and returns its stdout."""
     binary = Path(os.environ.get("RGC_BIN", ROOT / "target" / "release" / "rgc"))
     if not binary.is_file():
-        pytest.fail(f"{binary} is missing: build it with `cargo build --release` (tests/run does)")
+        pytest.fail(f"{binary} is missing: build it with `cargo build --release` (.ci/run does)")
 
     def run(*args, cwd=None):
         out = subprocess.run([str(binary), *map(str, args)], capture_output=True, text=True, cwd=cwd)

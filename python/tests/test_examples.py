@@ -64,7 +64,7 @@ def readme_ovito_modifier(frame, data):
 
 
 def test_the_readme_ovito_modifier_in_a_pipeline():
-    pytest.importorskip("ovito", reason="ovito (a large download with Qt) is optional: tests/run does not install it")
+    pytest.importorskip("ovito", reason="ovito (a large download with Qt) is optional: .ci/run does not install it")
     from ovito.data import DataCollection
     from ovito.pipeline import Pipeline, PythonSource
 
