@@ -6,11 +6,8 @@ use std::time::Instant;
 
 use pyo3::prelude::*;
 use rgc::engine::RuleSet;
-use rgc::graph::ContactGraph;
-use rgc::rods::file::Loaded;
-use rgc::sample::{self, Rods, SampleOptions};
+use rgc::sample;
 use rgc::spanning::Criterion;
-use rgc::truth::TruthOptions;
 
 use crate::system::PyRods;
 use crate::value_error;
@@ -24,34 +21,11 @@ pub fn library_seconds(py: Python<'_>, rods: &PyRods, what: &str, seed: u64) -> 
     match what {
         "truth" => Ok(py.detach(|| {
             let start = Instant::now();
-            let contacts = rgc::contacts::detect(system);
-            let graph = ContactGraph::from_contacts(system.len(), &contacts);
-            let t = rgc::truth::of_system(
-                system,
-                &contacts,
-                &graph,
-                Criterion::Wrap,
-                TruthOptions::seeded(seed),
-            );
-            std::hint::black_box(t);
+            std::hint::black_box(crate::truth::of_rods(system, Criterion::Wrap, seed, None));
             start.elapsed().as_secs_f64()
         })),
         "compress" => {
-            let opts = SampleOptions {
-                rods: Rods::Read {
-                    path: "<python>".into(),
-                    loaded: Loaded {
-                        system: system.clone(),
-                        cut: rods.cut,
-                        lines: (1..=system.len()).collect(),
-                    },
-                },
-                seed,
-                runs: 1,
-                rules: RuleSet::Sound,
-                criterion: Criterion::Wrap,
-                truth: false,
-            };
+            let opts = crate::compress::options(rods, RuleSet::Sound, 1, seed, Criterion::Wrap);
             py.detach(|| {
                 let start = Instant::now();
                 let s = sample::sample(&opts)?;

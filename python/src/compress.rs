@@ -72,6 +72,31 @@ impl PyCompression {
     }
 }
 
+/// What `rgc sample` would be given for these rods (read, not generated).
+pub(crate) fn options(
+    rods: &PyRods,
+    rules: RuleSet,
+    runs: usize,
+    seed: u64,
+    criterion: Criterion,
+) -> SampleOptions {
+    SampleOptions {
+        rods: Rods::Read {
+            path: "<python>".into(),
+            loaded: Loaded {
+                system: rods.system.clone(),
+                cut: rods.cut,
+                lines: (1..=rods.system.len()).collect(),
+            },
+        },
+        seed,
+        runs,
+        rules,
+        criterion,
+        truth: false,
+    }
+}
+
 /// Compresses the contact graph of `rods` with 3D-RGC: `runs` runs in
 /// random motif orders from `seed` (the same runs as `rgc sample` with
 /// that seed), rules 'sound', 'paper' or 'certified', spanning under
@@ -89,21 +114,13 @@ pub fn compress(
     if runs == 0 {
         return Err(value_error("runs must be at least 1"));
     }
-    let opts = SampleOptions {
-        rods: Rods::Read {
-            path: "<python>".into(),
-            loaded: Loaded {
-                system: rods.system.clone(),
-                cut: rods.cut,
-                lines: (1..=rods.system.len()).collect(),
-            },
-        },
-        seed,
+    let opts = options(
+        rods,
+        self::rules(rules)?,
         runs,
-        rules: self::rules(rules)?,
-        criterion: self::criterion(criterion)?,
-        truth: false,
-    };
+        seed,
+        self::criterion(criterion)?,
+    );
     let s = py.detach(|| sample::sample(&opts)).map_err(value_error)?;
     let reported = s.reported_bodies(opts.criterion);
     let mut body_idx = vec![-1i64; s.system.len()];

@@ -5,7 +5,9 @@ use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
 use rgc::graph::ContactGraph;
-use rgc::truth::{Method, TruthOptions};
+use rgc::rods::RodSystem;
+use rgc::spanning::Criterion;
+use rgc::truth::{Method, Truth, TruthOptions};
 
 use crate::compress::criterion;
 use crate::system::PyRods;
@@ -67,6 +69,22 @@ impl PyTruth {
     }
 }
 
+/// Contacts, graph and truth of `system`: the library's whole work for `truth`.
+pub(crate) fn of_rods(
+    system: &RodSystem,
+    criterion: Criterion,
+    seed: u64,
+    memory_limit: Option<u64>,
+) -> Truth {
+    let contacts = rgc::contacts::detect(system);
+    let graph = ContactGraph::from_contacts(system.len(), &contacts);
+    let opts = TruthOptions {
+        memory_limit,
+        ..TruthOptions::seeded(seed)
+    };
+    rgc::truth::of_system(system, &contacts, &graph, criterion, opts)
+}
+
 /// The exact generic rigidity of `rods` (the same answer as `rgc truth`
 /// with that seed): degrees of freedom, rigid clusters and spanning under
 /// 'wrap' or 'faces'. `memory_limit` in bytes refuses a system whose
@@ -82,15 +100,7 @@ pub fn truth(
 ) -> PyResult<PyTruth> {
     let criterion = self::criterion(criterion)?;
     let system = &rods.system;
-    let t = py.detach(|| {
-        let contacts = rgc::contacts::detect(system);
-        let graph = ContactGraph::from_contacts(system.len(), &contacts);
-        let opts = TruthOptions {
-            memory_limit,
-            ..TruthOptions::seeded(seed)
-        };
-        rgc::truth::of_system(system, &contacts, &graph, criterion, opts)
-    });
+    let t = py.detach(|| of_rods(system, criterion, seed, memory_limit));
     let mut cluster_idx = vec![-1i64; system.len()];
     for (k, c) in t.clusters.iter().enumerate().rev() {
         for &r in &c.rods {
