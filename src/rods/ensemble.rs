@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-use super::{Cut, Domain, MAX_RODS, Rod, RodParams, RodSystem};
+use super::system::{Cut, Domain, MAX_RODS, Rod, RodParams, RodSystem, too_long};
 use crate::error::{four, short};
 use crate::{Error, Result};
 
@@ -329,7 +329,7 @@ impl Ensemble {
     /// which only a lognormal's tail can draw.
     pub fn generate(&self, seed: u64) -> Result<RodSystem> {
         let system = self.draw(seed);
-        if let Some((i, k, limit)) = super::too_long(&self.domain, &system.rods) {
+        if let Some((i, k, limit)) = too_long(&self.domain, &system.rods) {
             let r = &system.rods[i];
             return Err(Error::Parameter(format!(
                 "rod {i} was drawn with length {} and radius {}: the periodic side {} along {} must exceed \
@@ -406,6 +406,16 @@ impl Ensemble {
             domain: self.domain,
             rods,
         }
+    }
+}
+
+impl RodSystem {
+    /// The paper's ensemble (MODEL §1): `params.n_rods()` unit rods of
+    /// radius `1 / (2 gamma)` with uniform centres in `[0, L)^3` and
+    /// isotropic orientations, reproducibly from `seed`.
+    pub fn generate(params: RodParams, seed: u64) -> Self {
+        // RodParams::new has checked the box against the rods.
+        Ensemble::paper(params).draw(seed)
     }
 }
 

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 use std::path::Path;
 
-use super::{Cut, Domain, Periodic, Rod, RodSystem};
+use super::system::{Cut, Domain, Periodic, Rod, RodSystem};
 use crate::{Error, Result, output};
 
 /// The file formats of rods.
