@@ -77,7 +77,7 @@ use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
 use crate::rule_file::{self, Frequency, Provenance, Rule};
 use crate::spanning::{Criterion, SpanChecker};
-use crate::truth::planes::Offset;
+use crate::truth::Offset;
 use crate::truth::{self, Topology, Truth, TruthOptions};
 use crate::{Error, Result};
 

@@ -39,7 +39,7 @@ use crate::math::stats;
 use crate::output::{self, cell};
 use crate::progress::Progress;
 use crate::rods::{self, RodParams, RodSystem};
-use crate::truth::planes::{self, Offset};
+use crate::truth::{Offset, planes};
 use crate::truth::{Topology, prune};
 use crate::{Error, Result};
 

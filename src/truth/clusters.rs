@@ -20,9 +20,9 @@
 use petgraph::unionfind::UnionFind;
 use rustc_hash::FxHashMap;
 
-use super::Topology;
 use super::matrix::{Parts, WIDTH};
 use super::realize::Realization;
+use super::topology::Topology;
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};
 use crate::math::{Field, Scalar};
 

@@ -17,10 +17,9 @@
 
 use std::collections::VecDeque;
 
-use super::Topology;
 use super::matrix::{Parts, WIDTH};
-use super::planes::Offset;
 use super::realize::Realization;
+use super::topology::{Offset, Topology};
 use crate::math::Field;
 use crate::math::sparse::SparseRow;
 use crate::math::vec3::cross;

@@ -8,10 +8,12 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::answer::TruthOptions;
 use super::matrix::{self, Parts, WIDTH};
 use super::planes::Planes;
 use super::realize::Realization;
-use super::{Topology, TruthOptions, clusters, projection};
+use super::topology::Topology;
+use super::{clusters, projection};
 use crate::math::float::{RankRule, decide_rank_above, singular_vectors};
 use crate::math::matrix::Matrix;
 use crate::rigidity::framework::equilibrate;

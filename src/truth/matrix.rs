@@ -15,9 +15,9 @@
 //! In a periodic box the velocities of a part's images equal its own (the
 //! box is fixed), so a point is always taken in its part's frame.
 
-use super::Topology;
-use super::planes::{Offset, Planes};
+use super::planes::Planes;
 use super::realize::Realization;
+use super::topology::{Offset, Topology};
 use crate::math::Scalar;
 use crate::math::sparse::SparseRow;
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};

@@ -17,8 +17,8 @@
 //! so a line that can be placed last can be removed for good: peeling such
 //! lines greedily finds a construction order whenever one exists.
 
-use super::Topology;
 use super::planes::Planes;
+use super::topology::Topology;
 
 /// The rods no construction order reaches: every one of them is held by
 /// more placed lines than a rational step can satisfy.

@@ -16,10 +16,7 @@
 
 use rustc_hash::FxHashMap;
 
-use super::Topology;
-
-/// An image offset in units of the box side.
-pub type Offset = [i32; 3];
+use super::topology::{Offset, Topology};
 
 /// One forced plane class.
 #[derive(Clone, Debug, PartialEq, Eq)]

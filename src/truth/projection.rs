@@ -32,9 +32,9 @@ use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 use rand::{Rng, RngExt};
 
-use super::Topology;
-use super::planes::{Offset, Planes};
+use super::planes::Planes;
 use super::realize::{Line, Realization, lattice};
+use super::topology::{Offset, Topology};
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};
 
 /// Largest residual, relative to the size of the realization, accepted as

@@ -9,9 +9,9 @@
 
 use rand::Rng;
 
-use super::Topology;
 use super::order::preplaced;
-use super::planes::{Offset, Planes};
+use super::planes::Planes;
+use super::topology::{Offset, Topology};
 use crate::math::vec3::{V3, add, cross, dot, is_null, scale, sub};
 use crate::math::{Field, Fp, Scalar};
 

@@ -10,8 +10,9 @@ use rgc::graph::ContactGraph;
 use rgc::math::Fp;
 use rgc::rods::ensemble::Ensemble;
 use rgc::rods::{Domain, Periodic, RodParams, RodSystem};
+use rgc::truth::Offset;
 use rgc::truth::matrix::{self, Parts};
-use rgc::truth::planes::{Offset, Planes};
+use rgc::truth::planes::Planes;
 use rgc::truth::realize::Realization;
 use rgc::truth::{Method, Topology, TruthOptions, order, planes, prune, realize, truth};
 
