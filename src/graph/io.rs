@@ -20,8 +20,8 @@ use std::path::Path;
 
 use rustc_hash::FxHashMap;
 
+use super::adjacency::ContactGraph;
 use crate::error::{Error, Result};
-use crate::graph::ContactGraph;
 use crate::output;
 
 /// Optional header that nauty writes before graph6 data (`-h` option).

@@ -3,7 +3,7 @@
 use petgraph::unionfind::UnionFind;
 use serde::Serialize;
 
-use super::ContactGraph;
+use super::adjacency::ContactGraph;
 
 /// Contact statistics of a contact graph (MODEL §1).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
