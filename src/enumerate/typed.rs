@@ -18,7 +18,8 @@ use rustc_hash::FxHashSet;
 use rayon::prelude::*;
 
 use super::canon::{Canon, DenseRows, Rows64, canonical_order};
-use super::{GraphFilter, connected_small_graphs};
+use super::connected::connected_small_graphs;
+use super::small::GraphFilter;
 use crate::pattern::{MAX_PATTERN_CONTACTS, NodeKind, Pattern, PatternContact};
 use crate::{Error, Result};
 
