@@ -54,6 +54,11 @@ impl Error {
             source,
         }
     }
+
+    /// An analysis that cannot go on with the data it has.
+    pub fn analysis(msg: impl Into<String>) -> Self {
+        Error::Analysis(msg.into())
+    }
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

@@ -15,13 +15,10 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::logistic::{Logistic, MIN_NESTED, fit_logistic_binomial, fit_logistic_sample};
 use crate::math::stats::{least_squares, percentile_interval};
 use crate::output::{self, cell};
 use crate::{Error, Result};
-
-mod logistic;
-
-pub use logistic::{Logistic, MIN_NESTED, fit_logistic_binomial, fit_logistic_sample};
 
 /// Contact numbers measured on one system of a sequence.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -241,14 +238,10 @@ pub fn check_bootstrap(resamples: usize) -> Result<()> {
 /// Above this fraction of failed resamples the intervals get a warning.
 const MAX_FAILED: f64 = 0.1;
 
-pub(crate) fn analysis(msg: impl Into<String>) -> Error {
-    Error::Analysis(msg.into())
-}
-
 /// Puts the box size in front of an analysis message.
 fn in_box(box_len: f64, e: Error) -> Error {
     match e {
-        Error::Analysis(m) => analysis(format!("box L={box_len}: {m}")),
+        Error::Analysis(m) => Error::analysis(format!("box L={box_len}: {m}")),
         e => e,
     }
 }
@@ -262,7 +255,7 @@ pub fn analyse(data: &[BoxData], opts: &FssOptions) -> Result<Fss> {
     let data = sorted_boxes(data)?;
     let lens: Vec<f64> = data.iter().map(|b| b.box_len).collect();
     if data.len() < MIN_BOXES {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "nu needs at least {MIN_BOXES} box sizes, got {}",
             data.len()
         )));
@@ -376,7 +369,7 @@ fn sorted_boxes(data: &[BoxData]) -> Result<Vec<&BoxData>> {
         .iter()
         .find(|b| !(b.box_len.is_finite() && b.box_len > 0.0))
     {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "box size L={} is not a positive number",
             b.box_len
         )));
@@ -384,7 +377,7 @@ fn sorted_boxes(data: &[BoxData]) -> Result<Vec<&BoxData>> {
     let mut sorted: Vec<&BoxData> = data.iter().collect();
     sorted.sort_by(|a, b| a.box_len.total_cmp(&b.box_len));
     if let Some(w) = sorted.windows(2).find(|w| w[0].box_len == w[1].box_len) {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "box size L={} appears twice; merge its observations",
             w[0].box_len
         )));
@@ -431,7 +424,7 @@ fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
         Protocol::Nested => {
             let sample: Vec<f64> = obs.iter().filter_map(|o| o.critical).collect();
             if sample.is_empty() && obs.iter().any(|o| !o.fixed.is_empty()) {
-                return Err(analysis(
+                return Err(Error::analysis(
                     "no critical densities, only fixed-density observations (use the fixed protocol)",
                 ));
             }
@@ -448,7 +441,9 @@ fn fit_box(obs: &[&Observation], protocol: Protocol) -> Result<BoxResult> {
                 } else {
                     ""
                 };
-                return Err(analysis(format!("no fixed-density observations{hint}")));
+                return Err(Error::analysis(format!(
+                    "no fixed-density observations{hint}"
+                )));
             }
             let grid = pooled_grid(obs.iter().copied());
             Ok(BoxResult {
@@ -605,26 +600,26 @@ fn bootstrap(lens: &[f64], all: &[Vec<&Observation>], opts: &FssOptions) -> Vec<
 /// (slope `-1/nu`).
 pub fn fit_nu(box_lens: &[f64], delta_rho: &[f64]) -> Result<NuFit> {
     if box_lens.len() != delta_rho.len() {
-        return Err(analysis("as many Delta rho as box sizes are needed"));
+        return Err(Error::analysis("as many Delta rho as box sizes are needed"));
     }
     if box_lens.len() < 3 {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "nu needs at least 3 box sizes, got {}",
             box_lens.len()
         )));
     }
     if let Some(d) = delta_rho.iter().find(|d| !(d.is_finite() && **d > 0.0)) {
-        return Err(analysis(format!("Delta rho {d} is not positive")));
+        return Err(Error::analysis(format!("Delta rho {d} is not positive")));
     }
     let x = DMatrix::from_fn(box_lens.len(), 2, |i, j| {
         if j == 0 { 1.0 } else { box_lens[i].ln() }
     });
     let y = DVector::from_iterator(delta_rho.len(), delta_rho.iter().map(|d| d.ln()));
-    let (beta, r2, rms) =
-        least_squares(&x, &y).ok_or_else(|| analysis("nu needs at least 2 distinct box sizes"))?;
+    let (beta, r2, rms) = least_squares(&x, &y)
+        .ok_or_else(|| Error::analysis("nu needs at least 2 distinct box sizes"))?;
     let nu = -1.0 / beta[1];
     if !(nu.is_finite() && nu > 0.0) {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "Delta rho does not shrink with L (log-log slope {:.4} >= 0): nu would be <= 0 or infinite",
             beta[1]
         )));
@@ -641,7 +636,7 @@ pub fn fit_nu(box_lens: &[f64], delta_rho: &[f64]) -> Result<NuFit> {
 /// L_i^(-1/nu)`: one slope per `x`, one intercept (the threshold) for all.
 pub fn extrapolate(t: &[f64], rho_x: &[Vec<f64>]) -> Result<Extrapolation> {
     if rho_x.is_empty() || rho_x.iter().any(|r| r.len() != t.len()) {
-        return Err(analysis(
+        return Err(Error::analysis(
             "the extrapolation needs one rho_x per box size for each x",
         ));
     }
@@ -649,7 +644,9 @@ pub fn extrapolate(t: &[f64], rho_x: &[Vec<f64>]) -> Result<Extrapolation> {
         .chain(rho_x.iter().flatten())
         .any(|v| !v.is_finite())
     {
-        return Err(analysis("a rho_x or L^(-1/nu) is not a finite number"));
+        return Err(Error::analysis(
+            "a rho_x or L^(-1/nu) is not a finite number",
+        ));
     }
     let (m, n) = (rho_x.len(), t.len());
     let x = DMatrix::from_fn(m * n, m + 1, |row, col| {
@@ -662,7 +659,7 @@ pub fn extrapolate(t: &[f64], rho_x: &[Vec<f64>]) -> Result<Extrapolation> {
     });
     let y = DVector::from_iterator(m * n, rho_x.iter().flatten().copied());
     let (beta, r2, rms) = least_squares(&x, &y).ok_or_else(|| {
-        analysis("the common-intercept fit needs at least 2 distinct values of L^(-1/nu)")
+        Error::analysis("the common-intercept fit needs at least 2 distinct values of L^(-1/nu)")
     })?;
     Ok(Extrapolation {
         threshold: beta[0],

@@ -7,8 +7,7 @@ use nalgebra::{Matrix2, Vector2};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-use super::analysis;
-use crate::Result;
+use crate::{Error, Result};
 
 /// Fewest sequences with a critical density the nested fit accepts.
 pub const MIN_NESTED: usize = 5;
@@ -45,10 +44,10 @@ impl Logistic {
 /// densities: its CDF is the fitted spanning probability.
 pub fn fit_logistic_sample(sample: &[f64]) -> Result<Logistic> {
     if sample.iter().any(|x| !x.is_finite()) {
-        return Err(analysis("a critical density is not a finite number"));
+        return Err(Error::analysis("a critical density is not a finite number"));
     }
     if sample.len() < MIN_NESTED {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "fewer than {MIN_NESTED} sequences with a critical density (got {})",
             sample.len()
         )));
@@ -57,7 +56,7 @@ pub fn fit_logistic_sample(sample: &[f64]) -> Result<Logistic> {
     let mean = sample.iter().sum::<f64>() / n;
     let sd = (sample.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
     if sd <= 1e-12 * mean.abs().max(1.0) {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "fewer than 2 distinct critical densities (all {} at {mean})",
             sample.len()
         )));
@@ -99,10 +98,12 @@ pub fn fit_logistic_sample(sample: &[f64]) -> Result<Logistic> {
 /// per density, `(density, spanning, trials)`.
 pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
     if grid.iter().any(|g| !g.0.is_finite()) {
-        return Err(analysis("a grid density is not a finite number"));
+        return Err(Error::analysis("a grid density is not a finite number"));
     }
     if grid.iter().any(|g| g.1 > g.2) {
-        return Err(analysis("more spanning systems than trials at a density"));
+        return Err(Error::analysis(
+            "more spanning systems than trials at a density",
+        ));
     }
     let grid: Vec<(f64, usize, usize)> = grid.iter().copied().filter(|g| g.2 > 0).collect();
     let (span, trials): (usize, usize) = grid.iter().fold((0, 0), |(k, n), g| (k + g.1, n + g.2));
@@ -111,15 +112,15 @@ pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
             grid.iter().map(|g| g.0).fold(f.0, f64::min),
             grid.iter().map(|g| g.0).fold(l.0, f64::max),
         ),
-        _ => return Err(analysis("no fixed-density observations")),
+        _ => return Err(Error::analysis("no fixed-density observations")),
     };
     if span == trials {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "every sequence spans at every grid density ({lo} to {hi}); add lower densities"
         )));
     }
     if span == 0 {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "no sequence spans at any grid density ({lo} to {hi}); add higher densities"
         )));
     }
@@ -136,7 +137,7 @@ pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
         .map(|g| g.0)
         .fold(f64::NEG_INFINITY, f64::max);
     if first_span >= last_miss {
-        return Err(analysis(format!(
+        return Err(Error::analysis(format!(
             "spanning jumps from none to all at density {first_span}..{last_miss} (perfect separation): \
              the logistic width is unresolved; add grid densities around it or more sequences"
         )));
@@ -173,7 +174,7 @@ pub fn fit_logistic_binomial(grid: &[(f64, usize, usize)]) -> Result<Logistic> {
     };
     let (p, ll) = maximize(Vector2::new(PI / 3f64.sqrt(), 0.0), eval)?;
     if p[0] <= 0.0 {
-        return Err(analysis(
+        return Err(Error::analysis(
             "the fitted spanning probability decreases with density",
         ));
     }
@@ -203,7 +204,7 @@ fn maximize(
 ) -> Result<(Vector2<f64>, f64)> {
     let mut p = start;
     let (mut val, mut g, mut h) =
-        f(p).ok_or_else(|| analysis("the logistic fit starts outside its domain"))?;
+        f(p).ok_or_else(|| Error::analysis("the logistic fit starts outside its domain"))?;
     for _ in 0..MAX_NEWTON {
         let step = match (-h).cholesky() {
             Some(c) => c.solve(&g),
@@ -240,7 +241,7 @@ fn maximize(
             break;
         }
     }
-    Err(analysis(format!(
+    Err(Error::analysis(format!(
         "the logistic fit did not converge in {MAX_NEWTON} Newton steps"
     )))
 }

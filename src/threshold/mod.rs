@@ -6,6 +6,7 @@
 pub mod aspect;
 pub mod bias;
 pub mod fss;
+pub mod logistic;
 pub mod paired;
 pub mod planes;
 pub mod report;

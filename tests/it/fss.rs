@@ -7,6 +7,7 @@ use rgc::Error;
 use rgc::threshold::fss::{
     self, BoxData, ContactPoint, Estimate, FssOptions, Observation, Protocol, analyse,
 };
+use rgc::threshold::logistic;
 
 const RHO_C: f64 = 40.0;
 const NU: f64 = 0.9;
@@ -119,7 +120,7 @@ fn logistic_mle_on_a_large_sample() {
     let sample: Vec<f64> = (0..50_000)
         .map(|_| logistic_draw(&mut rng, 12.5, 0.8))
         .collect();
-    let f = fss::fit_logistic_sample(&sample).unwrap();
+    let f = logistic::fit_logistic_sample(&sample).unwrap();
     assert!(
         (f.mu / 12.5 - 1.0).abs() < 0.02 && (f.s / 0.8 - 1.0).abs() < 0.02,
         "{f:?}"
@@ -151,7 +152,7 @@ fn logistic_mle_on_a_large_sample() {
             )
         })
         .collect();
-    let g = fss::fit_logistic_binomial(&grid).unwrap();
+    let g = logistic::fit_logistic_binomial(&grid).unwrap();
     assert!(
         (g.mu / 12.5 - 1.0).abs() < 0.02 && (g.s / 0.8 - 1.0).abs() < 0.02,
         "{g:?}"
