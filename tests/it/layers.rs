@@ -293,3 +293,46 @@ fn the_module_scanner_resolves_relative_paths_and_groups() {
     );
     assert_eq!(code.trim(), "use crate::c;");
 }
+
+/// The statements of a folder's module file that are not declarations or
+/// re-exports (attributes and the test module left out).
+fn definitions(text: &str) -> Vec<String> {
+    module_code(text)
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("#["))
+        .collect::<Vec<_>>()
+        .join("\n")
+        .split(';')
+        .map(|s| s.trim().to_string())
+        .filter(|s| {
+            !s.is_empty()
+                && !["use ", "pub use ", "pub(crate) use ", "mod ", "pub mod "]
+                    .iter()
+                    .any(|k| s.starts_with(k))
+        })
+        .collect()
+}
+
+#[test]
+fn a_folder_module_only_declares_and_reexports() {
+    let mut folders = Vec::new();
+    for (module, file) in modules() {
+        let dir = Path::new(SRC).join(module.join("/"));
+        if dir.is_dir() {
+            folders.push(module.join("::"));
+            let defined = definitions(&std::fs::read_to_string(&file).unwrap());
+            assert!(
+                defined.is_empty(),
+                "{} defines more than its submodules: {defined:?}",
+                file.display()
+            );
+        }
+    }
+    assert!(folders.len() >= 10, "folders found: {folders:?}");
+}
+
+#[test]
+fn definitions_are_what_is_neither_declared_nor_reexported() {
+    let text = "//! doc\nmod a;\npub use a::{\n    B, C,\n};\n#[doc(hidden)]\npub mod d;\nconst E: u8 = 1;\n#[cfg(test)]\nmod tests { fn f() {} }";
+    assert_eq!(definitions(text), ["const E: u8 = 1"]);
+}
