@@ -367,13 +367,6 @@ fn fits(pattern: NodeKind, host: Option<BodyClass>) -> bool {
 }
 
 impl State<'_> {
-    /// Contacts between nodes `x` and `y`, seen from `x`.
-    pub fn links_between(&self, x: u32, y: u32) -> Vec<Link> {
-        let mut links = Vec::new();
-        self.links_into(x, y, &mut links);
-        links
-    }
-
     /// The plane a free rod lies in because it touches two rods of it.
     fn touched_plane(&self, rod: u32) -> Option<u32> {
         let mut seen: Vec<u32> = Vec::new();
@@ -387,15 +380,6 @@ impl State<'_> {
             }
         }
         None
-    }
-
-    /// Number of contacts or neighbouring nodes of node `x`, the cost of listing its neighbours.
-    pub(super) fn degree(&self, x: u32) -> usize {
-        if self.class(x).is_some() {
-            self.nodes[x as usize].adj.len()
-        } else {
-            self.g.degree(x)
-        }
     }
 
     /// Nodes adjacent to node `x`.
@@ -807,20 +791,6 @@ impl State<'_> {
         }
         let parts: Vec<u32> = map.iter().flatten().copied().collect();
         rules == RuleSet::Paper || self.induced_rigid(&parts)
-    }
-
-    /// Appends the contacts between nodes `x` and `y`, seen from `x`, to `out`.
-    fn links_into(&self, x: u32, y: u32, out: &mut Vec<Link>) {
-        if self.class(x).is_some() {
-            out.extend_from_slice(self.body_links(x, y));
-        } else if self.class(y).is_some() {
-            out.extend(self.body_links(y, x).iter().map(|l| Link {
-                own: l.other,
-                other: l.own,
-            }));
-        } else if self.g.edge_between(x, y).is_some() {
-            out.push(Link { own: x, other: y });
-        }
     }
 
     /// Under `sound`: three or more chosen contacts between one plane and
