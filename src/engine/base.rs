@@ -9,8 +9,10 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::pattern::{NodeKind, Pattern, PatternContact};
 
+use super::matcher::CompiledRule;
+use super::motif::Motif;
+use super::ruleset::RuleSet;
 use super::state::{Link, NO_PLANE, State};
-use super::{Motif, RuleSet};
 use crate::body::BodyClass;
 
 /// A motif instance ready to be compressed.
@@ -22,7 +24,7 @@ pub(super) struct Found {
 
 impl Found {
     /// A match of a loaded rule: the host nodes and the merged body's class.
-    pub fn of_rule(rule: &super::CompiledRule, (parts, class): (Vec<u32>, BodyClass)) -> Self {
+    pub fn of_rule(rule: &CompiledRule, (parts, class): (Vec<u32>, BodyClass)) -> Self {
         Found {
             motif: rule.motif,
             parts,

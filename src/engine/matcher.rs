@@ -16,8 +16,9 @@
 use std::cell::RefCell;
 
 use super::index::{CommonNeeds, Index, Needs, Step, accepts};
+use super::motif::Motif;
+use super::ruleset::RuleSet;
 use super::state::{Link, NO_PLANE, State};
-use super::{Motif, RuleSet};
 use crate::body::BodyClass;
 use crate::pattern::{NodeKind, Pattern};
 use crate::rigidity::incidence::{Grouping, Incidence};

@@ -8,7 +8,9 @@
 
 use std::sync::OnceLock;
 
-use super::{CompiledRule, Engine, RuleSet};
+use super::matcher::CompiledRule;
+use super::ruleset::RuleSet;
+use super::run::Engine;
 use crate::Result;
 use crate::pattern::{NodeKind, Pattern, PatternContact};
 use crate::rule_file::{Provenance, Rule, RuleFile, canonical_form};
