@@ -12,6 +12,7 @@ use crate::pattern::{NodeKind, Pattern, PatternContact};
 use super::matcher::CompiledRule;
 use super::motif::Motif;
 use super::ruleset::RuleSet;
+use super::sound::sound_rules;
 use super::state::{Link, NO_PLANE, State};
 use crate::body::BodyClass;
 
@@ -63,7 +64,7 @@ impl State<'_> {
     /// the induced pattern, see [`State::induced_rigid`].)
     fn verified(&mut self, motif: Motif, parts: &[u32], rules: RuleSet) -> bool {
         rules == RuleSet::Paper
-            || super::shapes::sound_rules()
+            || sound_rules()
                 .iter()
                 .filter(|r| r.motif == motif)
                 .any(|r| self.matches_nodes(r, parts, rules))

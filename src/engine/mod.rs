@@ -17,6 +17,7 @@ mod motif;
 mod ruleset;
 mod run;
 pub mod shapes;
+mod sound;
 mod state;
 
 pub use compression::Compression;
