@@ -9,8 +9,8 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::pattern::{NodeKind, Pattern, PatternContact};
 
-use super::matcher::CompiledRule;
 use super::motif::Motif;
+use super::rule::CompiledRule;
 use super::ruleset::RuleSet;
 use super::sound::sound_rules;
 use super::state::{Link, NO_PLANE, State};

@@ -10,10 +10,12 @@
 mod base;
 pub mod certify;
 mod compression;
+mod demand;
 pub mod examples;
 mod index;
 mod matcher;
 mod motif;
+mod rule;
 mod ruleset;
 mod run;
 pub mod shapes;
@@ -21,7 +23,7 @@ mod sound;
 mod state;
 
 pub use compression::Compression;
-pub use matcher::CompiledRule;
 pub use motif::{Motif, MotifCounts};
+pub use rule::CompiledRule;
 pub use ruleset::RuleSet;
 pub use run::{Engine, Matching, compress, compress_from, compress_runs, run_seed};

@@ -4,7 +4,7 @@
 
 use std::sync::OnceLock;
 
-use super::matcher::CompiledRule;
+use super::rule::CompiledRule;
 use crate::rule_file::{Rule, RuleFile};
 
 /// The verified base rules, as `rgc rules` writes them to `motifs/base.json`:
