@@ -7,6 +7,7 @@
 //! instance always contains the merged node and one of those changed pairs,
 //! so nothing is missed and nothing far away is looked at again.
 
+mod assignment;
 mod ball;
 mod base;
 pub mod certify;
