@@ -15,6 +15,7 @@ mod compression;
 mod demand;
 pub mod examples;
 mod index;
+mod induced;
 mod matcher;
 mod motif;
 mod rule;
