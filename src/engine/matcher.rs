@@ -8,7 +8,8 @@
 //! pattern's contacts between matched nodes, and the host has no
 //! collinearity the pattern did not assume: host contacts of a node on one
 //! rod carry one pattern rod label, and (under `sound`) three or more host
-//! contacts between one plane of each side carry one label on a side.
+//! contacts between one plane of each side carry one label on a side
+//! (`assignment` assigns the contacts of a complete node map).
 //! Searches start from what changed: a rod at the start (rods-only rules),
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.

@@ -4,7 +4,9 @@
 //! conditions accept is checked under every planar/spatial assignment of its
 //! bodies. The rigid ones become rules; the `sound` engine uses them in
 //! place of the published conditions for 3D3A, 3D3B and 3D4, which exact
-//! rank refutes for some variants with planar bodies.
+//! rank refutes for some variants with planar bodies. They are derived here
+//! by running the engine, so the engine reads the committed copy
+//! (`motifs/base.json`, see `sound`) instead.
 
 use super::ruleset::RuleSet;
 use super::run::Engine;
