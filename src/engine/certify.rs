@@ -18,7 +18,7 @@
 
 use rustc_hash::FxHashMap;
 
-use super::Compression;
+use super::compression::Compression;
 use crate::body::Body;
 use crate::truth::{self, Topology, TruthOptions};
 

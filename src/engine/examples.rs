@@ -4,7 +4,8 @@
 
 use serde::Serialize;
 
-use super::{RuleSet, compress_from};
+use super::ruleset::RuleSet;
+use super::run::compress_from;
 use crate::body::{Body, BodyClass};
 use crate::graph::ContactGraph;
 

@@ -4,14 +4,15 @@
 //! conditions accept is checked under every planar/spatial assignment of its
 //! bodies. The rigid ones become rules; the `sound` engine uses them in
 //! place of the published conditions for 3D3A, 3D3B and 3D4, which exact
-//! rank refutes for some variants with planar bodies.
+//! rank refutes for some variants with planar bodies. They are derived here
+//! by running the engine, so the engine reads the committed copy
+//! (`motifs/base.json`, see `sound`) instead.
 
-use std::sync::OnceLock;
-
-use super::{CompiledRule, Engine, RuleSet};
+use super::ruleset::RuleSet;
+use super::run::Engine;
 use crate::Result;
 use crate::pattern::{NodeKind, Pattern, PatternContact};
-use crate::rule_file::{Provenance, Rule, RuleFile, canonical_form};
+use crate::rule_file::{Provenance, Rule, canonical_form};
 
 /// Motif orders tried before saying the engine compresses a pattern.
 pub const ORDERS: u64 = 8;
@@ -213,38 +214,9 @@ pub struct Refuted {
     pub dof: Option<usize>,
 }
 
-/// The verified base rules, as `rgc rules` writes them to `motifs/base.json`:
-/// deriving them again costs every process about 50 ms of exact rank, and a
-/// test checks that the file is what [`base_rules`] derives.
-const BASE_RULES: &str = include_str!("../../motifs/base.json");
-
-/// The verified rules the `sound` engine uses for 3D3A, 3D3B and 3D4,
-/// read once per process from [`BASE_RULES`].
-pub(super) fn sound_rules() -> &'static [CompiledRule] {
-    static RULES: OnceLock<Vec<CompiledRule>> = OnceLock::new();
-    RULES.get_or_init(|| {
-        sound_subset(&committed_base_rules())
-            .map(CompiledRule::new)
-            .collect()
-    })
-}
-
-fn committed_base_rules() -> Vec<Rule> {
-    let file: RuleFile = serde_json::from_str(BASE_RULES).expect("motifs/base.json is a rule file");
-    file.rules
-}
-
-/// The rules of 3D3A, 3D3B and 3D4 among the base rules.
-fn sound_subset(rules: &[Rule]) -> impl Iterator<Item = &Rule> {
-    rules.iter().filter(|r| {
-        ["3D3A", "3D3B", "3D4"]
-            .iter()
-            .any(|m| r.id.starts_with(&format!("base-{m}-")))
-    })
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::sound::{committed_base_rules, sound_rules, sound_subset};
     use super::*;
 
     /// The rules the engine reads are the ones exact rank derives now.

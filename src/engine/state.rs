@@ -112,6 +112,38 @@ impl<'g> State<'g> {
             .map_or(&[][..], |v| v.as_slice())
     }
 
+    /// Contacts between nodes `x` and `y`, seen from `x`.
+    pub fn links_between(&self, x: u32, y: u32) -> Vec<Link> {
+        let mut links = Vec::new();
+        self.links_into(x, y, &mut links);
+        links
+    }
+
+    /// Appends the contacts between nodes `x` and `y`, seen from `x`, to `out`.
+    pub fn links_into(&self, x: u32, y: u32, out: &mut Vec<Link>) {
+        if self.class(x).is_some() {
+            out.extend_from_slice(self.body_links(x, y));
+        } else if self.class(y).is_some() {
+            out.extend(self.body_links(y, x).iter().map(|l| Link {
+                own: l.other,
+                other: l.own,
+            }));
+        } else if self.g.edge_between(x, y).is_some() {
+            out.push(Link { own: x, other: y });
+        }
+    }
+
+    /// Number of contacts or neighbouring nodes of node `x`: the cost of
+    /// listing its neighbours, and the size that decides which part of a
+    /// merge survives.
+    pub fn degree(&self, x: u32) -> usize {
+        if self.class(x).is_some() {
+            self.nodes[x as usize].adj.len()
+        } else {
+            self.g.degree(x)
+        }
+    }
+
     /// Rods of node `x` that rod `r` touches (the other ends of `r`'s
     /// contacts with `x`), sorted.
     pub fn rod_contacts_with(&mut self, r: u32, x: u32, out: &mut Vec<u32>) {
@@ -151,15 +183,6 @@ impl<'g> State<'g> {
         out
     }
 
-    /// Number of contacts of node `x`, the size that decides which part of a merge survives.
-    fn weight(&self, x: u32) -> usize {
-        if self.class[x as usize].is_some() {
-            self.nodes[x as usize].adj.len()
-        } else {
-            self.g.degree(x)
-        }
-    }
-
     /// Merges the nodes `parts` into one body of class `class`. Returns the new
     /// node and the neighbours whose relation to it changed (all of them when
     /// the surviving part changed kind or class).
@@ -170,7 +193,7 @@ impl<'g> State<'g> {
         }
         let keep = *parts
             .iter()
-            .max_by_key(|&&x| (self.weight(x), std::cmp::Reverse(x)))
+            .max_by_key(|&&x| (self.degree(x), std::cmp::Reverse(x)))
             .expect("a merge has parts");
         let all_changed = self.class[keep as usize] != Some(class);
         if self.class[keep as usize].is_none() {

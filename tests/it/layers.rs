@@ -245,12 +245,11 @@ fn no_module_or_submodule_is_part_of_an_import_cycle() {
         }
     }
     for k in 0..n {
-        for i in 0..n {
-            if reach[i][k] {
-                for j in 0..n {
-                    if reach[k][j] {
-                        reach[i][j] = true;
-                    }
+        let via = reach[k].clone();
+        for row in &mut reach {
+            if row[k] {
+                for (to, &from_k) in row.iter_mut().zip(&via) {
+                    *to |= from_k;
                 }
             }
         }

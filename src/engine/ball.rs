@@ -1,0 +1,146 @@
+//! The free rods around a rod task's rod as bit sets, where the index
+//! replays the plain matcher's search of a rods-only rule with bit
+//! operations (see [`Ball`]).
+
+use super::rule::Step;
+
+/// Ball rods are told apart by their neighbours in the ball up to this many.
+pub(super) const MAX_DEGREE: usize = 8;
+
+/// The free rods within the index's radius of a rod task's rod (through
+/// rods of the least core the rods-only rules need), sorted, as bits of one
+/// integer, with their contacts among them as bit rows: a match of
+/// a rods-only rule lies there, and bit operations list a pattern node's
+/// candidates in the plain matcher's order (by node). Larger balls (none at
+/// density 40, box 10) are searched on the cached lists instead.
+#[derive(Default)]
+pub(super) struct Ball {
+    /// Whether the rows are those of the current rod task.
+    pub built: bool,
+    pub rods: Vec<u32>,
+    pub rows: Vec<Bits>,
+    /// By distance `d`: the rods within `d` of the root.
+    pub near: Vec<Bits>,
+    /// By `k`: the rods with at least `k` neighbours in the ball.
+    pub wide: [Bits; MAX_DEGREE + 1],
+    /// By distance `d` and `k` up to [`MAX_CORE`], once needed: the
+    /// `k`-core of the rods within `d` of the root (a match with no node
+    /// of fewer than `k` neighbours, within `d`, lies there).
+    pub core: Vec<[Option<Bits>; MAX_CORE + 1]>,
+    pub root: usize,
+}
+
+/// The largest core order a [`Ball`] computes.
+pub(super) const MAX_CORE: usize = 4;
+
+/// A set of ball rods.
+pub(super) type Bits = u128;
+
+/// The largest ball built: one set of bits.
+pub(super) const MAX_BALL: usize = Bits::BITS as usize;
+
+/// The state of one search in a [`Ball`]: ball rods by pattern node, the
+/// rods used, and the map in host rods.
+#[derive(Default)]
+pub(super) struct Search {
+    local: Vec<usize>,
+    used: Bits,
+    /// The rods a match can use.
+    pub within: Bits,
+    map: Vec<Option<u32>>,
+}
+
+impl Ball {
+    /// The rods that can carry `step`, given the map so far: not used,
+    /// touching the rods its mapped neighbours are on, within its pattern
+    /// distance of the root (a complete map is a homomorphism), and with at
+    /// least its neighbours in the ball (all of a complete map is).
+    fn candidates(&self, step: &Step, s: &Search) -> Bits {
+        let mut bits = !s.used
+            & s.within
+            & self.near[step.distance as usize]
+            & self.wide[(step.degree as usize).min(MAX_DEGREE)];
+        for &b in &step.back {
+            bits &= self.rows[s.local[b]];
+        }
+        bits
+    }
+
+    /// The `k`-core of the ball rods `set`: its rods with at least `k`
+    /// neighbours in it, repeatedly.
+    pub fn peel(&self, mut set: Bits, k: u32) -> Bits {
+        loop {
+            let mut kept = set;
+            let mut bits = set;
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if (self.rows[i] & set).count_ones() < k {
+                    kept &= !(1 << i);
+                }
+            }
+            if kept == set {
+                return set;
+            }
+            set = kept;
+        }
+    }
+
+    /// Calls `complete` on every complete map (host rods by pattern node)
+    /// of the plain matcher's search from pattern node `start` on the root,
+    /// in its order, until it returns true; whether it did.
+    pub fn search(
+        &self,
+        start: usize,
+        plan: &[Step],
+        n: usize,
+        s: &mut Search,
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> bool {
+        if s.within & (1 << self.root) == 0 {
+            return false;
+        }
+        s.local.clear();
+        s.local.resize(n, usize::MAX);
+        s.local[start] = self.root;
+        s.used = 1 << self.root;
+        s.map.clear();
+        s.map.resize(n, None);
+        s.map[start] = Some(self.rods[self.root]);
+        self.viable(plan, s) && self.extend(plan, 0, s, complete)
+    }
+
+    /// Whether every step of `plan` whose mapped neighbours are all among
+    /// the starts has a candidate (else no map can be completed; checking
+    /// again deeper in the search costs more than it saves).
+    fn viable(&self, plan: &[Step], s: &Search) -> bool {
+        plan.iter()
+            .all(|step| step.ready != 0 || self.candidates(step, s) != 0)
+    }
+
+    fn extend(
+        &self,
+        plan: &[Step],
+        done: usize,
+        s: &mut Search,
+        complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
+    ) -> bool {
+        let Some(step) = plan.get(done) else {
+            return complete(&s.map);
+        };
+        let mut bits = self.candidates(step, s);
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            s.local[step.node] = i;
+            s.map[step.node] = Some(self.rods[i]);
+            s.used |= 1 << i;
+            if self.extend(plan, done + 1, s, complete) {
+                return true;
+            }
+            s.used &= !(1 << i);
+        }
+        s.map[step.node] = None;
+        false
+    }
+}
