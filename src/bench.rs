@@ -384,10 +384,10 @@ pub fn measure_truth_at(gamma: f64, density: f64, l: usize, seed: u64) -> crate:
     }))
 }
 
-/// A power law `y = prefactor * x^exponent`, fitted by least squares of
-/// `log y` against `log x`.
+/// How a cost grows with the number of rods: `y = prefactor * x^exponent`,
+/// fitted by least squares of `log y` against `log x`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct PowerLaw {
+pub struct Growth {
     pub exponent: f64,
     pub prefactor: f64,
     /// R² of the fit in logarithms.
@@ -395,10 +395,10 @@ pub struct PowerLaw {
     pub points: usize,
 }
 
-impl PowerLaw {
+impl Growth {
     /// The fit through the points with both coordinates positive; `None`
     /// without two distinct `x` among them.
-    pub fn fit(points: impl IntoIterator<Item = (f64, f64)>) -> Option<PowerLaw> {
+    pub fn fit(points: impl IntoIterator<Item = (f64, f64)>) -> Option<Growth> {
         let logs: Vec<(f64, f64)> = points
             .into_iter()
             .filter(|&(x, y)| x > 0.0 && y > 0.0)
@@ -407,7 +407,7 @@ impl PowerLaw {
         let x = DMatrix::from_fn(logs.len(), 2, |i, j| if j == 0 { 1.0 } else { logs[i].0 });
         let y = DVector::from_fn(logs.len(), |i, _| logs[i].1);
         let (beta, r2, _) = least_squares(&x, &y)?;
-        Some(PowerLaw {
+        Some(Growth {
             exponent: beta[1],
             prefactor: beta[0].exp(),
             r2,
@@ -447,8 +447,8 @@ pub const ASPECT_PAIR: [(f64, usize); 2] = [(98.0, 7), (23.0, 12)];
 #[derive(Clone, Debug, Serialize)]
 pub struct AspectScaling {
     pub gamma: f64,
-    pub time: Option<PowerLaw>,
-    pub memory: Option<PowerLaw>,
+    pub time: Option<Growth>,
+    pub memory: Option<Growth>,
 }
 
 /// What the aspect-ratio benchmark of truth found.
@@ -490,8 +490,8 @@ pub fn run_truth_aspects(
             let at = || rows.iter().filter(move |r| r.gamma == gamma);
             AspectScaling {
                 gamma,
-                time: PowerLaw::fit(at().map(|r| (r.n_rods as f64, cpu(r)))),
-                memory: PowerLaw::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
+                time: Growth::fit(at().map(|r| (r.n_rods as f64, cpu(r)))),
+                memory: Growth::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
             }
         })
         .collect();
@@ -517,19 +517,19 @@ pub const TAIL_BOXES: usize = 3;
 #[derive(Clone, Debug, Serialize)]
 pub struct Scaling {
     pub density: f64,
-    pub time: Option<PowerLaw>,
+    pub time: Option<Growth>,
     /// The time law of the [`TAIL_BOXES`] largest box sides alone. On small
     /// boxes fixed costs hide the growth of the dense fronts, so the law of
     /// all sizes is too flat to extrapolate; predictions use this one.
-    pub time_tail: Option<PowerLaw>,
+    pub time_tail: Option<Growth>,
     /// Fitted to `truth_mib`, the part that grows with truth's fronts.
-    pub memory: Option<PowerLaw>,
+    pub memory: Option<Growth>,
 }
 
 /// The largest box side whose system at `density` the time law puts within
 /// `max_seconds` (up to [`PREDICT_MAX_BOX`]); `None` if not even the
 /// smallest valid box.
-pub fn predict_largest_box(time: &PowerLaw, density: f64, max_seconds: f64) -> Option<usize> {
+pub fn predict_largest_box(time: &Growth, density: f64, max_seconds: f64) -> Option<usize> {
     (1..=PREDICT_MAX_BOX)
         .filter_map(|l| RodParams::new(TRUTH_GAMMA, l as f64, density).ok())
         .take_while(|p| time.at(p.n_rods() as f64) <= max_seconds)
@@ -607,9 +607,9 @@ pub fn run_truth(
             let time = |r: &TruthRow| (r.n_rods as f64, r.seconds);
             Scaling {
                 density,
-                time: PowerLaw::fit(at().map(time)),
-                time_tail: PowerLaw::fit(at().filter(|r| r.box_len >= tail).map(time)),
-                memory: PowerLaw::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
+                time: Growth::fit(at().map(time)),
+                time_tail: Growth::fit(at().filter(|r| r.box_len >= tail).map(time)),
+                memory: Growth::fit(at().map(|r| (r.n_rods as f64, r.truth_mib))),
             }
         })
         .collect();

@@ -14,7 +14,7 @@ use crate::rods::ensemble::{Ensemble, Orientation};
 use crate::rods::file::Loaded;
 use crate::rods::{Periodic, RodParams, RodSystem};
 use crate::spanning::{self, Criterion, SpanChecker};
-use crate::truth::{self, Method, Topology, Truth, TruthOptions};
+use crate::truth::{self, Decision, Topology, Truth, TruthOptions};
 
 /// Where a sample's rods come from.
 #[derive(Clone, Debug)]
@@ -50,7 +50,7 @@ pub struct SampleOptions {
 /// The exact rigidity of a sample's system, as `rgc sample --truth` reports it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TruthReport {
-    pub method: Method,
+    pub method: Decision,
     /// Whether a true rigid cluster spans (none when undecided).
     pub spanning: Option<bool>,
     /// Rods in the largest true rigid cluster.

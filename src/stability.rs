@@ -35,7 +35,7 @@ use crate::rigidity::family;
 use crate::rigidity::framework::{dof, float_framework, try_framework};
 use crate::rigidity::incidence::{Grouping, Incidence};
 use crate::rigidity::verdict::{FloatRanks, float_family, float_ranks, float_spectrum};
-use crate::rigidity::{self, Method, Verdict, check_exact};
+use crate::rigidity::{self, Ranker, Verdict, check_exact};
 use crate::{Error, Result};
 
 /// Seed of the exact reference verdicts.
@@ -81,7 +81,7 @@ pub fn panel() -> Vec<(String, Pattern)> {
 /// for ([`crate::rigidity::verdict::float_spectrum`]), in units of that noise.
 #[derive(Clone, Debug, Serialize)]
 pub struct Calibration {
-    pub method: Method,
+    pub method: Ranker,
     pub matrices: usize,
     /// Largest value that is zero in exact arithmetic.
     pub zero_max: f64,
@@ -99,7 +99,7 @@ pub struct Calibration {
 /// family of the [`panel`], seeds `0..seeds`, against the exact rank of the
 /// family (its degrees of freedom are invariant; the float matrix may have
 /// other auxiliary points).
-pub fn calibrate(method: Method, seeds: u64) -> Calibration {
+pub fn calibrate(method: Ranker, seeds: u64) -> Calibration {
     let per_pattern: Vec<Vec<(f64, f64, String)>> = panel()
         .par_iter()
         .map(|(name, p)| {
@@ -211,7 +211,7 @@ pub struct StudyConfig {
     /// Seeds per pattern and setting.
     pub seeds: u64,
     pub axes: Vec<Axis>,
-    pub methods: Vec<Method>,
+    pub methods: Vec<Ranker>,
 }
 
 impl StudyConfig {
@@ -228,7 +228,7 @@ impl StudyConfig {
                 Axis::Collinear,
                 Axis::Size,
             ],
-            methods: vec![Method::Svd, Method::Qr],
+            methods: vec![Ranker::Svd, Ranker::Qr],
         }
     }
 
@@ -251,7 +251,7 @@ pub struct StabilityRow {
     pub eps: Option<f64>,
     /// Number of rods (size axis).
     pub rods: Option<usize>,
-    pub method: Method,
+    pub method: Ranker,
     pub trials: usize,
     /// Fractions of the trials: matching the exact verdict, undecided, and
     /// decided but not matching it.
@@ -292,7 +292,7 @@ pub fn run(config: &StudyConfig) -> Result<Vec<StabilityRow>> {
             continue;
         }
         let patterns = sensitive_patterns(axis.degeneracy())?;
-        let settings: Vec<(f64, Method)> = config
+        let settings: Vec<(f64, Ranker)> = config
             .eps
             .iter()
             .flat_map(|&eps| config.methods.iter().map(move |&m| (eps, m)))
@@ -404,7 +404,7 @@ fn aggregate(
     axis: Axis,
     eps: Option<f64>,
     rods: Option<usize>,
-    method: Method,
+    method: Ranker,
     trials: &[Trial],
 ) -> StabilityRow {
     let n = trials.len().max(1) as f64;
@@ -458,7 +458,7 @@ pub fn ladder(heavy: usize, flexible: bool, seed: u64) -> Pattern {
 /// rank against float rank on the generic family (the forced grouping; no
 /// other family matters for the numerics of size).
 fn size_rows(config: &StudyConfig) -> Result<Vec<StabilityRow>> {
-    let cases: Vec<(usize, Method)> = config
+    let cases: Vec<(usize, Ranker)> = config
         .heavy
         .iter()
         .flat_map(|&h| config.methods.iter().map(move |&m| (h, m)))
@@ -480,7 +480,7 @@ fn size_rows(config: &StudyConfig) -> Result<Vec<StabilityRow>> {
         .collect()
 }
 
-fn size_trial(p: &Pattern, method: Method, seed: u64) -> Result<Trial> {
+fn size_trial(p: &Pattern, method: Ranker, seed: u64) -> Result<Trial> {
     let inc = Incidence::new(p);
     let grouping = Grouping::forced(&inc);
     let failed = || Error::Parameter("a ladder could not be realized".into());
@@ -555,11 +555,11 @@ pub fn write_csv(rows: &[StabilityRow], path: &Path) -> Result<()> {
     )
 }
 
-pub fn method_name(m: Method) -> &'static str {
+pub fn method_name(m: Ranker) -> &'static str {
     match m {
-        Method::Exact => "exact",
-        Method::Svd => "svd",
-        Method::Qr => "qr",
+        Ranker::Exact => "exact",
+        Ranker::Svd => "svd",
+        Ranker::Qr => "qr",
     }
 }
 
@@ -662,8 +662,8 @@ pub fn throughput(n: usize, count: usize, min_seconds: f64) -> Result<Throughput
         err.map(|_| k * rate)
     };
     let check_exact_per_s = check(&|p| check_exact(p, 1))?;
-    let check_svd_per_s = check(&|p| rigidity::check_float(p, Method::Svd, 1))?;
-    let check_qr_per_s = check(&|p| rigidity::check_float(p, Method::Qr, 1))?;
+    let check_svd_per_s = check(&|p| rigidity::check_float(p, Ranker::Svd, 1))?;
+    let check_qr_per_s = check(&|p| rigidity::check_float(p, Ranker::Qr, 1))?;
     std::hint::black_box(sink);
     let mean = |f: &dyn Fn(&Matrix<f64>) -> usize| float.iter().map(f).sum::<usize>() as f64 / k;
     Ok(Throughput {
@@ -719,7 +719,7 @@ mod tests {
             Axis::Collinear,
             Axis::Size,
         ];
-        let methods = [Method::Exact, Method::Svd, Method::Qr];
+        let methods = [Ranker::Exact, Ranker::Svd, Ranker::Qr];
         let rows: Vec<StabilityRow> = text
             .lines()
             .skip(1)

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use rgc::graph::ContactGraph;
 use rgc::rods::RodSystem;
 use rgc::spanning::Criterion;
-use rgc::truth::{Method, Truth, TruthOptions};
+use rgc::truth::{Decision, Truth, TruthOptions};
 
 use crate::compress::criterion;
 use crate::system::PyRods;
@@ -113,9 +113,9 @@ pub fn truth(
         dof: t.dof,
         spanning: t.spanning,
         method: match t.method {
-            Method::Exact => "exact",
-            Method::Float => "float",
-            Method::Undecided => "undecided",
+            Decision::Exact => "exact",
+            Decision::Float => "float",
+            Decision::Undecided => "undecided",
         },
         reason: t.reason.clone(),
         report: serde_json::to_string(&t).map_err(crate::value_error)?,

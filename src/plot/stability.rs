@@ -8,7 +8,7 @@ use plotters::prelude::*;
 use super::chart::{Chart, Drawn, render};
 use crate::Result;
 use crate::math::float::RankRule;
-use crate::rigidity::Method;
+use crate::rigidity::Ranker;
 use crate::stability::{Axis, StabilityRow};
 
 /// Pixel size of the stability chart.
@@ -73,9 +73,9 @@ const QUANTITIES: [Quantity; 4] = [
     ),
 ];
 
-fn method_label(m: Method) -> &'static str {
+fn method_label(m: Ranker) -> &'static str {
     match m {
-        Method::Qr => "QR",
+        Ranker::Qr => "QR",
         _ => "SVD",
     }
 }
@@ -111,7 +111,7 @@ fn fractions<DB: DrawingBackend>(
         .x_label_formatter(&|v| format!("1e-{}", v.round()))
         .label_style(("sans-serif", 14))
         .draw()?;
-    for method in [Method::Svd, Method::Qr] {
+    for method in [Ranker::Svd, Ranker::Qr] {
         let mut pts: Vec<&StabilityRow> = of_axis
             .iter()
             .copied()
@@ -122,14 +122,14 @@ fn fractions<DB: DrawingBackend>(
             let line: Vec<(f64, f64)> = pts.iter().map(|r| (x(r), value(r))).collect();
             let style = color.stroke_width(2);
             let name = format!("{label} ({})", method_label(method));
-            let drawn = if method == Method::Svd {
+            let drawn = if method == Ranker::Svd {
                 chart.draw_series(LineSeries::new(line, style))?
             } else {
                 chart.draw_series(DashedLineSeries::new(line, 7, 5, style))?
             };
             if legend {
                 drawn.label(name).legend(move |(x, y)| {
-                    let dash = if method == Method::Svd { 20 } else { 8 };
+                    let dash = if method == Ranker::Svd { 20 } else { 8 };
                     PathElement::new(vec![(x, y), (x + dash, y)], color.stroke_width(2))
                 });
             }
@@ -171,7 +171,7 @@ fn sizes<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, rows: &[StabilityRow
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .label_style(("sans-serif", 14))
         .draw()?;
-    for method in [Method::Svd, Method::Qr] {
+    for method in [Ranker::Svd, Ranker::Qr] {
         let mut line: Vec<(f64, f64)> = of_axis
             .iter()
             .filter(|r| r.method == method && r.median_gap.is_finite())
@@ -179,7 +179,7 @@ fn sizes<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, rows: &[StabilityRow
             .collect();
         line.sort_by(|a, b| a.0.total_cmp(&b.0));
         let color = RGBColor(31, 119, 180).stroke_width(2);
-        let drawn = if method == Method::Svd {
+        let drawn = if method == Ranker::Svd {
             chart.draw_series(LineSeries::new(line, color))?
         } else {
             chart.draw_series(DashedLineSeries::new(line, 7, 5, color))?
@@ -187,7 +187,7 @@ fn sizes<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, rows: &[StabilityRow
         drawn
             .label(format!("median gap ({})", method_label(method)))
             .legend(move |(x, y)| {
-                let dash = if method == Method::Svd { 20 } else { 8 };
+                let dash = if method == Ranker::Svd { 20 } else { 8 };
                 PathElement::new(vec![(x, y), (x + dash, y)], color)
             });
     }

@@ -20,4 +20,4 @@ pub mod projection;
 pub mod rank;
 pub mod verdict;
 
-pub use verdict::{ComponentReport, Method, Verdict, check_exact, check_float, exact_class};
+pub use verdict::{ComponentReport, Ranker, Verdict, check_exact, check_float, exact_class};

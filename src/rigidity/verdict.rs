@@ -20,11 +20,11 @@ use crate::math::float::{FloatRank, RankRule, decide_rank_above, qr_diagonal, si
 use crate::pattern::Pattern;
 use crate::{Error, Result};
 
-/// How a verdict was reached.
+/// What ranks the rigidity matrix for a verdict: exact arithmetic, or one of two float decompositions.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
-pub enum Method {
+pub enum Ranker {
     /// Rank over F_p at exact realizations of every component; a most
     /// generic family that no exact construction reaches is found by
     /// numerical projection and ranked in floats with the gap rule (its
@@ -76,7 +76,7 @@ pub struct Verdict {
     pub components: Vec<ComponentReport>,
     /// Rank on the first component.
     pub rank: usize,
-    pub method: Method,
+    pub method: Ranker,
     /// Relative singular-value gap around the decided rank (floats only).
     pub gap: Option<f64>,
     /// Why the verdict is undecided, if it is.
@@ -108,7 +108,7 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
         });
     }
     if forced_built {
-        return Ok(verdict(components, true, Method::Exact, ""));
+        return Ok(verdict(components, true, Ranker::Exact, ""));
     }
     match project_forced(&inc, seed, &mut rng) {
         Ok(report) => {
@@ -121,9 +121,9 @@ pub fn check_exact(pattern: &Pattern, seed: u64) -> Result<Verdict> {
             for (c, flag) in components.iter_mut().zip(flags) {
                 c.component = flag;
             }
-            Ok(verdict(components, true, Method::Exact, ""))
+            Ok(verdict(components, true, Ranker::Exact, ""))
         }
-        Err(why) => Ok(verdict(components, false, Method::Exact, &why)),
+        Err(why) => Ok(verdict(components, false, Ranker::Exact, &why)),
     }
 }
 
@@ -292,8 +292,8 @@ fn project_forced(
         return Err(unclear());
     };
     let ranked = FamilyRank {
-        base: float_rank(inc, base, Method::Svd, rng),
-        twin: twin.and_then(|t| float_rank(inc, t, Method::Svd, rng)),
+        base: float_rank(inc, base, Ranker::Svd, rng),
+        twin: twin.and_then(|t| float_rank(inc, t, Ranker::Svd, rng)),
     };
     let (Some(dof), Some((fr, _))) = (ranked.dof(), ranked.base) else {
         return Err(unclear());
@@ -321,8 +321,8 @@ pub const TWIN_NUDGE: f64 = 1e-3;
 /// each family and its twin ([`TWIN_NUDGE`]), their ranks by SVD or pivoted
 /// QR. Undecided, rather than a guess, when a spectrum has no clear gap
 /// ([`crate::math::float::RankRule`]) or the twins disagree.
-/// [`Method::Exact`] delegates to [`check_exact`].
-pub fn check_float(pattern: &Pattern, method: Method, seed: u64) -> Result<Verdict> {
+/// [`Ranker::Exact`] delegates to [`check_exact`].
+pub fn check_float(pattern: &Pattern, method: Ranker, seed: u64) -> Result<Verdict> {
     check_float_in(pattern, method, seed, &Geometry::generic())
 }
 
@@ -330,11 +330,11 @@ pub fn check_float(pattern: &Pattern, method: Method, seed: u64) -> Result<Verdi
 /// ones for the stability study.
 pub fn check_float_in(
     pattern: &Pattern,
-    method: Method,
+    method: Ranker,
     seed: u64,
     geometry: &Geometry<f64>,
 ) -> Result<Verdict> {
-    if method == Method::Exact {
+    if method == Ranker::Exact {
         return check_exact(pattern, seed);
     }
     Ok(float_ranks(pattern, method, seed, geometry)?.verdict())
@@ -351,7 +351,7 @@ pub struct FloatRanks {
     pub samples: Vec<[Option<FloatRank>; 2]>,
     /// Whether the most generic family was built exactly.
     pub forced_built: bool,
-    pub method: Method,
+    pub method: Ranker,
 }
 
 impl FloatRanks {
@@ -372,11 +372,11 @@ impl FloatRanks {
 }
 
 /// Ranks every family of a pattern on a float realization drawn by
-/// `geometry` and its twin ([`Method::Exact`] is read as SVD). A family is
+/// `geometry` and its twin ([`Ranker::Exact`] is read as SVD). A family is
 /// decided when both ranks are and give the same degrees of freedom.
 pub fn float_ranks(
     pattern: &Pattern,
-    method: Method,
+    method: Ranker,
     seed: u64,
     geometry: &Geometry<f64>,
 ) -> Result<FloatRanks> {
@@ -435,11 +435,11 @@ impl FamilyRank {
 }
 
 /// Builds a float realization of `grouping` by `geometry` and its twin
-/// ([`TWIN_NUDGE`]) and ranks both by `method` ([`Method::Exact`] is read as SVD).
+/// ([`TWIN_NUDGE`]) and ranks both by `method` ([`Ranker::Exact`] is read as SVD).
 pub fn float_family(
     inc: &Incidence,
     grouping: &Grouping,
-    method: Method,
+    method: Ranker,
     geometry: &Geometry<f64>,
     seed: u64,
     rng: &mut impl Rng,
@@ -464,14 +464,14 @@ pub fn float_family(
 fn float_rank(
     inc: &Incidence,
     sample: Realization<f64>,
-    method: Method,
+    method: Ranker,
     rng: &mut impl Rng,
 ) -> Option<(FloatRank, usize)> {
     let f = float_framework(inc, sample, rng)?;
     let (values, noise) = float_spectrum(&f, method);
     let rule = match method {
-        Method::Qr => RankRule::QR,
-        Method::Svd | Method::Exact => RankRule::SVD,
+        Ranker::Qr => RankRule::QR,
+        Ranker::Svd | Ranker::Exact => RankRule::SVD,
     };
     let fr = decide_rank_above(&values, noise, rule);
     Some((fr, dof(&f, fr.counted)))
@@ -481,10 +481,10 @@ fn float_rank(
 /// values, or `|R_ii|` of pivoted QR; `[NaN]` when it cannot be computed)
 /// and the noise a rank decision must allow for: the roundoff floor
 /// `max(m, n) * f64::EPSILON * s_0` or, when larger, [`trivial_residual`].
-pub fn float_spectrum(f: &Framework<f64>, method: Method) -> (Vec<f64>, f64) {
+pub fn float_spectrum(f: &Framework<f64>, method: Ranker) -> (Vec<f64>, f64) {
     let values = match method {
-        Method::Qr => qr_diagonal(&f.matrix),
-        Method::Svd | Method::Exact => singular_values(&f.matrix),
+        Ranker::Qr => qr_diagonal(&f.matrix),
+        Ranker::Svd | Ranker::Exact => singular_values(&f.matrix),
     };
     let values = values.unwrap_or_else(|| vec![f64::NAN]);
     let s0 = values.first().copied().unwrap_or(0.0);
@@ -506,7 +506,7 @@ fn incidence(pattern: &Pattern) -> Result<Incidence> {
 fn verdict(
     components: Vec<ComponentReport>,
     forced_built: bool,
-    method: Method,
+    method: Ranker,
     unbuilt: &str,
 ) -> Verdict {
     let real: Vec<&ComponentReport> = components.iter().filter(|c| c.component).collect();

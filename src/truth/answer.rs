@@ -10,7 +10,7 @@ use crate::spanning::Criterion;
 /// How truth was decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Method {
+pub enum Decision {
     /// Exact F_p rank at exact twin realizations.
     Exact,
     /// No construction order exists: float rank with a clear singular-value
@@ -21,13 +21,13 @@ pub enum Method {
     Undecided,
 }
 
-impl std::fmt::Display for Method {
+impl std::fmt::Display for Decision {
     /// The name in files.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
-            Method::Exact => "exact",
-            Method::Float => "float",
-            Method::Undecided => "undecided",
+            Decision::Exact => "exact",
+            Decision::Float => "float",
+            Decision::Undecided => "undecided",
         })
     }
 }
@@ -73,7 +73,7 @@ impl Default for TruthOptions {
 /// The rigidity of a whole system.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Truth {
-    pub method: Method,
+    pub method: Decision,
     /// Why the answer is undecided, if it is; for a float answer, why it
     /// is in floats.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -154,7 +154,7 @@ impl Truth {
     /// that are no deformation number `trivial_motions`.
     pub(super) fn undecided(graph: &ContactGraph, trivial_motions: usize) -> Truth {
         Truth {
-            method: Method::Undecided,
+            method: Decision::Undecided,
             reason: None,
             n_rods: graph.n_nodes(),
             n_contacts: graph.n_edges(),
@@ -185,7 +185,7 @@ impl Truth {
     }
 
     pub fn decided(&self) -> bool {
-        self.method != Method::Undecided
+        self.method != Decision::Undecided
     }
 
     /// Records an elimination stopped for the memory limit: undecided,
@@ -210,7 +210,7 @@ impl Truth {
     /// with the reason, never a clamped DOF.
     pub(super) fn decide(
         &mut self,
-        method: Method,
+        method: Decision,
         rank: usize,
         pruned: usize,
         clusters: Vec<Vec<u32>>,
@@ -218,7 +218,7 @@ impl Truth {
         self.rank = Some(rank);
         let motions = self.columns - rank + pruned;
         let Some(dof) = motions.checked_sub(self.trivial_motions) else {
-            self.method = Method::Undecided;
+            self.method = Decision::Undecided;
             self.reason = Some(format!(
                 "{motions} motions, fewer than the {} trivial ones: the rigidity matrix is wrong",
                 self.trivial_motions
@@ -248,8 +248,8 @@ mod tests {
         let graph = ContactGraph::new(2, vec![[0, 1]]).unwrap();
         let mut t = Truth::undecided(&graph, 6);
         t.columns = 12;
-        t.decide(Method::Exact, 9, 0, Vec::new());
-        assert_eq!((t.method, t.dof), (Method::Undecided, None));
+        t.decide(Decision::Exact, 9, 0, Vec::new());
+        assert_eq!((t.method, t.dof), (Decision::Undecided, None));
         assert!(
             t.reason
                 .unwrap()
@@ -257,8 +257,11 @@ mod tests {
         );
         let mut t = Truth::undecided(&graph, 6);
         t.columns = 12;
-        t.decide(Method::Exact, 5, 1, vec![vec![0, 1]]);
-        assert_eq!((t.method, t.dof, t.rank), (Method::Exact, Some(2), Some(5)));
+        t.decide(Decision::Exact, 5, 1, vec![vec![0, 1]]);
+        assert_eq!(
+            (t.method, t.dof, t.rank),
+            (Decision::Exact, Some(2), Some(5))
+        );
         assert_eq!(t.largest_cluster(), 2);
     }
 }

@@ -6,7 +6,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
-use super::answer::{Method, Spans, Truth, TruthOptions};
+use super::answer::{Decision, Spans, Truth, TruthOptions};
 use super::planes::Planes;
 use super::topology::{Offset, Topology};
 use super::{clusters, contract, fallback, matrix, order, planes, prune, realize};
@@ -84,7 +84,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
                     out.rows = f.rows;
                     out.twins_agree = Some(true);
                     out.gap = Some(f.gap);
-                    out.decide(Method::Float, f.rank, core.pruned_motions(), f.clusters);
+                    out.decide(Decision::Float, f.rank, core.pruned_motions(), f.clusters);
                 }
                 Err(w) => out.reason = Some(format!("{why}; in floats undecided: {w}")),
             }
@@ -121,7 +121,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     out.largest_front = Some(first.elim.largest_front);
     let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
     if !opts.twins {
-        out.decide(Method::Exact, first.elim.rank, pruned, clusters);
+        out.decide(Decision::Exact, first.elim.rank, pruned, clusters);
         return finish(out);
     }
     // The twin, in the other prime, checks the kernel's dimension with the
@@ -147,7 +147,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     match checked {
         Ok(c) if kernel(c.rank, contraction.count) == kernel(first.elim.rank, parts.count) => {
             out.twins_agree = Some(true);
-            out.decide(Method::Exact, first.elim.rank, pruned, clusters);
+            out.decide(Decision::Exact, first.elim.rank, pruned, clusters);
             return finish(out);
         }
         Ok(_) => {}
@@ -170,12 +170,12 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             Ok(elim) => {
                 out.largest_front = Some(elim.largest_front);
                 let clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
-                out.decide(Method::Exact, elim.rank, pruned, clusters);
+                out.decide(Decision::Exact, elim.rank, pruned, clusters);
             }
             Err(e) => out.refuse(e, opts.memory_limit),
         }
     } else {
-        out.decide(Method::Exact, first.elim.rank, pruned, clusters);
+        out.decide(Decision::Exact, first.elim.rank, pruned, clusters);
     }
     finish(out)
 }

@@ -25,7 +25,7 @@
 //! two differ. Where no rational construction order exists, [`fallback`] decides
 //! in floats: twin realizations by numerical projection ([`projection`]),
 //! the same matrix ranked by its singular values where they show a clear
-//! gap, clusters from the kernel basis ([`Method::Float`]). Where that is
+//! gap, clusters from the kernel basis ([`Decision::Float`]). Where that is
 //! not clear either, truth answers "undecided" and says why: never a guess.
 
 pub mod answer;
@@ -41,6 +41,6 @@ pub mod prune;
 pub mod realize;
 pub mod topology;
 
-pub use answer::{Cluster, Method, Spans, Truth, TruthOptions};
+pub use answer::{Cluster, Decision, Spans, Truth, TruthOptions};
 pub use decide::{of_system, truth, truth_in_floats};
 pub use topology::{Offset, Topology};

@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use rgc::bench::{self, PowerLaw, REACH_DENSITY, TruthPlan, TruthRow};
+use rgc::bench::{self, Growth, REACH_DENSITY, TruthPlan, TruthRow};
 use rgc::progress::Silent;
 
 fn assert_consistent(r: &TruthRow) {
@@ -94,10 +94,10 @@ fn plans_without_systems_or_time_are_refused() {
 
 #[test]
 fn power_law_fit_and_prediction() {
-    let law = PowerLaw::fit([1e3, 1e4, 1e5].map(|n: f64| (n, 1e-9 * n * n))).unwrap();
+    let law = Growth::fit([1e3, 1e4, 1e5].map(|n: f64| (n, 1e-9 * n * n))).unwrap();
     assert!((law.exponent - 2.0).abs() < 1e-9, "{law:?}");
     assert!((law.prefactor / 1e-9 - 1.0).abs() < 1e-6, "{law:?}");
-    assert!(PowerLaw::fit([(1e3, 1.0), (1e3, 2.0)]).is_none());
+    assert!(Growth::fit([(1e3, 1.0), (1e3, 2.0)]).is_none());
     // 1e-9 N^2 <= 600 s: N <= 774 597, and 38 L^3 <= N up to L = 27.
     assert_eq!(bench::predict_largest_box(&law, 38.0, 600.0), Some(27));
     assert_eq!(bench::predict_largest_box(&law, 38.0, 1e-6), None);

@@ -5,7 +5,7 @@ use rgc::graph::ContactGraph;
 use rgc::graph::io::read_graph6_file;
 use rgc::pattern::Pattern;
 use rgc::rigidity::check_exact;
-use rgc::truth::{Method, Topology, Truth, TruthOptions, truth, truth_in_floats};
+use rgc::truth::{Decision, Topology, Truth, TruthOptions, truth, truth_in_floats};
 use std::path::Path;
 
 /// K_{m,n}: rods `0..m` each touch rods `m..m + n`.
@@ -35,7 +35,7 @@ fn rods(t: &Truth) -> Vec<Vec<u32>> {
 /// general position, built exactly or by numerical projection).
 fn float_and_motif(g: &ContactGraph) -> (Truth, rgc::rigidity::ComponentReport) {
     let t = truth(&Topology::finite(g), TruthOptions::default());
-    assert_eq!(t.method, Method::Float, "{:?}", t.reason);
+    assert_eq!(t.method, Decision::Float, "{:?}", t.reason);
     assert!(
         t.reason
             .as_deref()
@@ -95,7 +95,7 @@ fn the_4_cube_is_rigid_as_the_motif_projection_says() {
         .collect();
     let topo = Topology::periodic(&g, &shifts).unwrap();
     let p = truth(&topo, TruthOptions::default());
-    assert_eq!(p.method, Method::Float, "{:?}", p.reason);
+    assert_eq!(p.method, Decision::Float, "{:?}", p.reason);
     assert_eq!(p.trivial_motions, 3);
     assert_eq!(p.dof, Some(3));
     assert_eq!(rods(&p), rods(&t));
@@ -112,7 +112,7 @@ fn float_clusters_keep_a_hinge_apart_and_a_second_shared_rod_locks_it() {
         edges.extend(cube(4).edges().iter().map(|e| e.map(second)));
         let g = ContactGraph::new(n, edges).unwrap();
         let t = truth(&Topology::finite(&g), TruthOptions::default());
-        assert_eq!(t.method, Method::Float, "{:?}", t.reason);
+        assert_eq!(t.method, Decision::Float, "{:?}", t.reason);
         t
     };
     // The second cube's rod 0 is the first cube's rod 15.
@@ -155,8 +155,8 @@ fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
         let exact = truth(&topo, TruthOptions::default());
         let float = truth_in_floats(&topo, TruthOptions::default());
         let g6 = rgc::graph::io::to_graph6(g);
-        assert_eq!(exact.method, Method::Exact, "{g6}");
-        assert_eq!(float.method, Method::Float, "{g6}: {:?}", float.reason);
+        assert_eq!(exact.method, Decision::Exact, "{g6}");
+        assert_eq!(float.method, Decision::Float, "{g6}: {:?}", float.reason);
         assert_eq!(float.dof, exact.dof, "{g6}");
         assert_eq!(float.clusters, exact.clusters, "{g6}");
     }
@@ -178,8 +178,8 @@ fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
         assert_eq!(most, Some(wraps));
         let exact = truth(&topo, TruthOptions::default());
         let float = truth_in_floats(&topo, TruthOptions::default());
-        assert_eq!(exact.method, Method::Exact);
-        assert_eq!(float.method, Method::Float, "{:?}", float.reason);
+        assert_eq!(exact.method, Decision::Exact);
+        assert_eq!(float.method, Decision::Float, "{:?}", float.reason);
         assert_eq!(float.columns, columns);
         assert_eq!(float.dof, exact.dof);
         assert_eq!(float.clusters, exact.clusters);
@@ -198,7 +198,7 @@ fn the_float_fallback_is_deterministic_in_its_seed() {
         t
     };
     let one = run(7);
-    assert_eq!(one.method, Method::Float);
+    assert_eq!(one.method, Decision::Float);
     assert_eq!(one, run(7));
     let other = run(8);
     assert_ne!(one.gap, other.gap, "another seed, other realizations");
@@ -210,7 +210,7 @@ fn the_float_fallback_is_deterministic_in_its_seed() {
 #[test]
 fn the_fallback_refuses_more_columns_than_it_ranks_densely() {
     let t = truth(&Topology::finite(&cube(8)), TruthOptions::default());
-    assert_eq!(t.method, Method::Undecided);
+    assert_eq!(t.method, Decision::Undecided);
     assert_eq!(t.columns, 1536);
     assert_eq!((t.dof, t.rank), (None, None));
     let why = t.reason.unwrap();
@@ -226,7 +226,7 @@ fn certification_does_not_trust_a_float_answer() {
     use rgc::engine::{Engine, RuleSet};
     let g = rgc::graph::io::parse_graph6("G?~vf_").unwrap();
     let t = truth(&Topology::finite(&g), TruthOptions::default());
-    assert_eq!((t.method, t.dof), (Method::Float, Some(1)));
+    assert_eq!((t.method, t.dof), (Decision::Float, Some(1)));
     let sound = Engine::base(RuleSet::Sound);
     let certified = Engine::base(RuleSet::Certified);
     let seed = (0..64)

@@ -14,7 +14,7 @@ use rgc::rigidity::family;
 use rgc::rigidity::framework::{float_framework, trivial_residual};
 use rgc::rigidity::incidence::Incidence;
 use rgc::rigidity::verdict::check_float_in;
-use rgc::rigidity::{Method, check_exact, check_float};
+use rgc::rigidity::{Ranker, check_exact, check_float};
 
 fn rods(n: usize, edges: &[(u32, u32)]) -> Pattern {
     let g = ContactGraph::new(n, edges.iter().map(|&(a, b)| [a, b]).collect()).unwrap();
@@ -57,7 +57,7 @@ fn svd_and_qr_agree_with_the_exact_verdict_at_generic_realizations() {
         if let Some(known) = known {
             assert_eq!((exact.class.as_str(), exact.dof), known, "{name}");
         }
-        for method in [Method::Svd, Method::Qr] {
+        for method in [Ranker::Svd, Ranker::Qr] {
             for seed in 0..3 {
                 let v = check_float(&p, method, seed).unwrap();
                 assert_eq!(
@@ -114,7 +114,7 @@ fn degenerate_float_realizations_are_undecided_or_right() {
                 degeneracy,
                 eps: 0.0,
             };
-            for method in [Method::Svd, Method::Qr] {
+            for method in [Ranker::Svd, Ranker::Qr] {
                 let v = check_float_in(&p, method, 1, &geometry).unwrap();
                 match v.rigid {
                     None => {

@@ -22,7 +22,7 @@ use rgc::rigidity::framework::float_framework;
 use rgc::rigidity::incidence::{Grouping, Incidence};
 use rgc::rigidity::projection::{float_local_dimension, project};
 use rgc::rigidity::verdict::float_spectrum;
-use rgc::rigidity::{Method, Verdict, check_exact, check_float};
+use rgc::rigidity::{Ranker, Verdict, check_exact, check_float};
 
 fn rods(n: usize, edges: &[(u32, u32)]) -> Pattern {
     let g = ContactGraph::new(n, edges.iter().map(|&(a, b)| [a, b]).collect()).unwrap();
@@ -77,7 +77,7 @@ fn violation(inc: &Incidence, grouping: &Grouping, s: &Realization<f64>) -> f64 
 fn float_dof(inc: &Incidence, s: &Realization<f64>) -> Option<usize> {
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let f = float_framework(inc, s.clone(), &mut rng)?;
-    let (values, noise) = float_spectrum(&f, Method::Svd);
+    let (values, noise) = float_spectrum(&f, Ranker::Svd);
     let fr = rgc::math::float::decide_rank_above(&values, noise, rgc::math::float::RankRule::SVD);
     Some(rgc::rigidity::framework::dof(&f, fr.rank?))
 }
@@ -130,7 +130,7 @@ fn exact_verdicts_without_projection_are_unchanged() {
         assert!(v.components.iter().all(|c| !c.projected));
         let json = serde_json::to_string(&v).unwrap();
         assert!(!json.contains("projected"), "{json}");
-        let float = check_float(&p, Method::Svd, 7).unwrap();
+        let float = check_float(&p, Ranker::Svd, 7).unwrap();
         assert_eq!((float.class, float.dof), (v.class, v.dof));
     }
 }

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use rgc::math::float::RankRule;
-use rgc::rigidity::Method;
+use rgc::rigidity::Ranker;
 use rgc::stability::{
     Axis, StabilityRow, StudyConfig, calibrate, ladder, run, throughput, write_csv,
 };
@@ -55,7 +55,7 @@ fn quick_study_never_decides_wrongly_and_sees_the_methods_fail() {
 /// The rank rule's thresholds sit where the measured spectra say.
 #[test]
 fn thresholds_separate_measured_zero_and_nonzero_values() {
-    for (method, rule) in [(Method::Svd, RankRule::SVD), (Method::Qr, RankRule::QR)] {
+    for (method, rule) in [(Ranker::Svd, RankRule::SVD), (Ranker::Qr, RankRule::QR)] {
         let c = calibrate(method, 8);
         assert!(c.matrices > 400, "{c:?}");
         assert!(c.zero_q[1] * 10.0 < rule.safety, "{c:?}");
@@ -75,7 +75,7 @@ fn ladders_have_the_advertised_size_and_are_realizable() {
         heavy: vec![11],
         seeds: 1,
         axes: vec![Axis::Size],
-        methods: vec![Method::Svd],
+        methods: vec![Ranker::Svd],
     })
     .unwrap();
     assert_eq!(rows.len(), 1);

@@ -3,7 +3,7 @@
 use rgc::graph::io::read_graph6_file;
 use rgc::pattern::Pattern;
 use rgc::rigidity::check_exact;
-use rgc::truth::{Method, Topology, TruthOptions, truth};
+use rgc::truth::{Decision, Topology, TruthOptions, truth};
 use std::path::Path;
 
 /// On every rods-only candidate with up to 7 rods, truth is rigid exactly
@@ -19,7 +19,7 @@ fn truth_agrees_with_check_on_every_candidate_up_to_7_rods() {
             let t = truth(&Topology::finite(&g), TruthOptions::default());
             let v = check_exact(&Pattern::from_graph(&g).unwrap(), 1).unwrap();
             let g6 = rgc::graph::io::to_graph6(&g);
-            assert_eq!(t.method, Method::Exact, "{g6}: {:?}", t.reason);
+            assert_eq!(t.method, Decision::Exact, "{g6}: {:?}", t.reason);
             assert_eq!(t.twins_agree, Some(true), "{g6}");
             let rigid = t.dof == Some(0);
             assert_eq!(rigid, v.class == "rigid", "{g6}: truth {t:?} check {v:?}");
@@ -116,7 +116,7 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
             Criterion::Wrap,
             TruthOptions::default(),
         );
-        assert_eq!(t.method, Method::Exact);
+        assert_eq!(t.method, Decision::Exact);
         assert_eq!(t.twins_agree, Some(true), "rho {rho}");
         let mut of_rod = vec![Vec::new(); graph.n_nodes()];
         for (k, c) in t.clusters.iter().enumerate() {
@@ -191,10 +191,10 @@ fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
             TruthOptions::seeded(1000 + seed),
         );
         let floats = rgc::truth::truth_in_floats(&topo, TruthOptions::seeded(2000 + seed));
-        assert_eq!(exact.method, Method::Exact);
+        assert_eq!(exact.method, Decision::Exact);
         assert_eq!(
             floats.method,
-            Method::Float,
+            Decision::Float,
             "rho {rho}: {:?}",
             floats.reason
         );
@@ -471,7 +471,7 @@ fn truth_of_generated_systems_is_what_the_earlier_elimination_found() {
             Criterion::Wrap,
             TruthOptions::default(),
         );
-        assert_eq!(t.method, Method::Exact);
+        assert_eq!(t.method, Decision::Exact);
         assert_eq!(t.twins_agree, Some(true));
         let got = (
             t.rank.unwrap(),

@@ -14,7 +14,7 @@ use rgc::truth::Offset;
 use rgc::truth::matrix::{self, Parts};
 use rgc::truth::planes::Planes;
 use rgc::truth::realize::Realization;
-use rgc::truth::{Method, Topology, TruthOptions, order, planes, prune, realize, truth};
+use rgc::truth::{Decision, Topology, TruthOptions, order, planes, prune, realize, truth};
 
 type Row = Vec<(u32, Fp)>;
 
@@ -112,7 +112,7 @@ fn rotations_of_a_closed_box_are_in_the_kernel() {
         // Six independent rigid motions lie in the kernel: truth's rank
         // leaves at least six columns free, and it counts six as trivial.
         let t = truth(&topo, TruthOptions::seeded(seed));
-        assert_eq!(t.method, Method::Exact, "{:?}", t.reason);
+        assert_eq!(t.method, Decision::Exact, "{:?}", t.reason);
         assert_eq!(t.trivial_motions, 6);
         assert!(t.columns - t.rank.unwrap() >= 6, "{t:?}");
     }
@@ -226,7 +226,7 @@ fn a_plane_wrapping_the_box_fixes_every_rotation_but_about_its_direction() {
     }
     // So the band keeps one motion: turning about x.
     let t = truth(&topo, TruthOptions::default());
-    assert_eq!((t.method, t.columns, t.rank), (Method::Exact, 6, Some(2)));
+    assert_eq!((t.method, t.columns, t.rank), (Decision::Exact, 6, Some(2)));
     assert_eq!((t.trivial_motions, t.dof), (3, Some(1)));
     assert_eq!(t.clusters.len(), 1);
     assert_eq!(t.clusters[0].rods, (0..m).collect::<Vec<_>>());
@@ -294,7 +294,7 @@ fn truth_is_the_same_under_a_relabelling_of_the_rods() {
         let (_, _, graph, shifts) = generated(4.0, 38.0, Periodic::Xyz, seed);
         let topo = Topology::periodic(&graph, &shifts).unwrap();
         let t = truth(&topo, TruthOptions::seeded(seed));
-        assert_eq!(t.method, Method::Exact, "{:?}", t.reason);
+        assert_eq!(t.method, Decision::Exact, "{:?}", t.reason);
         assert!(
             t.largest_cluster() > 10,
             "seed {seed}: a cluster worth comparing"
@@ -316,7 +316,7 @@ fn truth_is_the_same_under_a_relabelling_of_the_rods() {
             &Topology::periodic(&moved, &moved_shifts).unwrap(),
             TruthOptions::seeded(seed + 7),
         );
-        assert_eq!(mt.method, Method::Exact, "{:?}", mt.reason);
+        assert_eq!(mt.method, Decision::Exact, "{:?}", mt.reason);
         assert_eq!((mt.dof, mt.rank), (t.dof, t.rank), "seed {seed}");
         assert_eq!(
             (mt.parts, mt.rows, mt.plane_classes, mt.core_rods),

@@ -6,7 +6,7 @@ use std::process::Command;
 use std::time::Instant;
 
 use clap::Args;
-use rgc::bench::{PowerLaw, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow};
+use rgc::bench::{Growth, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow};
 use rgc::engine::CompiledRule;
 use rgc::math::stats::median;
 use rgc::{Error, Result, bench, output};
@@ -429,7 +429,7 @@ fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
 }
 
 /// A fitted growth law as `N^a (R² b)`.
-fn law(l: Option<PowerLaw>) -> String {
+fn law(l: Option<Growth>) -> String {
     l.map_or("too few sizes to fit".into(), |l| {
         format!("N^{:.2} (R² {:.2})", l.exponent, l.r2)
     })

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::graph::io as graphio;
 use rgc::pattern::Pattern;
-use rgc::rigidity::{Method, Verdict};
+use rgc::rigidity::{Ranker, Verdict};
 use rgc::rule_file::RuleFile;
 use rgc::{Error, Result};
 
@@ -25,8 +25,8 @@ pub struct CheckArgs {
     #[command(flatten)]
     input: PatternInput,
     /// `exact` (rank over F_p), `svd` or `qr` (floats, undecided when the gap is small).
-    #[arg(long, alias = "method", value_enum, default_value_t = Method::Exact)]
-    rank_method: Method,
+    #[arg(long, alias = "method", value_enum, default_value_t = Ranker::Exact)]
+    rank_method: Ranker,
     /// Seed of the realizations.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -35,9 +35,9 @@ pub struct CheckArgs {
     json: bool,
 }
 
-fn verdict(p: &Pattern, method: Method, seed: u64) -> Result<Verdict> {
+fn verdict(p: &Pattern, method: Ranker, seed: u64) -> Result<Verdict> {
     match method {
-        Method::Exact => rgc::rigidity::check_exact(p, seed),
+        Ranker::Exact => rgc::rigidity::check_exact(p, seed),
         _ => rgc::rigidity::check_float(p, method, seed),
     }
 }

@@ -11,7 +11,7 @@ use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
 use rgc::sample::Rods;
 use rgc::spanning::Criterion;
-use rgc::truth::{self, Method, Topology, Truth, TruthOptions};
+use rgc::truth::{self, Decision, Topology, Truth, TruthOptions};
 use rgc::{Error, Result};
 
 #[derive(Args)]
@@ -139,13 +139,13 @@ fn summary(t: &Truth, out: &mut String) {
     }
     let reason = t.reason.as_deref().unwrap_or_default();
     match t.method {
-        Method::Undecided => say!(out, "method: undecided: {reason}"),
-        Method::Float => say!(
+        Decision::Undecided => say!(out, "method: undecided: {reason}"),
+        Decision::Float => say!(
             out,
             "method: float, twins agree: true, singular-value gap {:.1e} ({reason})",
             t.gap.unwrap_or(f64::NAN)
         ),
-        Method::Exact => say!(
+        Decision::Exact => say!(
             out,
             "method: exact, twins agree: {}",
             t.twins_agree == Some(true)
