@@ -7,6 +7,7 @@
 //!
 //! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
 //! * [`output`] — files written atomically, writable paths checked up front, CSV;
+//! * [`stamp`] — what made a results file, and the refusal to replace one made differently;
 //! * [`progress`] — how long computations report progress to their caller;
 //! * [`usage`] — what the process used: peak resident memory and CPU time (Linux);
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
@@ -35,6 +36,7 @@ pub mod error;
 pub mod math;
 pub mod output;
 pub mod progress;
+pub mod stamp;
 pub mod usage;
 
 pub mod rods;

@@ -71,8 +71,9 @@
 //!   ([`mine_system`], [`mine_graph`]);
 //! * `tally` — the sets counted by pattern and the systems per density
 //!   ([`MinedMotif`], [`DensitySummary`]);
-//! * `report` — `mined-motifs.{json,csv,md}`, the rules, and the refusal
-//!   to replace another run's ([`Report`], [`check_replace`]);
+//! * `report` — `mined-motifs.{json,csv,md}` under their [`stamp`], the
+//!   rules, and the refusal to replace another run's ([`Report`],
+//!   [`check_replace`]);
 //! * `run` — a whole run ([`run`]).
 
 mod parameters;
@@ -85,7 +86,7 @@ mod system;
 mod tally;
 
 pub use parameters::Parameters;
-pub use report::{FORMAT, Report, check_replace, csv, markdown, rules, write};
+pub use report::{FORMAT, Made, Report, check_replace, csv, markdown, rules, stamp, write};
 pub use run::run;
 pub use search::{Counts, Mined, MinimalSet, Search, mine};
 pub use system::{SystemReport, mine_graph, mine_system};

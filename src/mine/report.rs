@@ -10,17 +10,25 @@ use super::tally::{DensitySummary, MinedMotif};
 use crate::output::{self, cell};
 use crate::pattern::MAX_PATTERN_NODES;
 use crate::rule_file::{self, Provenance, Rule};
+use crate::stamp::{self as envelope, Stamp};
 use crate::{Error, Result};
 
 /// The format tag of `mined-motifs.json`.
 pub const FORMAT: &str = "rgc-mined-motifs/1";
 
+/// What made `mined-motifs.json`: the mining run's parameters.
+pub type Made = envelope::Parameters<Parameters>;
+
+/// The stamp of `mined-motifs.json` that `command` writes with `params`.
+pub fn stamp(command: &str, params: &Parameters) -> Stamp<Made> {
+    Stamp::with_parameters(FORMAT, command, params.clone())
+}
+
 /// What `mined-motifs.json` holds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Report {
-    pub format: String,
-    pub command: String,
-    pub parameters: Parameters,
+    #[serde(flatten)]
+    pub stamp: Stamp<Made>,
     pub densities: Vec<DensitySummary>,
     pub systems: Vec<SystemReport>,
     /// Every distinct pattern, most frequent first.
@@ -31,7 +39,7 @@ pub struct Report {
 /// The rules of the report: its top candidates, most frequent first, each
 /// verified now, with the frequency per density in its provenance.
 pub fn rules(report: &Report) -> Result<Vec<Rule>> {
-    let p = &report.parameters;
+    let p = &report.stamp.made.parameters;
     report
         .motifs
         .iter()
@@ -41,7 +49,7 @@ pub fn rules(report: &Report) -> Result<Vec<Rule>> {
                 source: "mined".into(),
                 enumeration: Some(p.enumeration()),
                 audited_against: Some(p.audited_against()),
-                command: Some(report.command.clone()),
+                command: Some(report.stamp.command.clone()),
                 version: Some(env!("CARGO_PKG_VERSION").into()),
                 frequency: m.per_density.clone(),
             };
@@ -50,49 +58,38 @@ pub fn rules(report: &Report) -> Result<Vec<Rule>> {
         .collect()
 }
 
-/// Refuses to replace results or a rule file that another mining run made:
-/// `results` (`mined-motifs.json`) made with other parameters, or a rule
-/// file whose rules were not mined with the same enumeration (a rule file
-/// without rules holds nothing to lose). A missing file is fine.
-pub fn check_replace(results: &Path, rule_file_path: &Path, params: &Parameters) -> Result<()> {
-    let read = |path: &Path| match std::fs::read_to_string(path) {
-        Ok(text) => Ok(Some(text)),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(Error::io(path, e)),
+/// Refuses, unless `force`, to replace results or a rule file that
+/// another mining run made: `results` (`mined-motifs.json`) stamped other
+/// than `stamp` (see [`Stamp::check_replace`]), or a rule file whose rules
+/// were not mined with the same enumeration (a rule file without rules
+/// holds nothing to lose). A missing file is fine.
+pub fn check_replace(
+    results: &Path,
+    rule_file_path: &Path,
+    stamp: &Stamp<Made>,
+    force: bool,
+) -> Result<()> {
+    stamp.check_replace(results, "mining run", force)?;
+    if force {
+        return Ok(());
+    }
+    let Some(text) = envelope::existing(rule_file_path)? else {
+        return Ok(());
     };
-    let mut conflicts = Vec::new();
-    if let Some(text) = read(results)? {
-        let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-        match serde_json::from_value::<Parameters>(there["parameters"].clone()) {
-            Ok(made) if made == *params => {}
-            Ok(_) => conflicts.push(format!(
-                "{} holds a mining run with other parameters",
-                results.display()
-            )),
-            Err(_) => conflicts.push(format!("{} is not a mining run's", results.display())),
-        }
-    }
-    if let Some(text) = read(rule_file_path)? {
-        let same = serde_json::from_str::<rule_file::RuleFile>(&text).is_ok_and(|f| {
-            f.rules.iter().all(|r| {
-                r.provenance.source == "mined"
-                    && r.provenance.enumeration.as_deref() == Some(&params.enumeration())
-                    && r.provenance.audited_against.as_deref() == Some(&params.audited_against())
-            })
-        });
-        if !same {
-            conflicts.push(format!(
-                "{} holds rules not mined with these parameters",
-                rule_file_path.display()
-            ));
-        }
-    }
-    if conflicts.is_empty() {
+    let params = &stamp.made.parameters;
+    let same = serde_json::from_str::<rule_file::RuleFile>(&text).is_ok_and(|f| {
+        f.rules.iter().all(|r| {
+            r.provenance.source == "mined"
+                && r.provenance.enumeration.as_deref() == Some(&params.enumeration())
+                && r.provenance.audited_against.as_deref() == Some(&params.audited_against())
+        })
+    });
+    if same {
         return Ok(());
     }
     Err(Error::Parameter(format!(
-        "{}; choose another --out or --results, or --force to replace them",
-        conflicts.join("; ")
+        "{} holds rules not mined with these parameters; choose another --out, or --force to replace them",
+        rule_file_path.display()
     )))
 }
 
@@ -125,6 +122,8 @@ struct Row<'a> {
 /// Every pattern, with its occurrences and systems per density.
 pub fn csv(report: &Report) -> Vec<u8> {
     let more: Vec<String> = report
+        .stamp
+        .made
         .parameters
         .densities
         .iter()
@@ -172,11 +171,11 @@ const MARKDOWN_MOTIFS: usize = 30;
 /// The per-density summary, the most frequent patterns and the most
 /// frequent rule candidates as Markdown.
 pub fn markdown(report: &Report) -> String {
-    let p = &report.parameters;
+    let p = &report.stamp.made.parameters;
     let mut md = format!(
         "# Motifs 3D-RGC misses, mined from generated systems\n\n\
          Command: `{}`\n\n{}.\n\n",
-        report.command,
+        report.stamp.command,
         p.enumeration()
     );
     md += "| density | systems | truth spans | sound spans | quotient nodes | missed clusters | rods in them | seed pairs | minimal sets (found) | not local | too large | not whole | nodes per set (mean, max) | patterns | rule candidates |\n";
@@ -277,10 +276,7 @@ fn motif_table<'a>(p: &Parameters, motifs: impl Iterator<Item = &'a MinedMotif>)
 
 /// Writes `mined-motifs.{json,csv,md}` into `dir`, atomically.
 pub fn write(report: &Report, dir: &Path) -> Result<()> {
-    output::write_atomic(
-        &dir.join("mined-motifs.json"),
-        serde_json::to_string_pretty(report).expect("reports serialize") + "\n",
-    )?;
+    output::write_atomic(&dir.join("mined-motifs.json"), envelope::json(report))?;
     output::write_atomic(&dir.join("mined-motifs.csv"), csv(report))?;
     output::write_atomic(&dir.join("mined-motifs.md"), markdown(report))
 }

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 use super::parameters::Parameters;
-use super::report::{FORMAT, Report};
+use super::report::{Report, stamp};
 use super::system::mine_system;
 use super::tally::{summaries, tally};
 use crate::Result;
@@ -70,9 +70,7 @@ pub fn run(
     }
     let densities = summaries(params, &mined, &motifs);
     Ok(Report {
-        format: FORMAT.into(),
-        command: command.into(),
-        parameters: params.clone(),
+        stamp: stamp(command, params),
         densities,
         systems: mined.into_iter().map(|(s, _)| s).collect(),
         motifs,

@@ -5,6 +5,7 @@
 
 pub mod aspect;
 pub mod bias;
+pub mod experiment;
 pub mod fss;
 pub mod logistic;
 pub mod paired;

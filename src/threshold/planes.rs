@@ -33,12 +33,14 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::report::Summary;
 use crate::contacts;
 use crate::graph::ContactGraph;
 use crate::math::stats;
 use crate::output::{self, cell};
 use crate::progress::Progress;
 use crate::rods::{self, RodParams, RodSystem};
+use crate::stamp::{self as envelope, Stamp};
 use crate::truth::{Offset, planes};
 use crate::truth::{Topology, prune};
 use crate::{Error, Result};
@@ -402,21 +404,14 @@ pub fn references(studies: &Path, gamma: f64) -> Result<References> {
     let read = |name: &str| -> Result<Option<Committed>> {
         let dir = studies.join(format!("g{gamma}-{name}"));
         let path = dir.join("summary.json");
-        let text = match std::fs::read_to_string(&path) {
-            Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(Error::io(&path, e)),
+        let Some(text) = envelope::existing(&path)? else {
+            return Ok(None);
         };
-        let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Study {
+        let summary: Summary = serde_json::from_str(&text).map_err(|e| Error::Study {
             path: path.clone(),
             reason: format!("not a study summary: {e}"),
         })?;
-        let density = v["fss"]["threshold"]["value"]
-            .as_f64()
-            .ok_or_else(|| Error::Study {
-                path: path.clone(),
-                reason: "no fss.threshold.value".into(),
-            })?;
+        let density = summary.fss.threshold.value;
         Ok(Some(Committed {
             study: dir.display().to_string(),
             density,
@@ -487,13 +482,19 @@ pub fn scan(spec: &ScanSpec, progress: &dyn Progress) -> Result<GammaScan> {
     })
 }
 
+/// What made `forced-planes.json`: the scan's parameters.
+pub type Made = envelope::Parameters<Parameters>;
+
+/// The stamp of `forced-planes.json` that `command` writes with `params`.
+pub fn stamp(command: &str, params: &Parameters) -> Stamp<Made> {
+    Stamp::with_parameters(FORMAT, command, params.clone())
+}
+
 /// What `forced-planes.json` holds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Report {
-    pub format: String,
-    /// The command that made it.
-    pub command: String,
-    pub parameters: Parameters,
+    #[serde(flatten)]
+    pub stamp: Stamp<Made>,
     /// The two transition densities, in words.
     pub definitions: Definitions,
     pub scans: Vec<GammaScan>,
@@ -551,43 +552,11 @@ pub fn run(
         });
     }
     Ok(Report {
-        format: FORMAT.into(),
-        command: command.into(),
-        parameters: params.clone(),
+        stamp: stamp(command, params),
         definitions: Definitions::default(),
         scans,
         seconds: start.elapsed().as_secs_f64(),
     })
-}
-
-/// Refuses to replace `forced-planes.json` at `path` when another scan
-/// (other parameters, or not a scan at all) made it: an exploratory run
-/// never silently replaces committed results.
-pub fn check_replace(path: &Path, params: &Parameters) -> Result<()> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(Error::io(path, e)),
-    };
-    let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-    let made = match serde_json::from_value::<Parameters>(there["parameters"].clone()) {
-        Ok(made) if made == *params => return Ok(()),
-        Ok(made) => {
-            let asked = serde_json::to_value(params).expect("parameters serialize");
-            let made = serde_json::to_value(made).expect("parameters serialize");
-            let keys = asked.as_object().expect("a struct serializes as an object");
-            keys.iter()
-                .filter(|(k, v)| made.get(*k) != Some(*v))
-                .map(|(k, v)| format!("{k} {} vs {v}", made[k]))
-                .collect::<Vec<_>>()
-                .join(", ")
-        }
-        Err(_) => "not a forced-planes scan".into(),
-    };
-    Err(Error::Parameter(format!(
-        "{} holds the results of another scan ({made}); choose another --results, or --force to replace them",
-        path.display()
-    )))
 }
 
 /// One row of `forced-planes.csv`: a density of one aspect ratio.
@@ -637,10 +606,7 @@ pub fn csv(report: &Report) -> Vec<u8> {
 
 /// Writes `forced-planes.json` and `forced-planes.csv` into `dir`, atomically.
 pub fn write(report: &Report, dir: &Path) -> Result<()> {
-    output::write_atomic(
-        &dir.join("forced-planes.json"),
-        serde_json::to_string_pretty(report).expect("reports serialize") + "\n",
-    )?;
+    output::write_atomic(&dir.join("forced-planes.json"), envelope::json(report))?;
     output::write_atomic(&dir.join("forced-planes.csv"), csv(report))
 }
 

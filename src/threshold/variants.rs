@@ -449,73 +449,6 @@ pub fn run_variants(
     Ok(outcomes)
 }
 
-/// Checks that the experiment file at `path` (`results/NAME.json` of an
-/// earlier `compare` or `tradeoff`), if there is one, was made by the same
-/// experiment: the same template and the same variants. An exploratory run
-/// (another gamma, fewer sequences) then never silently replaces the
-/// committed results; the CLI's `--force` skips this check.
-pub fn check_replace(path: &Path, template: &StudySpec, design: &Design) -> Result<()> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(Error::io(path, e)),
-    };
-    let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-    let asked = serde_json::to_value(template).expect("specs serialize");
-    let mut differences: Vec<String> = match (there.get("template"), asked.as_object()) {
-        (Some(serde_json::Value::Object(t)), Some(a)) => a
-            .iter()
-            .filter(|(k, v)| t.get(*k) != Some(*v))
-            .map(|(k, v)| format!("{k} {} vs {v}", t.get(k).cloned().unwrap_or_default()))
-            .collect(),
-        _ => vec!["no template".into()],
-    };
-    let key = |label: &serde_json::Value, rules, runs, method, sequences| {
-        serde_json::json!([label, rules, runs, method, sequences])
-    };
-    let made: Vec<serde_json::Value> = there
-        .get("variants")
-        .and_then(|v| v.as_array())
-        .map_or_else(Vec::new, |vs| {
-            vs.iter()
-                .map(|v| {
-                    key(
-                        &v["label"],
-                        v["rules"].clone(),
-                        v["runs"].clone(),
-                        v["method"].clone(),
-                        // The stored key of `VariantOutcome::sequences`.
-                        v["realizations"].clone(),
-                    )
-                })
-                .collect()
-        });
-    let wanted: Vec<serde_json::Value> = design
-        .variants
-        .iter()
-        .map(|v| {
-            key(
-                &serde_json::Value::from(v.label.clone()),
-                serde_json::to_value(v.rules).expect("rule sets serialize"),
-                v.runs.into(),
-                serde_json::to_value(v.method).expect("protocols serialize"),
-                v.sequences.into(),
-            )
-        })
-        .collect();
-    if made != wanted {
-        differences.push("other variants".into());
-    }
-    if differences.is_empty() {
-        return Ok(());
-    }
-    Err(Error::Parameter(format!(
-        "{} holds the results of another experiment ({}); choose another --results, or --force to replace them",
-        path.display(),
-        differences.join(", ")
-    )))
-}
-
 /// `a - b`, with the half-widths of their intervals added in quadrature on
 /// each side (the two may be correlated: this errs on the wide side).
 fn difference(a: Estimate, b: Estimate) -> Estimate {
@@ -716,6 +649,8 @@ pub fn csv(outcomes: &[VariantOutcome]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stamp::Stamp;
+    use crate::threshold::experiment::Experiment;
 
     /// The committed comparisons, written again from their JSON, are the
     /// committed Markdown and CSV byte for byte.
@@ -726,14 +661,12 @@ mod tests {
                 Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("results/{name}.{ext}"))
             };
             let read = |ext: &str| std::fs::read_to_string(path(ext)).unwrap();
-            let json: serde_json::Value = serde_json::from_str(&read("json")).unwrap();
-            let outcomes: Vec<VariantOutcome> =
-                serde_json::from_value(json["variants"].clone()).unwrap();
-            let command = json["command"].as_str().unwrap();
+            let file: Stamp<Experiment> = serde_json::from_str(&read("json")).unwrap();
+            let outcomes = &file.made.variants;
             let md = read("md");
             let title = md.lines().next().unwrap().strip_prefix("# ").unwrap();
-            assert_eq!(markdown(title, command, &outcomes), md, "{name}.md");
-            assert_eq!(csv(&outcomes), read("csv"), "{name}.csv");
+            assert_eq!(markdown(title, &file.command, outcomes), md, "{name}.md");
+            assert_eq!(csv(outcomes), read("csv"), "{name}.csv");
         }
     }
 
@@ -743,9 +676,8 @@ mod tests {
             Path::new(env!("CARGO_MANIFEST_DIR")).join("results/compare-base-extended.json"),
         )
         .unwrap();
-        let json: serde_json::Value = serde_json::from_str(&json).unwrap();
-        let mut outcomes: Vec<VariantOutcome> =
-            serde_json::from_value(json["variants"].clone()).unwrap();
+        let file: Stamp<Experiment> = serde_json::from_str(&json).unwrap();
+        let mut outcomes = file.made.variants;
         outcomes[0].label = "K=1, \"base\"".into();
         let text = csv(&outcomes);
         let row = text.lines().nth(1).unwrap();

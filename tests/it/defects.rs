@@ -445,7 +445,8 @@ fn compare_at_another_gamma_runs_beside_the_first_and_keeps_its_results() {
     let first = std::fs::read(r10.join("compare-base-extended.json")).unwrap();
     refused(
         &small_compare(s(&studies), s(&r10), &["--gamma", "12"]),
-        "holds the results of another experiment (gamma 10.0 vs 12.0)",
+        "holds the results of another experiment (template.gamma 10.0 vs 12.0); \
+         choose another --results, or --force to replace them",
     );
     assert_eq!(
         std::fs::read(r10.join("compare-base-extended.json")).unwrap(),

@@ -25,6 +25,7 @@ mod rules;
 mod sample;
 mod spanning;
 mod stability;
+mod stamp;
 mod threshold;
 mod truth;
 mod truth_contract;

@@ -7,6 +7,7 @@ use std::process::{Command, Output};
 use rgc::progress::Silent;
 use rgc::rods;
 use rgc::threshold::planes::{self, Crossing, GammaScan, ScanSpec};
+use rgc::threshold::report::Summary;
 
 const GAMMA: f64 = 23.0;
 const BOX: f64 = 3.2;
@@ -90,21 +91,24 @@ fn stderr(out: &Output) -> String {
 #[test]
 fn the_command_writes_its_files_and_refuses_to_replace_another_scan() {
     let dir = crate::scratch("planes-cli");
-    // A committed rigidity threshold to mark.
+    // A committed rigidity threshold to mark, read as the summary it is.
     let study = dir.join("g23-rigid-sound");
     std::fs::create_dir_all(&study).unwrap();
-    std::fs::write(
-        study.join("summary.json"),
-        r#"{"fss": {"threshold": {"value": 39.3}}}"#,
-    )
-    .unwrap();
+    let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/g23-rigid-sound");
+    std::fs::copy(committed.join("summary.json"), study.join("summary.json")).unwrap();
+    let summary: Summary =
+        serde_json::from_str(&std::fs::read_to_string(study.join("summary.json")).unwrap())
+            .unwrap();
     let out = planes_in(&dir, &["--seeds", "2", "--json"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["command"].as_str().unwrap().starts_with("rgc planes"));
     assert_eq!(v["parameters"]["seeds"], 2);
     let scan = &v["scans"][0];
-    assert_eq!(scan["references"]["rigidity"]["density"], 39.3);
+    assert_eq!(
+        scan["references"]["rigidity"]["density"],
+        summary.fss.threshold.value
+    );
     assert!(scan["references"]["contact"].is_null());
     assert_eq!(scan["systems"].as_array().unwrap().len(), 4);
     for ext in ["json", "csv", "svg", "png"] {
@@ -121,10 +125,13 @@ fn the_command_writes_its_files_and_refuses_to_replace_another_scan() {
     // Other parameters: refused, nothing replaced.
     let out = planes_in(&dir, &["--seeds", "3"]);
     assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
-    assert!(
-        err.contains("another scan") && err.contains("seeds 2 vs 3") && err.contains("--force"),
-        "{err}"
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "rgc: error: invalid parameter: {} holds the results of another scan \
+             (parameters.seeds 2 vs 3); choose another --results, or --force to replace them\n",
+            dir.join("forced-planes.json").display()
+        )
     );
     assert_eq!(
         std::fs::read_to_string(dir.join("forced-planes.json")).unwrap(),
@@ -159,6 +166,33 @@ fn bad_parameters_fail_before_any_work() {
         assert!(err.contains(needle), "{extra:?}: {err}");
         assert!(!err.contains("panicked"), "{err}");
     }
+    assert!(!dir.join("forced-planes.json").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A committed threshold is read as a whole study summary: a file that
+/// only looks like one is refused, naming what it lacks, before any work.
+#[test]
+fn a_summary_that_is_not_a_study_summary_is_refused() {
+    let dir = crate::scratch("planes-summary");
+    let study = dir.join("g23-rigid-sound");
+    std::fs::create_dir_all(&study).unwrap();
+    std::fs::write(study.join("summary.json"), r#"{"threshold": 39.3}"#).unwrap();
+    let err = planes::references(&dir, 23.0).unwrap_err().to_string();
+    assert_eq!(
+        err,
+        format!(
+            "study {}: not a study summary: missing field `study` at line 1 column 19",
+            study.join("summary.json").display()
+        )
+    );
+    let out = planes_in(&dir, &[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("not a study summary"),
+        "{}",
+        stderr(&out)
+    );
     assert!(!dir.join("forced-planes.json").exists());
     std::fs::remove_dir_all(dir).unwrap();
 }

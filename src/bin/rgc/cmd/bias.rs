@@ -4,11 +4,12 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use serde_json::json;
 
+use rgc::stamp::{self, Nothing, Stamp};
 use rgc::threshold::bias::{self, VariantBias};
+use rgc::threshold::experiment::{BiasReport, MadeBy, MonotoneReport};
 use rgc::threshold::fss;
-use rgc::threshold::variants::{self, Design};
+use rgc::threshold::variants;
 use rgc::{Error, Result, output};
 
 use crate::args::{ExtendedArgs, VariantArgs};
@@ -38,40 +39,6 @@ pub struct BiasArgs {
 }
 
 const NAME: &str = "truth-vs-rgc";
-
-/// What made an experiment file: the template and the variants, compared
-/// before an existing file is replaced.
-fn made_by(template: &serde_json::Value, design: &Design) -> serde_json::Value {
-    let variants: Vec<serde_json::Value> = design
-        .variants
-        .iter()
-        .map(|v| {
-            json!({
-                "label": v.label, "kind": v.kind, "rules": v.rules, "runs": v.runs,
-                "motifs": v.motifs, "sequences": v.sequences,
-            })
-        })
-        .collect();
-    json!({ "template": template, "design": variants })
-}
-
-/// Refuses to replace an experiment file that another experiment made
-/// (an unreadable file is an error, a missing one is fine).
-fn check_replace(path: &std::path::Path, made: &serde_json::Value) -> Result<()> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(Error::io(path, e)),
-    };
-    let there: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
-    if there.get("made_by") == Some(made) {
-        return Ok(());
-    }
-    Err(Error::Parameter(format!(
-        "{} holds the results of another experiment; choose another --results, or --force to replace them",
-        path.display()
-    )))
-}
 
 pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
     let c = &a.common;
@@ -105,23 +72,22 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
     output::check_dir(&c.results)?;
     output::check_dir(&c.studies)?;
     let path = |ext: &str| c.results.join(format!("{NAME}.{ext}"));
-    let made = made_by(
-        &serde_json::to_value(&template).expect("specs serialize"),
-        &design,
-    );
-    if !c.force {
-        check_replace(&path("json"), &made)?;
-    }
+    let command = super::command_line();
+    let made = Stamp::new(None, &command, MadeBy::of(&template, &design));
+    made.check_replace(&path("json"), "experiment", c.force)?;
     let progress = Reporter::new(c.quiet || c.json);
     let (outcomes, truth): (Vec<VariantBias>, _) =
         bias::measure(&template, &design, &c.studies, c.study.bootstrap, &progress)?;
-    let command = super::command_line();
     let title = format!(
         "3D-RGC against the exact truth, gamma {}: paired bias of the critical density",
         c.study.gamma
     );
-    let mut report = json!({ "command": command, "made_by": made, "variants": outcomes });
     let mut md = bias::markdown(&title, &command, &outcomes, &template.boxes);
+    let mut report = BiasReport {
+        stamp: made,
+        monotonicity: None,
+        variants: outcomes,
+    };
     if a.scan_sequences > 0 {
         let scans = bias::scan(
             &template,
@@ -133,27 +99,28 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
         )?;
         let summary = bias::scan_summary(&scans);
         md += &format!("\n{summary}\n");
-        report["monotonicity"] = json!(summary);
+        report.monotonicity = Some(summary);
+        let monotone = MonotoneReport {
+            stamp: Stamp::new(None, &command, Nothing {}),
+            scans,
+        };
         output::write_atomic(
             &c.results.join("truth-monotone.json"),
-            serde_json::to_string_pretty(&json!({ "command": command, "scans": scans }))
-                .expect("scans serialize")
-                + "\n",
+            stamp::json_sorted(&monotone),
         )?;
         output::write_atomic(
             &c.results.join("truth-monotone.csv"),
-            bias::scan_csv(&scans),
+            bias::scan_csv(&monotone.scans),
         )?;
     }
-    output::write_atomic(
-        &path("json"),
-        serde_json::to_string_pretty(&report).expect("outcomes serialize") + "\n",
-    )?;
+    let json = stamp::json_sorted(&report);
+    output::write_atomic(&path("json"), &json)?;
     output::write_atomic(&path("md"), &md)?;
-    output::write_atomic(&path("csv"), bias::csv(&outcomes))?;
-    rgc::plot::bias_chart(&outcomes, &title, &path("svg"), &path("png"))?;
+    output::write_atomic(&path("csv"), bias::csv(&report.variants))?;
+    rgc::plot::bias_chart(&report.variants, &title, &path("svg"), &path("png"))?;
     if c.json {
-        super::print_json(&report, out)
+        say!(out, "{}", json.trim_end());
+        Ok(())
     } else {
         say!(out, "{md}");
         Ok(())

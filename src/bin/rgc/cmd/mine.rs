@@ -96,15 +96,18 @@ pub fn run(a: MineArgs, out: &mut String) -> Result<()> {
     params.validate()?;
     output::check_file(&a.out)?;
     output::check_dir(&a.results)?;
-    if !a.force {
-        mine::check_replace(&a.results.join("mined-motifs.json"), &a.out, &params)?;
-    }
+    let command = super::command_line();
+    mine::check_replace(
+        &a.results.join("mined-motifs.json"),
+        &a.out,
+        &mine::stamp(&command, &params),
+        a.force,
+    )?;
     let known = if extended.is_empty() {
         Vec::new()
     } else {
         super::load(&extended)?
     };
-    let command = super::command_line();
     let report = mine::run(&params, &known, &command, &Reporter::new(a.quiet || a.json))?;
     let rules = mine::rules(&report)?;
     rule_file::write_rules(&a.out, &rules)?;

@@ -6,6 +6,8 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use rgc::engine::CompiledRule;
+use rgc::stamp::{self, Stamp};
+use rgc::threshold::experiment::Experiment;
 use rgc::threshold::fss;
 use rgc::threshold::variants::{self, Design, VariantOutcome};
 use rgc::{Result, output, rule_file};
@@ -108,9 +110,12 @@ fn run_experiment(
     output::check_dir(dir)?;
     output::check_dir(&args.studies)?;
     let path = |ext: &str| dir.join(format!("{name}.{ext}"));
-    if !args.force {
-        variants::check_replace(&path("json"), &template, &design)?;
-    }
+    let command = command_line();
+    Stamp::new(None, &command, Experiment::of(&template, &design)).check_replace(
+        &path("json"),
+        "experiment",
+        args.force,
+    )?;
     let outcomes = variants::run_variants(
         &template,
         &design.variants,
@@ -119,23 +124,23 @@ fn run_experiment(
         design.pairing,
         &Reporter::new(args.quiet || args.json),
     )?;
-    let command = command_line();
-    let report = serde_json::json!({
-        "command": command,
-        "template": template,
-        "variants": outcomes,
-    });
-    output::write_atomic(
-        &path("json"),
-        serde_json::to_string_pretty(&report).expect("outcomes serialize") + "\n",
-    )?;
     let md = variants::markdown(title, &command, &outcomes);
+    let report = Stamp::new(
+        None,
+        &command,
+        Experiment {
+            template,
+            variants: outcomes,
+        },
+    );
+    let json = stamp::json_sorted(&report);
+    output::write_atomic(&path("json"), &json)?;
     output::write_atomic(&path("md"), &md)?;
-    output::write_atomic(&path("csv"), variants::csv(&outcomes))?;
+    output::write_atomic(&path("csv"), variants::csv(&report.made.variants))?;
     if args.json {
-        print_json(&report, out)?;
+        say!(out, "{}", json.trim_end());
     } else {
         say!(out, "{md}");
     }
-    Ok(outcomes)
+    Ok(report.made.variants)
 }

@@ -60,13 +60,12 @@ pub fn run(a: PlanesArgs, out: &mut String) -> Result<()> {
     )?;
     output::check_dir(&a.results)?;
     let path = |ext: &str| a.results.join(format!("forced-planes.{ext}"));
-    if !a.force {
-        planes::check_replace(&path("json"), &params)?;
-    }
+    let command = super::command_line();
+    planes::stamp(&command, &params).check_replace(&path("json"), "scan", a.force)?;
     let report = planes::run(
         &params,
         &a.thresholds,
-        &super::command_line(),
+        &command,
         &Reporter::new(a.quiet || a.json),
     )?;
     planes::write(&report, &a.results)?;
