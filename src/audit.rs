@@ -2,7 +2,8 @@
 //! connected patterns of a size to the irreducible missed ones, which it
 //! writes as rule files for the engine, and the patterns the engine
 //! compresses although exact rank says they are not rigid. (The base motifs
-//! as rules are `engine::shapes`.)
+//! as rules are `engine::shapes`; whether the engine compresses a pattern is
+//! `Engine::compresses`.)
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -10,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::body::Body;
-use crate::engine::{CompiledRule, Compression, Engine, Motif, RuleSet};
+use crate::engine::{CompiledRule, Engine, Motif, RuleSet};
 use crate::enumerate::{
     GraphFilter, SmallGraph, TypedFilter, count_connected, par_fold_connected, typed_patterns,
 };
@@ -22,22 +23,6 @@ use crate::progress::Progress;
 use crate::rigidity::exact_class;
 use crate::rule_file::{Provenance, Rule};
 use crate::{Error, Result};
-
-/// Whether the engine compresses `pattern` to one node in any of `runs` orders.
-pub fn compresses(engine: &Engine, pattern: &Pattern, runs: u64) -> Result<bool> {
-    Ok(compressing_run(engine, pattern, runs)?.is_some())
-}
-
-/// The first of `runs` motif orders (seeds `0..runs`) in which the engine
-/// compresses `pattern` to one node: its seed and the compression.
-pub fn compressing_run(
-    engine: &Engine,
-    pattern: &Pattern,
-    runs: u64,
-) -> Result<Option<(u64, Compression)>> {
-    let (graph, bodies, _) = pattern.to_host()?;
-    first_compressing_run(engine, &graph, &bodies, runs)
-}
 
 /// Checks, before an audit relies on the engine, that it compresses the base
 /// motifs' own examples as expected under both rule sets; returns how many
@@ -254,7 +239,7 @@ impl Tally {
             return;
         }
         let outcome = exact_class(p, crate::rule_file::RULE_SEED).and_then(|class| {
-            let run = first_compressing_run(engine, &host.0, &host.1, runs)?;
+            let run = engine.compressing_run_from(&host.0, &host.1, runs)?;
             Ok((class, run))
         });
         let (class, run) = match outcome {
@@ -339,22 +324,6 @@ impl Tally {
         ));
         Ok(self.missed)
     }
-}
-
-/// [`compressing_run`] on a pattern's host graph and declared bodies.
-fn first_compressing_run(
-    engine: &Engine,
-    graph: &ContactGraph,
-    bodies: &[Body],
-    runs: u64,
-) -> Result<Option<(u64, Compression)>> {
-    for seed in 0..runs {
-        let c = engine.compress(graph, bodies, seed)?;
-        if c.components == 1 {
-            return Ok(Some((seed, c)));
-        }
-    }
-    Ok(None)
 }
 
 /// The rods-only candidate of a graph and its host (the graph itself, with
@@ -472,7 +441,7 @@ fn irreducible(
     let engine = Engine::with_rules(opts.rules, known);
     let still: Vec<bool> = missed
         .par_iter()
-        .map(|p| compresses(&engine, p, opts.runs).map(|c| !c))
+        .map(|p| engine.compresses(p, opts.runs).map(|c| !c))
         .collect::<Result<_>>()?;
     let kept: Vec<&Pattern> = missed
         .iter()
