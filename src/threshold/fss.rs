@@ -5,9 +5,8 @@
 //! maximum likelihood, `Delta rho = s pi / sqrt(3)` gives `nu` through
 //! `Delta rho ~ L^(-1/nu)`, and the inverse predictions `rho_x(L)` are
 //! extrapolated against `L^(-1/nu)` with one intercept shared by every `x`:
-//! the threshold. Intervals come from a case bootstrap over sequences.
-
-use std::path::Path;
+//! the threshold. Intervals come from a case bootstrap over sequences. The
+//! tables a study writes from the result are `threshold::report`'s.
 
 use nalgebra::{DMatrix, DVector};
 use rand::{RngExt, SeedableRng};
@@ -17,7 +16,6 @@ use serde::{Deserialize, Serialize};
 
 use super::logistic::{Logistic, MIN_NESTED, fit_logistic_binomial, fit_logistic_sample};
 use crate::math::stats::{least_squares, percentile_interval};
-use crate::output::{self, cell};
 use crate::{Error, Result};
 
 /// Contact numbers measured on one system of a sequence.
@@ -787,129 +785,6 @@ pub fn pi_curve(data: &BoxData, protocol: Protocol) -> Vec<(f64, f64, usize)> {
             .map(|(rho, k, n)| (rho, k as f64 / n as f64, n))
             .collect(),
     }
-}
-
-/// A row of `boxes.csv`, before its `rho_x_{x}` cells.
-#[derive(Serialize)]
-struct BoxRow {
-    #[serde(serialize_with = "cell::display")]
-    box_len: f64,
-    // Keeps its stored column name, so `boxes.csv` reads as before.
-    #[serde(rename = "realizations")]
-    sequences: usize,
-    #[serde(serialize_with = "cell::display")]
-    mu: f64,
-    #[serde(serialize_with = "cell::display_opt")]
-    mu_lo: Option<f64>,
-    #[serde(serialize_with = "cell::display_opt")]
-    mu_hi: Option<f64>,
-    #[serde(serialize_with = "cell::display")]
-    s: f64,
-    #[serde(serialize_with = "cell::display")]
-    delta_rho: f64,
-    #[serde(serialize_with = "cell::display_opt")]
-    delta_rho_lo: Option<f64>,
-    #[serde(serialize_with = "cell::display_opt")]
-    delta_rho_hi: Option<f64>,
-    #[serde(serialize_with = "cell::display")]
-    log_likelihood: f64,
-}
-
-/// A row of `pi.csv`.
-#[derive(Serialize)]
-struct PiRow {
-    #[serde(serialize_with = "cell::display")]
-    box_len: f64,
-    #[serde(serialize_with = "cell::display")]
-    density: f64,
-    #[serde(serialize_with = "cell::display")]
-    pi: f64,
-    n: usize,
-    #[serde(serialize_with = "cell::display")]
-    fitted: f64,
-}
-
-/// A row of `rho_x.csv`.
-#[derive(Serialize)]
-struct RhoXRow {
-    #[serde(serialize_with = "cell::display")]
-    box_len: f64,
-    #[serde(serialize_with = "cell::display")]
-    x: f64,
-    #[serde(serialize_with = "cell::display")]
-    rho_x: f64,
-    #[serde(serialize_with = "cell::display_opt")]
-    rho_x_lo: Option<f64>,
-    #[serde(serialize_with = "cell::display_opt")]
-    rho_x_hi: Option<f64>,
-    #[serde(serialize_with = "cell::display")]
-    l_pow_minus_inv_nu: f64,
-    #[serde(serialize_with = "cell::display")]
-    fitted: f64,
-}
-
-/// Writes `boxes.csv` (one row per box size), `pi.csv` (empirical and
-/// fitted spanning probability) and `rho_x.csv` (the extrapolated points)
-/// into `dir`, which must exist.
-pub fn write_csv(fss: &Fss, data: &[BoxData], dir: &Path) -> Result<()> {
-    let more: Vec<String> = fss.xs.iter().map(|x| format!("rho_x_{x}")).collect();
-    let boxes = fss.boxes.iter().map(|b| {
-        let row = BoxRow {
-            box_len: b.box_len,
-            sequences: b.sequences,
-            mu: b.mu,
-            mu_lo: b.mu_interval.map(|i| i.0),
-            mu_hi: b.mu_interval.map(|i| i.1),
-            s: b.s,
-            delta_rho: b.delta_rho,
-            delta_rho_lo: b.delta_rho_interval.map(|i| i.0),
-            delta_rho_hi: b.delta_rho_interval.map(|i| i.1),
-            log_likelihood: b.log_likelihood,
-        };
-        (
-            row,
-            b.rho_x.iter().map(|&r| cell::Shown(r)).collect::<Vec<_>>(),
-        )
-    });
-    output::write_atomic(&dir.join("boxes.csv"), output::csv_with_more(&more, boxes))?;
-
-    let mut pi = Vec::new();
-    for b in &fss.boxes {
-        let Some(d) = data.iter().find(|d| d.box_len == b.box_len) else {
-            continue;
-        };
-        let fit = b.logistic();
-        pi.extend(
-            pi_curve(d, fss.protocol)
-                .into_iter()
-                .map(|(rho, frac, n)| PiRow {
-                    box_len: b.box_len,
-                    density: rho,
-                    pi: frac,
-                    n,
-                    fitted: fit.cdf(rho),
-                }),
-        );
-    }
-    output::write_csv(&dir.join("pi.csv"), pi)?;
-
-    let mut rx = Vec::new();
-    for b in &fss.boxes {
-        let t = fss.scaled(b.box_len);
-        for (j, (&x, &r)) in fss.xs.iter().zip(&b.rho_x).enumerate() {
-            let iv = b.rho_x_intervals.get(j);
-            rx.push(RhoXRow {
-                box_len: b.box_len,
-                x,
-                rho_x: r,
-                rho_x_lo: iv.map(|i| i.0),
-                rho_x_hi: iv.map(|i| i.1),
-                l_pow_minus_inv_nu: t,
-                fitted: fss.threshold.value + fss.slopes[j] * t,
-            });
-        }
-    }
-    output::write_csv(&dir.join("rho_x.csv"), rx)
 }
 
 impl BoxFit {
