@@ -29,6 +29,8 @@
 //! - `base`: the base motifs, each found from an anchor.
 //! - `certify`: `sound` bodies checked against truth.
 //! - `run`: the [`Engine`], its worklist, and seeded runs.
+//! - `pattern`: whether the engine compresses a pattern to one node in
+//!   some (or every) motif order.
 //! - `shapes`: the base motifs derived as verified rules (by running the
 //!   engine).
 //! - `examples`: every base motif's example and excluded variants.
@@ -44,6 +46,7 @@ mod index;
 mod induced;
 mod matcher;
 mod motif;
+mod pattern;
 mod rule;
 mod ruleset;
 mod run;

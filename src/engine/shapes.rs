@@ -17,17 +17,6 @@ use crate::rule_file::{Provenance, Rule, canonical_form};
 /// Motif orders tried before saying the engine compresses a pattern.
 pub const ORDERS: u64 = 8;
 
-/// Whether the engine compresses `pattern` to one node in every one of `runs` orders.
-fn always_compresses(engine: &Engine, pattern: &Pattern, runs: u64) -> Result<bool> {
-    let (graph, bodies, _) = pattern.to_host()?;
-    for seed in 0..runs {
-        if engine.compress(&graph, &bodies, seed)?.components != 1 {
-            return Ok(false);
-        }
-    }
-    Ok(true)
-}
-
 /// Every set partition of `m` items, as restricted growth strings.
 fn partitions(m: usize) -> Vec<Vec<u8>> {
     let mut out = Vec::new();
@@ -158,7 +147,7 @@ pub fn base_rules() -> Result<(Vec<Rule>, Vec<Refuted>)> {
     for (name, kinds, pairs) in base_shapes() {
         let bodies: Vec<usize> = (0..kinds.len()).filter(|&v| kinds[v].is_body()).collect();
         for p in rod_sharing_variants(&kinds, &pairs) {
-            if !seen.insert(canonical_form(&p)) || !always_compresses(&paper, &p, ORDERS)? {
+            if !seen.insert(canonical_form(&p)) || !paper.always_compresses(&p, ORDERS)? {
                 continue;
             }
             let mut rigid: Vec<(u32, Pattern)> = Vec::new();

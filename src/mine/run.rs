@@ -47,9 +47,9 @@ pub fn run(
         .par_iter()
         .map(|m| {
             let v = crate::rigidity::check_exact(&m.pattern, rule_file::RULE_SEED)?;
-            let compresses = crate::audit::compresses(&sound, &m.pattern, params.runs)?;
+            let compresses = sound.compresses(&m.pattern, params.runs)?;
             let extended = (!params.extended.is_empty())
-                .then(|| crate::audit::compresses(&with, &m.pattern, params.runs))
+                .then(|| with.compresses(&m.pattern, params.runs))
                 .transpose()?;
             progress.advance(1);
             Ok((v.class, v.dof, compresses, extended))

@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol};
+use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol, pi_curve};
 use super::sequence::{Kind, Record};
 use super::study::StudySpec;
 use crate::Result;
@@ -263,6 +263,129 @@ pub fn timing(spec: &StudySpec, records: &[Record]) -> Timing {
     }
 }
 
+/// A row of `boxes.csv`, before its `rho_x_{x}` cells.
+#[derive(Serialize)]
+struct BoxRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    // Keeps its stored column name, so `boxes.csv` reads as before.
+    #[serde(rename = "realizations")]
+    sequences: usize,
+    #[serde(serialize_with = "cell::display")]
+    mu: f64,
+    #[serde(serialize_with = "cell::display_opt")]
+    mu_lo: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    mu_hi: Option<f64>,
+    #[serde(serialize_with = "cell::display")]
+    s: f64,
+    #[serde(serialize_with = "cell::display")]
+    delta_rho: f64,
+    #[serde(serialize_with = "cell::display_opt")]
+    delta_rho_lo: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    delta_rho_hi: Option<f64>,
+    #[serde(serialize_with = "cell::display")]
+    log_likelihood: f64,
+}
+
+/// A row of `pi.csv`.
+#[derive(Serialize)]
+struct PiRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    #[serde(serialize_with = "cell::display")]
+    density: f64,
+    #[serde(serialize_with = "cell::display")]
+    pi: f64,
+    n: usize,
+    #[serde(serialize_with = "cell::display")]
+    fitted: f64,
+}
+
+/// A row of `rho_x.csv`.
+#[derive(Serialize)]
+struct RhoXRow {
+    #[serde(serialize_with = "cell::display")]
+    box_len: f64,
+    #[serde(serialize_with = "cell::display")]
+    x: f64,
+    #[serde(serialize_with = "cell::display")]
+    rho_x: f64,
+    #[serde(serialize_with = "cell::display_opt")]
+    rho_x_lo: Option<f64>,
+    #[serde(serialize_with = "cell::display_opt")]
+    rho_x_hi: Option<f64>,
+    #[serde(serialize_with = "cell::display")]
+    l_pow_minus_inv_nu: f64,
+    #[serde(serialize_with = "cell::display")]
+    fitted: f64,
+}
+
+/// Writes `boxes.csv` (one row per box size), `pi.csv` (empirical and
+/// fitted spanning probability) and `rho_x.csv` (the extrapolated points)
+/// into `dir`, which must exist.
+pub fn write_scaling_tables(fss: &Fss, data: &[BoxData], dir: &Path) -> Result<()> {
+    let more: Vec<String> = fss.xs.iter().map(|x| format!("rho_x_{x}")).collect();
+    let boxes = fss.boxes.iter().map(|b| {
+        let row = BoxRow {
+            box_len: b.box_len,
+            sequences: b.sequences,
+            mu: b.mu,
+            mu_lo: b.mu_interval.map(|i| i.0),
+            mu_hi: b.mu_interval.map(|i| i.1),
+            s: b.s,
+            delta_rho: b.delta_rho,
+            delta_rho_lo: b.delta_rho_interval.map(|i| i.0),
+            delta_rho_hi: b.delta_rho_interval.map(|i| i.1),
+            log_likelihood: b.log_likelihood,
+        };
+        (
+            row,
+            b.rho_x.iter().map(|&r| cell::Shown(r)).collect::<Vec<_>>(),
+        )
+    });
+    output::write_atomic(&dir.join("boxes.csv"), output::csv_with_more(&more, boxes))?;
+
+    let mut pi = Vec::new();
+    for b in &fss.boxes {
+        let Some(d) = data.iter().find(|d| d.box_len == b.box_len) else {
+            continue;
+        };
+        let fit = b.logistic();
+        pi.extend(
+            pi_curve(d, fss.protocol)
+                .into_iter()
+                .map(|(rho, frac, n)| PiRow {
+                    box_len: b.box_len,
+                    density: rho,
+                    pi: frac,
+                    n,
+                    fitted: fit.cdf(rho),
+                }),
+        );
+    }
+    output::write_csv(&dir.join("pi.csv"), pi)?;
+
+    let mut rx = Vec::new();
+    for b in &fss.boxes {
+        let t = fss.scaled(b.box_len);
+        for (j, (&x, &r)) in fss.xs.iter().zip(&b.rho_x).enumerate() {
+            let iv = b.rho_x_intervals.get(j);
+            rx.push(RhoXRow {
+                box_len: b.box_len,
+                x,
+                rho_x: r,
+                rho_x_lo: iv.map(|i| i.0),
+                rho_x_hi: iv.map(|i| i.1),
+                l_pow_minus_inv_nu: t,
+                fitted: fss.threshold.value + fss.slopes[j] * t,
+            });
+        }
+    }
+    output::write_csv(&dir.join("rho_x.csv"), rx)
+}
+
 /// What [`write_study`] computed and wrote.
 pub struct StudyReport {
     pub summary: Summary,
@@ -298,7 +421,7 @@ pub fn write_study(
             .into(),
     )?;
     put("records.csv", records_csv(records))?;
-    fss::write_csv(&summary.fss, &data, dir)?;
+    write_scaling_tables(&summary.fss, &data, dir)?;
     files.extend(["boxes.csv", "pi.csv", "rho_x.csv"].map(|n| dir.join(n)));
     Ok(StudyReport {
         summary,

@@ -395,7 +395,7 @@ fn csv_and_charts_are_written() {
     };
     let r = analyse(&data, &opts).unwrap();
     let dir = crate::scratch("fss-csv");
-    fss::write_csv(&r, &data, &dir).unwrap();
+    rgc::threshold::report::write_scaling_tables(&r, &data, &dir).unwrap();
     let boxes = std::fs::read_to_string(dir.join("boxes.csv")).unwrap();
     assert_eq!(boxes.lines().count(), 6);
     assert!(boxes.starts_with("box_len,realizations,mu,") && boxes.contains(",rho_x_0.75"));

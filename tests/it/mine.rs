@@ -7,7 +7,6 @@ use std::path::Path;
 use crate::cli::{fails, rgc};
 use std::sync::OnceLock;
 
-use rgc::audit::compresses;
 use rgc::contacts::{self, Contact};
 use rgc::engine::{CompiledRule, Engine, RuleSet};
 use rgc::graph::ContactGraph;
@@ -144,7 +143,7 @@ fn a_locked_hinge_is_mined_with_its_turning_lock() {
         let pattern = set.pattern.as_ref().unwrap();
         let v = check_exact(pattern, RULE_SEED).unwrap();
         assert_eq!(v.dof, Some(1), "{:?}", set.canonical);
-        assert!(!compresses(&sound, pattern, 32).unwrap());
+        assert!(!sound.compresses(pattern, 32).unwrap());
     }
     let lock = mined.sets.iter().find(|s| s.nodes.len() == 4).unwrap();
     assert_eq!(lock.rods, (0..8).collect::<Vec<u32>>());
@@ -173,10 +172,18 @@ fn a_missed_rigid_motif_is_mined_whole_and_the_engine_uses_its_rule() {
     assert_minimal(&g, None, &quotient(&g, 1), set);
     let pattern = set.pattern.clone().unwrap();
     assert_eq!(check_exact(&pattern, RULE_SEED).unwrap().class, "rigid");
-    assert!(!compresses(&Engine::base(RuleSet::Sound), &pattern, 32).unwrap());
+    assert!(
+        !Engine::base(RuleSet::Sound)
+            .compresses(&pattern, 32)
+            .unwrap()
+    );
     let rule = rule_file::Rule::new("mined-0".into(), pattern.clone(), Default::default()).unwrap();
     let compiled = [CompiledRule::new(&rule)];
-    assert!(compresses(&Engine::with_rules(RuleSet::Sound, &compiled), &pattern, 32).unwrap());
+    assert!(
+        Engine::with_rules(RuleSet::Sound, &compiled)
+            .compresses(&pattern, 32)
+            .unwrap()
+    );
 }
 
 fn system(box_len: f64, rho: f64, seed: u64) -> (Vec<Contact>, ContactGraph) {
@@ -304,7 +311,7 @@ fn the_rule_file_round_trips_and_the_engine_compresses_with_it() {
         assert_eq!(rule.provenance.source, "mined");
         assert_eq!(rule.provenance.frequency, m.per_density);
         assert_eq!(rule.canonical, m.canonical);
-        assert!(compresses(&with, &rule.pattern, 32).unwrap(), "{}", rule.id);
+        assert!(with.compresses(&rule.pattern, 32).unwrap(), "{}", rule.id);
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,43 +1,25 @@
-//! Which rigid motifs the engine misses (MODEL §7): the funnel from all
-//! connected patterns of a size to the irreducible missed ones, which it
-//! writes as rule files for the engine, and the patterns the engine
-//! compresses although exact rank says they are not rigid. (The base motifs
-//! as rules are `engine::shapes`.)
+//! The audit's funnel (MODEL §7): every connected pattern of a size,
+//! filtered to the 2-core and Maxwell's count, classified by exact rank and
+//! put to the engine; the rigid ones it misses, reduced to those still
+//! missed with the smaller ones added as rules, and the ones it compresses
+//! although they are not rigid.
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use serde::Serialize;
 use std::time::Instant;
 
 use crate::body::Body;
-use crate::engine::{CompiledRule, Compression, Engine, Motif, RuleSet};
+use crate::engine::{CompiledRule, Engine, Motif, RuleSet};
 use crate::enumerate::{
     GraphFilter, SmallGraph, TypedFilter, count_connected, par_fold_connected, typed_patterns,
 };
 use crate::graph::ContactGraph;
 use crate::graph::io::to_graph6;
-use crate::output;
 use crate::pattern::Pattern;
 use crate::progress::Progress;
 use crate::rigidity::exact_class;
 use crate::rule_file::{Provenance, Rule};
 use crate::{Error, Result};
-
-/// Whether the engine compresses `pattern` to one node in any of `runs` orders.
-pub fn compresses(engine: &Engine, pattern: &Pattern, runs: u64) -> Result<bool> {
-    Ok(compressing_run(engine, pattern, runs)?.is_some())
-}
-
-/// The first of `runs` motif orders (seeds `0..runs`) in which the engine
-/// compresses `pattern` to one node: its seed and the compression.
-pub fn compressing_run(
-    engine: &Engine,
-    pattern: &Pattern,
-    runs: u64,
-) -> Result<Option<(u64, Compression)>> {
-    let (graph, bodies, _) = pattern.to_host()?;
-    first_compressing_run(engine, &graph, &bodies, runs)
-}
 
 /// Checks, before an audit relies on the engine, that it compresses the base
 /// motifs' own examples as expected under both rule sets; returns how many
@@ -105,26 +87,6 @@ impl AuditOptions {
             command += " --rod-sharing";
         }
         command.to_lowercase()
-    }
-
-    /// The parameters that made one part's table (`rods` or `mixed`).
-    fn part(&self, kind: &str) -> PartParameters {
-        let mixed = kind == "mixed";
-        PartParameters {
-            max_size: if mixed {
-                self.max_components
-            } else {
-                self.max_rods
-            },
-            rules: self.rules,
-            runs: self.runs,
-            rod_sharing: mixed.then_some(self.rod_sharing),
-        }
-    }
-
-    /// The sizes one part audits (none for a part that does not run).
-    fn sizes(&self, kind: &str) -> std::ops::RangeInclusive<usize> {
-        2..=self.part(kind).max_size
     }
 }
 
@@ -254,7 +216,7 @@ impl Tally {
             return;
         }
         let outcome = exact_class(p, crate::rule_file::RULE_SEED).and_then(|class| {
-            let run = first_compressing_run(engine, &host.0, &host.1, runs)?;
+            let run = engine.compressing_run_from(&host.0, &host.1, runs)?;
             Ok((class, run))
         });
         let (class, run) = match outcome {
@@ -339,22 +301,6 @@ impl Tally {
         ));
         Ok(self.missed)
     }
-}
-
-/// [`compressing_run`] on a pattern's host graph and declared bodies.
-fn first_compressing_run(
-    engine: &Engine,
-    graph: &ContactGraph,
-    bodies: &[Body],
-    runs: u64,
-) -> Result<Option<(u64, Compression)>> {
-    for seed in 0..runs {
-        let c = engine.compress(graph, bodies, seed)?;
-        if c.components == 1 {
-            return Ok(Some((seed, c)));
-        }
-    }
-    Ok(None)
 }
 
 /// The rods-only candidate of a graph and its host (the graph itself, with
@@ -472,7 +418,7 @@ fn irreducible(
     let engine = Engine::with_rules(opts.rules, known);
     let still: Vec<bool> = missed
         .par_iter()
-        .map(|p| compresses(&engine, p, opts.runs).map(|c| !c))
+        .map(|p| engine.compresses(p, opts.runs).map(|c| !c))
         .collect::<Result<_>>()?;
     let kept: Vec<&Pattern> = missed
         .iter()
@@ -603,298 +549,5 @@ impl AuditRow {
                 .get(k)
                 .map_or_else(|| format!("{:.3}", self.seconds), u64::to_string)
         })
-    }
-}
-
-/// What made one part's table, written beside it (`audit-rods.json`) so
-/// that a later run with other parameters does not silently replace it.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-struct PartParameters {
-    /// Rods (rods-only part) or components (mixed part).
-    max_size: usize,
-    rules: RuleSet,
-    runs: u64,
-    /// Mixed part only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    rod_sharing: Option<bool>,
-}
-
-impl std::fmt::Display for PartParameters {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "sizes up to {}, rules {}, {} motif orders",
-            self.max_size,
-            format!("{:?}", self.rules).to_lowercase(),
-            self.runs
-        )?;
-        match self.rod_sharing {
-            Some(true) => write!(f, ", rod sharing"),
-            _ => Ok(()),
-        }
-    }
-}
-
-/// The JSON beside a part's table, as read back: only what made it counts.
-#[derive(Deserialize)]
-struct PartRead {
-    parameters: PartParameters,
-}
-
-/// The JSON beside a part's table: what made it, and the part's falsely
-/// compressed patterns with how each compressed.
-#[derive(Serialize)]
-struct PartWritten<'a> {
-    made_by: String,
-    parameters: PartParameters,
-    falsely_compressed: Vec<FalseWritten<'a>>,
-}
-
-#[derive(Serialize)]
-struct FalseWritten<'a> {
-    size: usize,
-    /// Rods-only patterns.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    graph6: Option<String>,
-    /// Mixed patterns (graph6 cannot hold their bodies).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pattern: Option<&'a Pattern>,
-    class: &'a str,
-    run: u64,
-    sequence: &'a [Motif],
-}
-
-/// The files [`write_outputs`] wrote.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct AuditFiles {
-    /// `audit-rods.csv`, `audit-mixed.csv`.
-    pub tables: Vec<PathBuf>,
-    /// Beside each table: `audit-rods.json` (what made it, its falsely
-    /// compressed patterns) and `falsely-compressed-rods.g6`.
-    pub beside: Vec<PathBuf>,
-    /// `rods-n.json`, `mixed-k.json`.
-    pub rule_files: Vec<PathBuf>,
-}
-
-const PARTS: [&str; 2] = ["rods", "mixed"];
-
-/// Checks, before an audit runs, that it would replace only files that an
-/// audit with the same parameters made: each part's table (by the JSON
-/// beside it, or, for tables older than that, by the sizes it lists) and
-/// each rule file it may write (by its provenance). An exploratory run
-/// (`--max-rods 6 --rules paper`) would otherwise cut the committed tables
-/// and rewrite the rule files `compare` reads. The CLI's `--force` skips it.
-pub fn check_outputs(opts: &AuditOptions, results: &Path, motifs: &Path) -> Result<()> {
-    let mut conflicts = Vec::new();
-    for kind in PARTS {
-        let sizes: Vec<usize> = opts.sizes(kind).collect();
-        if sizes.is_empty() {
-            continue;
-        }
-        let table = results.join(format!("audit-{kind}.csv"));
-        let beside = results.join(format!("audit-{kind}.json"));
-        match std::fs::read_to_string(&beside) {
-            Ok(text) => match serde_json::from_str::<PartRead>(&text) {
-                Ok(made) if made.parameters == opts.part(kind) => {}
-                Ok(made) => conflicts.push(format!(
-                    "{} was made with {}",
-                    table.display(),
-                    made.parameters
-                )),
-                Err(_) => conflicts.push(format!("{} is not an audit's", beside.display())),
-            },
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                if table.exists() {
-                    let there = table_sizes(&table)?;
-                    if there != sizes {
-                        conflicts.push(format!("{} holds sizes {there:?}", table.display()));
-                    }
-                }
-            }
-            Err(e) => return Err(Error::io(&beside, e)),
-        }
-        for n in sizes {
-            let path = motifs.join(format!("{kind}-{n}.json"));
-            match rule_file_commands(&path)? {
-                Some(commands) if commands.iter().all(|c| *c == opts.command()) => {}
-                Some(commands) => conflicts.push(format!(
-                    "{} was made by `{}`",
-                    path.display(),
-                    commands.join("`, `")
-                )),
-                None => {}
-            }
-        }
-    }
-    if conflicts.is_empty() {
-        return Ok(());
-    }
-    Err(Error::Parameter(format!(
-        "`{}` would replace files made with other parameters: {}; write elsewhere with --results and --rules-dir, or --force to replace them",
-        opts.command(),
-        conflicts.join("; ")
-    )))
-}
-
-/// The sizes an audit table lists.
-fn table_sizes(path: &Path) -> Result<Vec<usize>> {
-    let bad = |m: String| Error::Parameter(format!("{}: {m}", path.display()));
-    let mut reader = csv::Reader::from_path(path).map_err(|e| bad(e.to_string()))?;
-    let column = reader
-        .headers()
-        .map_err(|e| bad(e.to_string()))?
-        .iter()
-        .position(|h| h == "size")
-        .ok_or_else(|| bad("no size column: not an audit table".into()))?;
-    reader
-        .records()
-        .map(|r| {
-            let r = r.map_err(|e| bad(e.to_string()))?;
-            r.get(column)
-                .and_then(|v| v.parse().ok())
-                .ok_or_else(|| bad("a size is not a number".into()))
-        })
-        .collect()
-}
-
-/// The distinct commands a rule file's provenance names (`None` when there
-/// is no such file; a file that is not a rule file names none).
-fn rule_file_commands(path: &Path) -> Result<Option<Vec<String>>> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(Error::io(path, e)),
-    };
-    let Ok(file) = serde_json::from_str::<crate::rule_file::RuleFile>(&text) else {
-        return Ok(Some(vec!["(not a rule file)".into()]));
-    };
-    let mut commands: Vec<String> = file
-        .rules
-        .iter()
-        .map(|r| r.provenance.command.clone().unwrap_or_default())
-        .collect();
-    commands.sort();
-    commands.dedup();
-    Ok(Some(commands))
-}
-
-/// Writes what an audit found: per part that ran, its table, the JSON
-/// beside it and (rods only) `falsely-compressed-rods.g6`, one graph6 line
-/// per falsely compressed pattern, into `results`; the irreducible missed
-/// motifs as rule files `rods-n.json` and `mixed-k.json` into `motifs`. A
-/// part that did not run keeps its previous files.
-pub fn write_outputs(
-    audit: &Audit,
-    opts: &AuditOptions,
-    results: &Path,
-    motifs: &Path,
-) -> Result<AuditFiles> {
-    let mut files = AuditFiles::default();
-    for (kind, rows) in PARTS.into_iter().zip([&audit.rods, &audit.mixed]) {
-        if rows.is_empty() {
-            continue;
-        }
-        let table = results.join(format!("audit-{kind}.csv"));
-        write_csv(&table, rows)?;
-        files.tables.push(table);
-        let false_rigidity: Vec<&FalseRigidity> = audit
-            .false_rigidity
-            .iter()
-            .filter(|f| f.kind == kind)
-            .collect();
-        let part = PartWritten {
-            made_by: opts.command(),
-            parameters: opts.part(kind),
-            falsely_compressed: false_rigidity
-                .iter()
-                .map(|f| {
-                    let graph6 = f.graph6();
-                    FalseWritten {
-                        size: f.size,
-                        pattern: graph6.is_none().then_some(&f.pattern),
-                        graph6,
-                        class: &f.class,
-                        run: f.run,
-                        sequence: &f.sequence,
-                    }
-                })
-                .collect(),
-        };
-        let beside = results.join(format!("audit-{kind}.json"));
-        output::write_atomic(
-            &beside,
-            serde_json::to_string_pretty(&part).expect("audit parts serialize") + "\n",
-        )?;
-        files.beside.push(beside);
-        if kind == "rods" {
-            let g6: String = part
-                .falsely_compressed
-                .iter()
-                .filter_map(|f| f.graph6.as_deref())
-                .map(|g| format!("{g}\n"))
-                .collect();
-            let path = results.join("falsely-compressed-rods.g6");
-            output::write_atomic(&path, g6)?;
-            files.beside.push(path);
-        }
-    }
-    for (kind, sets) in [("rods", &audit.rod_rules), ("mixed", &audit.mixed_rules)] {
-        for (size, rules) in sets.iter().filter(|(_, r)| !r.is_empty()) {
-            let path = motifs.join(format!("{kind}-{size}.json"));
-            crate::rule_file::write_rules(&path, rules)?;
-            files.rule_files.push(path);
-        }
-    }
-    Ok(files)
-}
-
-/// Writes a table as CSV: the kind, then the columns the terminal shows.
-pub fn write_csv(path: &std::path::Path, rows: &[AuditRow]) -> Result<()> {
-    let header = std::iter::once("kind").chain(AuditRow::COLUMNS);
-    let text = output::csv_headed(header, rows.iter().map(|r| (&r.kind, r.cells())));
-    output::write_atomic(path, text)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The committed tables, read back into rows, are written byte for byte.
-    #[test]
-    fn committed_tables_are_written_unchanged() {
-        for name in ["audit-rods.csv", "audit-mixed.csv", "audit-rods-10.csv"] {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("results")
-                .join(name);
-            let text = std::fs::read_to_string(&path).unwrap();
-            let rows: Vec<AuditRow> = text
-                .lines()
-                .skip(1)
-                .map(|line| {
-                    let cells: Vec<&str> = line.split(',').collect();
-                    let n: Vec<u64> = cells[1..13].iter().map(|c| c.parse().unwrap()).collect();
-                    AuditRow {
-                        kind: cells[0].into(),
-                        size: n[0] as usize,
-                        connected: n[1],
-                        two_core: n[2],
-                        maxwell: n[3],
-                        rigid: n[4],
-                        component_dependent: n[5],
-                        flexible: n[6],
-                        undecided: n[7],
-                        compressed: n[8],
-                        missed: n[9],
-                        irreducible: n[10],
-                        falsely_compressed: n[11],
-                        seconds: cells[13].parse().unwrap(),
-                    }
-                })
-                .collect();
-            let out = std::env::temp_dir().join(format!("rgc-audit-{}-{name}", std::process::id()));
-            write_csv(&out, &rows).unwrap();
-            assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "{name}");
-            std::fs::remove_file(out).unwrap();
-        }
     }
 }
