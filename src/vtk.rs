@@ -9,7 +9,7 @@
 //! further field per cell. For a sample: the body of the reported run
 //! (`-1` for a free rod), whether that body spans, the rod's degree, and,
 //! when the sample decided its exact rigidity, the rod's true rigid cluster
-//! and whether that cluster spans.
+//! and whether that cluster spans; for rods read with ids, the rod's id.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -130,7 +130,8 @@ pub fn to_vtp(system: &RodSystem, fields: &[Field]) -> String {
 /// under `criterion`) and `degree` (contacts); with its truth, also
 /// `true_cluster` (the index of the rod's true rigid cluster, largest
 /// first, or -1; where clusters meet at a rod, the largest of them) and
-/// `true_spans` (1 when a cluster of the rod spans).
+/// `true_spans` (1 when a cluster of the rod spans); with the ids of rods
+/// read from a file that numbers them, `id`.
 pub fn sample_fields(sample: &Sample, criterion: Criterion) -> Vec<Field> {
     let n = sample.system.len();
     let (mut body, mut spans) = (vec![-1i64; n], vec![0i64; n]);
@@ -157,6 +158,9 @@ pub fn sample_fields(sample: &Sample, criterion: Criterion) -> Vec<Field> {
             }
         }
         fields.extend([("true_cluster", cluster), ("true_spans", spans)]);
+    }
+    if let Some(ids) = &sample.ids {
+        fields.push(("id", ids.iter().map(|&i| i as i64).collect()));
     }
     fields
         .into_iter()

@@ -86,7 +86,9 @@ pub(crate) fn options(
             loaded: Loaded {
                 system: rods.system.clone(),
                 cut: rods.cut,
+                wrapped: 0,
                 lines: (1..=rods.system.len()).collect(),
+                ids: None,
             },
         },
         seed,

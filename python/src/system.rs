@@ -155,7 +155,8 @@ fn per_rod(obj: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResult<Vec<f64>> {
     Ok(a.as_array().to_vec())
 }
 
-/// Unit directions from quaternions `(w, x, y, z)` (HOOMD's order) rotating `axis`.
+/// Unit directions from quaternions `(w, x, y, z)` (HOOMD's order) rotating
+/// `axis`, as the library reads a LAMMPS dump's quaternions.
 fn rotate(q: &ArrayView2<'_, f64>, axis: [f64; 3]) -> PyResult<Array2<f64>> {
     if q.ncols() != 4 {
         return Err(value_error(format!(
@@ -165,28 +166,13 @@ fn rotate(q: &ArrayView2<'_, f64>, axis: [f64; 3]) -> PyResult<Array2<f64>> {
     }
     let mut out = Array2::zeros((q.nrows(), 3));
     for (i, row) in q.rows().into_iter().enumerate() {
-        let (w, v) = (row[0], [row[1], row[2], row[3]]);
-        let norm = (w * w + v.iter().map(|x| x * x).sum::<f64>()).sqrt();
-        if !(norm.is_finite() && norm > 0.0) {
-            return Err(value_error(format!("quaternion {i} is not a rotation")));
-        }
-        let (w, v) = (w / norm, v.map(|x| x / norm));
-        // a' = a + 2w (v x a) + 2 v x (v x a)
-        let c = cross(v, axis);
-        let cc = cross(v, c);
+        let a = rgc::rods::rotate([row[0], row[1], row[2], row[3]], axis)
+            .ok_or_else(|| value_error(format!("quaternion {i} is not a rotation")))?;
         for k in 0..3 {
-            out[[i, k]] = axis[k] + 2.0 * w * c[k] + 2.0 * cc[k];
+            out[[i, k]] = a[k];
         }
     }
     Ok(out)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// A checked rod system in a box.

@@ -190,6 +190,25 @@ impl Rod {
     }
 }
 
+/// `axis` rotated by the quaternion `(w, x, y, z)` (HOOMD's and LAMMPS's
+/// order, scalar first), normalized first: how simulations that store
+/// orientations as quaternions give a rod's axis (the body axis rotated
+/// into the lab frame). `None` when `q` is not a rotation (zero or not
+/// finite).
+pub fn rotate(q: [f64; 4], axis: [f64; 3]) -> Option<Vector3<f64>> {
+    let (w, v) = (q[0], [q[1], q[2], q[3]]);
+    let norm = (w * w + v.iter().map(|x| x * x).sum::<f64>()).sqrt();
+    if !(norm.is_finite() && norm > 0.0) {
+        return None;
+    }
+    let (w, v) = (w / norm, Vector3::from(v.map(|x| x / norm)));
+    let a = Vector3::from(axis);
+    // a' = a + 2w (v x a) + 2 v x (v x a)
+    let c = v.cross(&a);
+    let cc = v.cross(&c);
+    Some(a + 2.0 * w * c + 2.0 * cc)
+}
+
 /// Which axes of a box are periodic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]

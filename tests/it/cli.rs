@@ -1487,8 +1487,9 @@ fn vtk_carries_each_rods_size_and_its_true_rigid_cluster() {
 
 #[test]
 fn truth_over_the_memory_limit_is_refused_before_its_front_with_the_sizes() {
-    // gamma 48, L 5: its largest front needs about 10 MB; 2 MB is refused
-    // with exit 2, one line naming the front and the bytes.
+    // gamma 48, L 5: its largest front needs about 10 MB; 8 MB (above the
+    // 6.6 MB its rods and contacts are estimated to need up front) is
+    // refused with exit 2, one line naming the front and the bytes.
     fails(
         &[
             "truth",
@@ -1499,7 +1500,7 @@ fn truth_over_the_memory_limit_is_refused_before_its_front_with_the_sizes() {
             "--density",
             "78",
             "--memory-limit",
-            "2M",
+            "8M",
         ],
         "over the memory limit: truth refused this system: its elimination reached a dense front of",
     );

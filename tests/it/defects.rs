@@ -928,3 +928,96 @@ fn a_vtk_file_must_be_named_vtp() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A system too large for the memory it may use is refused before any rod
+/// is drawn, on one line naming the estimate and the budget: a limit given
+/// with `--memory-limit` (`sample`, `render`, `truth`), or an address-space
+/// limit (`ulimit -v`), under which it used to abort with "memory
+/// allocation failed".
+#[test]
+fn a_system_too_large_for_memory_is_refused_up_front() {
+    let dir = scratch("memory-estimate");
+    let big = ["--gamma", "23", "--box", "60", "--density", "40"];
+    let png = dir.join("big");
+    for (cmd, more) in [
+        ("sample", vec![]),
+        ("render", vec!["--out", s(&png)]),
+        ("truth", vec![]),
+    ] {
+        let args = [&[cmd][..], &big, &more, &["--memory-limit", "100M"]].concat();
+        refused(
+            &args,
+            "rgc: error: over the memory limit: 8640000 rods (about 1.391e7 contacts) need an \
+             estimated 5.81 GiB, more than the limit of 100 MiB (--memory-limit)",
+        );
+    }
+    assert!(!dir.join("big.png").exists());
+    // The same box at a density that fits runs under the same limit.
+    succeeds(&[
+        "sample",
+        "--gamma",
+        "23",
+        "--box",
+        "6",
+        "--density",
+        "40",
+        "--memory-limit",
+        "100M",
+    ]);
+
+    let bin = env!("CARGO_BIN_EXE_rgc");
+    let out = Command::new("sh")
+        .args([
+            "-c",
+            "ulimit -v 400000 && exec \"$0\" \"$@\"",
+            bin,
+            "sample",
+        ])
+        .args(big)
+        .current_dir(REPO)
+        .output()
+        .unwrap();
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("need an estimated 5.81 GiB, more than the ")
+            && err.contains(" this process has available"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The check is exact at its edge: rods read from a file are refused by a
+/// limit one byte under their estimate and pass at it; the estimate grows
+/// with rods, contacts and thickness.
+#[test]
+fn the_memory_check_compares_the_estimate_with_the_budget() {
+    use rgc::rods::RodParams;
+    use rgc::sample::{Rods, memory_estimate};
+    use rgc::usage::MemoryBudget;
+
+    let rods = Rods::from(RodParams::new(23.0, 5.0, 40.0).unwrap());
+    let e = rods.memory_estimate();
+    assert_eq!(e.rods, 5000);
+    // Philipse: rho V_ex (N - 1) / N contacts per rod, halved.
+    let expected = 0.5 * 5000.0 * RodParams::new(23.0, 5.0, 40.0).unwrap().expected_c0();
+    assert!(
+        (e.contacts - expected).abs() < 1e-6 * expected,
+        "{}",
+        e.contacts
+    );
+    assert!(
+        rods.check_memory(Some(MemoryBudget::Limit(e.bytes)))
+            .is_ok()
+    );
+    assert!(rods.check_memory(None).is_ok());
+    let err = rods
+        .check_memory(Some(MemoryBudget::Limit(e.bytes - 1)))
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("over the memory limit: 5000 rods"), "{err}");
+    assert!(memory_estimate(2000, 0.0, 0.0) > memory_estimate(1000, 0.0, 0.0));
+    assert!(memory_estimate(1000, 10.0, 0.0) > memory_estimate(1000, 0.0, 0.0));
+    assert!(memory_estimate(1000, 0.0, 0.1) > memory_estimate(1000, 0.0, 0.0));
+}

@@ -6,6 +6,7 @@ mod charts;
 mod cli;
 mod contacts;
 mod defects;
+mod dumps;
 mod engine;
 mod ensembles;
 mod enumerate;

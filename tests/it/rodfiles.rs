@@ -73,7 +73,7 @@ fn bits(r: &Rod) -> [u64; 8] {
 /// bit, the same box, no rod cut again, each rod on its own line, and the
 /// same contacts.
 fn assert_round_trip(system: &RodSystem, format: Format) {
-    let text = file::to_string(system, format);
+    let text = file::to_string(system, None, format);
     let opts = options(format, &system.domain);
     let loaded = file::parse(&text, Path::new("rods"), format, &opts)
         .unwrap_or_else(|e| panic!("{format:?}: {e}"));
@@ -155,6 +155,7 @@ fn csv_columns_in_any_order() {
     let rod = Rod::new(Vector3::new(1.0, 2.0, 3.0), axis, 1.5, 0.02);
     assert_eq!(loaded.system.rods, vec![rod]);
     assert_eq!(loaded.lines, vec![2]);
+    assert_eq!(loaded.ids, Some(vec![7]));
 }
 
 /// Runs `rgc` with `args`, which must succeed.
@@ -217,10 +218,25 @@ fn cli_rods_files_give_the_same_sample() {
             &["--save-bodies", &b2, "--save-graphml", &g2],
         ]
         .concat());
-        for (a, b) in [(&b1, &b2), (&g1, &g2)] {
-            let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+        let (a, b) = (std::fs::read(&g1).unwrap(), std::fs::read(&g2).unwrap());
+        assert!(a.len() > 1000, "{ext}: a near-empty output");
+        assert!(a == b, "{ext}: the GraphML differs");
+        let (a, b) = (std::fs::read(&b1).unwrap(), std::fs::read(&b2).unwrap());
+        if ext == "dump" {
+            // A dump numbers its atoms (from 1): the bodies read back carry those ids.
+            let mut read: Value = serde_json::from_slice(&b).unwrap();
+            for body in read["bodies"].as_array_mut().unwrap() {
+                let ids = body.as_object_mut().unwrap().remove("ids").unwrap();
+                let rods: Vec<u64> = serde_json::from_value(body["rods"].clone()).unwrap();
+                let ids: Vec<u64> = serde_json::from_value(ids).unwrap();
+                assert_eq!(ids, rods.iter().map(|r| r + 1).collect::<Vec<_>>());
+            }
+            let written: Value = serde_json::from_slice(&a).unwrap();
+            assert!(!String::from_utf8_lossy(&a).contains("\"ids\""));
+            assert_eq!(written, read, "{ext}: the bodies differ");
+        } else {
             assert!(a.len() > 1000, "{ext}: a near-empty output");
-            assert!(a == b, "{ext}: the outputs differ");
+            assert!(a == b, "{ext}: the bodies differ");
         }
     }
 }
@@ -315,18 +331,6 @@ fn assert_refused(format: Format, text: &str, periodic: Periodic, line: usize, p
 #[test]
 fn every_bad_rod_is_refused_at_its_line() {
     let cases = [
-        (
-            "4,1,1,1,0,0,1,0.02",
-            Periodic::Xyz,
-            "centre x = 4 is outside the box [0, 4) on a periodic side",
-            None,
-        ),
-        (
-            "1,-0.5,1,1,0,0,1,0.02",
-            Periodic::Xy,
-            "centre y = -0.5 is outside the box [0, 4) on a periodic side",
-            None,
-        ),
         (
             "1,1,-0.5,1,0,0,1,0.02",
             Periodic::Xy,
@@ -528,13 +532,28 @@ fn a_missing_column_is_refused_at_the_header() {
     );
 }
 
-/// A dump of two snapshots is refused at the second; a triclinic box at its bounds line.
+/// A dump of two snapshots, with no snapshot asked for, is refused at the
+/// second, naming how many there are and the flag; a triclinic box at its
+/// bounds line.
 #[test]
-fn lammps_one_orthogonal_snapshot_only() {
+fn lammps_one_orthogonal_snapshot_unless_one_is_asked_for() {
     let dump = file_of(Format::Lammps, &GOOD, Periodic::Xyz);
     let (line, reason) = malformed(&dump.repeat(2), Format::Lammps, &ReadOptions::default());
     assert_eq!(line, 12);
-    assert!(reason.contains("a second snapshot"), "{reason}");
+    assert_eq!(
+        reason,
+        "a second snapshot: the dump holds 2 snapshots; choose one with --frame N (from 0) or --frame last"
+    );
+    let (line, reason) = malformed(
+        &(dump.clone() + "1 2 3\n"),
+        Format::Lammps,
+        &ReadOptions::default(),
+    );
+    assert_eq!(line, 12);
+    assert!(
+        reason.starts_with("extra lines after the snapshot"),
+        "{reason}"
+    );
 
     let triclinic = dump
         .replace("BOX BOUNDS pp pp pp", "BOX BOUNDS xy xz yz pp pp pp")
@@ -835,8 +854,9 @@ const MAPPING: &str = "x=xu,y=yu,z=zu,dx=c_o[1],dy=c_o[2],dz=c_o[3],length=1.5,r
 #[test]
 fn lammps_columns_map_and_the_box_moves_to_the_origin() {
     let columns = Columns::parse(MAPPING).unwrap();
-    assert_eq!(columns.0[0], Source::Column("xu".into()));
-    assert_eq!(columns.0[6], Source::Value(1.5));
+    assert_eq!(columns.get("x"), Some(&Source::Column("xu".into())));
+    assert_eq!(columns.get("length"), Some(&Source::Value(1.5)));
+    assert_eq!(columns.get("quatw"), None);
     let opts = ReadOptions {
         columns,
         ..ReadOptions::default()
@@ -884,4 +904,281 @@ fn lammps_columns_map_and_the_box_moves_to_the_origin() {
     assert_eq!(report["cut"], 1);
     let radius = report["mean_radius"].as_f64().unwrap();
     assert!((radius - 0.05).abs() < 1e-15, "{radius}");
+}
+
+/// The rows of [`HOOMD`] in rgc's frame: each centre moved by 2 and the two
+/// on the box's upper face wrapped to 0.
+const HOOMD_IN_BOX: [&str; 4] = [
+    "0.5,3.75,1,1,0,0,1,0.02",
+    "2,2,2,0,0,1,1,0.02",
+    "0,1,3,0,1,0,1,0.02",
+    "3.5,0,0.25,1,1,0,1,0.02",
+];
+
+/// Rods in a centred box of side 4 (`[-2, 2)`, HOOMD's frame), two of them
+/// with a centre on the upper face `2` (as `np.mod` can leave it).
+const HOOMD: [&str; 4] = [
+    "-1.5,1.75,-1,1,0,0,1,0.02",
+    "0,0,0,0,0,1,1,0.02",
+    "2,-1,1,0,1,0,1,0.02",
+    "1.5,2,-1.75,1,1,0,1,0.02",
+];
+
+/// A centred box read with its origin: the same rods as the box at 0, two
+/// centres wrapped and counted, in CSV (origin from the options), JSON (an
+/// `origin` field) and a LAMMPS dump (its low bounds); a centre at exactly
+/// `L`, or below 0, along a periodic axis wraps without an origin too.
+#[test]
+fn centred_boxes_and_centres_at_l_wrap_into_the_box() {
+    let at_zero = file::parse(
+        &file_of(Format::Csv, &HOOMD_IN_BOX, Periodic::Xyz),
+        Path::new("zero.csv"),
+        Format::Csv,
+        &options(Format::Csv, &Domain::cube(4.0)),
+    )
+    .unwrap();
+    assert_eq!(at_zero.wrapped, 0);
+    let json = file_of(Format::Json, &HOOMD, Periodic::Xyz)
+        .replace("\"box\":[4,4,4]", "\"box\":[4,4,4],\"origin\":[-2,-2,-2]");
+    let dump = file_of(Format::Lammps, &HOOMD, Periodic::Xyz).replace("0 4\n", "-2 2\n");
+    let csv = file_of(Format::Csv, &HOOMD, Periodic::Xyz);
+    let csv_opts = ReadOptions {
+        origin: Some([-2.0; 3]),
+        ..options(Format::Csv, &Domain::cube(4.0))
+    };
+    for (format, text, opts) in [
+        (Format::Csv, &csv, csv_opts),
+        (Format::Json, &json, ReadOptions::default()),
+        (Format::Lammps, &dump, ReadOptions::default()),
+    ] {
+        let loaded = file::parse(text, Path::new("centred"), format, &opts)
+            .unwrap_or_else(|e| panic!("{format:?}: {e}"));
+        assert_eq!(loaded.wrapped, 2, "{format:?}");
+        assert_eq!(loaded.cut, 0, "{format:?}");
+        assert_eq!(loaded.system.domain, Domain::cube(4.0), "{format:?}");
+        assert!(
+            loaded.system.rods == at_zero.system.rods,
+            "{format:?}: {:?}",
+            loaded.system.rods
+        );
+    }
+
+    // Without an origin: x = 4 (np.mod's L) and y = -0.5 on periodic sides.
+    let rows = ["4,1,1,1,0,0,1,0.02", "1,-0.5,1,1,0,0,1,0.02", GOOD[1]];
+    for periodic in [Periodic::Xyz, Periodic::Xy] {
+        let domain = Domain {
+            sides: [4.0; 3],
+            periodic,
+        };
+        for format in FORMATS {
+            let text = file_of(format, &rows, periodic);
+            let loaded = file::parse(&text, Path::new("l"), format, &options(format, &domain))
+                .unwrap_or_else(|e| panic!("{format:?}: {e}"));
+            assert_eq!(loaded.wrapped, 2, "{format:?}");
+            let centres: Vec<[f64; 3]> = (loaded.system.rods.iter())
+                .map(|r| r.center.into())
+                .collect();
+            assert_eq!(
+                centres,
+                [[0.0, 1.0, 1.0], [1.0, 3.5, 1.0], [2.0, 2.0, 2.0]],
+                "{format:?}"
+            );
+        }
+    }
+}
+
+/// Along a wall a centre is not wrapped: a core wholly outside the walls
+/// stays an error, named in the file's own coordinates; one that reaches in
+/// is cut. An origin the options and the file both give must agree.
+#[test]
+fn walls_do_not_wrap_and_origins_must_agree() {
+    let slab = Domain {
+        sides: [4.0; 3],
+        periodic: Periodic::Xy,
+    };
+    let opts = ReadOptions {
+        origin: Some([-2.0; 3]),
+        ..options(Format::Csv, &slab)
+    };
+    let outside = file_of(
+        Format::Csv,
+        &[GOOD[0], "0,0,2.6,1,0,0,1,0.02"],
+        Periodic::Xy,
+    );
+    let (line, reason) = malformed(&outside, Format::Csv, &opts);
+    assert_eq!(line, 3);
+    assert_eq!(
+        reason,
+        "rod at (0, 0, 2.6) lies wholly outside the walls of the box 4 from (-2, -2, -2)"
+    );
+    let reaching = file_of(
+        Format::Csv,
+        &[GOOD[0], "0,0,-2.25,0,0,1,1,0.02"],
+        Periodic::Xy,
+    );
+    let loaded = file::parse(&reaching, Path::new("w.csv"), Format::Csv, &opts).unwrap();
+    assert_eq!((loaded.cut, loaded.wrapped), (1, 0));
+    let cut = loaded.system.rods[1];
+    assert_eq!(cut.length, 0.25);
+    assert_eq!(cut.center.z, 0.125);
+
+    let json = file_of(Format::Json, &GOOD, Periodic::Xyz)
+        .replace("\"box\":[4,4,4]", "\"box\":[4,4,4],\"origin\":[-2,-2,-2]");
+    let other = ReadOptions {
+        origin: Some([-1.0; 3]),
+        ..ReadOptions::default()
+    };
+    match file::parse(&json, Path::new("o.json"), Format::Json, &other) {
+        Err(Error::Parameter(why)) => assert!(
+            why.starts_with("o.json: the file's origin differs from the one given"),
+            "{why}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    let same = ReadOptions {
+        origin: Some([-2.0; 3]),
+        ..ReadOptions::default()
+    };
+    file::parse(&json, Path::new("o.json"), Format::Json, &same).unwrap();
+}
+
+/// Rods read with an origin and wrapped, written out in every format (in
+/// rgc's frame, the box at 0) and read back without one: the very same rods
+/// and ids to the last bit, nothing wrapped again.
+#[test]
+fn wrapped_rods_round_trip_exactly() {
+    let csv = file_of(Format::Csv, &HOOMD, Periodic::Xyz).replace("x,y,z", "id,x,y,z");
+    let csv: String = csv
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 => format!("{l}\n"),
+            _ => format!("{},{l}\n", 10 * i + 3),
+        })
+        .collect();
+    let opts = ReadOptions {
+        origin: Some([-2.0; 3]),
+        ..options(Format::Csv, &Domain::cube(4.0))
+    };
+    let loaded = file::parse(&csv, Path::new("ids.csv"), Format::Csv, &opts).unwrap();
+    assert_eq!(loaded.wrapped, 2);
+    assert_eq!(loaded.ids, Some(vec![13, 23, 33, 43]));
+    for format in FORMATS {
+        let text = file::to_string(&loaded.system, loaded.ids.as_deref(), format);
+        assert!(!text.contains("origin"), "{format:?}");
+        let back = file::parse(
+            &text,
+            Path::new("back"),
+            format,
+            &options(format, &loaded.system.domain),
+        )
+        .unwrap_or_else(|e| panic!("{format:?}: {e}"));
+        assert_eq!(back.wrapped, 0, "{format:?}");
+        assert_eq!(back.ids, loaded.ids, "{format:?}");
+        let differ = (loaded.system.rods.iter().zip(&back.system.rods))
+            .position(|(a, b)| bits(a) != bits(b));
+        assert_eq!(differ, None, "{format:?}");
+    }
+    let text = file::to_string(&loaded.system, loaded.ids.as_deref(), Format::Csv);
+    assert!(text.starts_with("id,x,y,z,dx,dy,dz,length,radius\n13,0.5,3.75,1,"));
+    let json = file::to_string(&loaded.system, loaded.ids.as_deref(), Format::Json);
+    assert!(json.contains("\"radius\":0.02,\"id\":43}"), "{json}");
+}
+
+/// Ids: every rod or none, each once.
+#[test]
+fn ids_are_all_or_none_and_unique() {
+    let opts = options(Format::Csv, &Domain::cube(4.0));
+    let text = format!(
+        "id,x,y,z,dx,dy,dz,length,radius\n5,{}\n5,{}\n",
+        GOOD[0], GOOD[1]
+    );
+    let (line, reason) = malformed(&text, Format::Csv, &opts);
+    assert_eq!(
+        (line, reason.as_str()),
+        (3, "id 5 is given twice (first on line 2)")
+    );
+    let text = format!(
+        "id,x,y,z,dx,dy,dz,length,radius\n5,{}\nrod,{}\n",
+        GOOD[0], GOOD[1]
+    );
+    let (line, reason) = malformed(&text, Format::Csv, &opts);
+    assert_eq!(
+        (line, reason.as_str()),
+        (3, "id \"rod\" is not a whole number")
+    );
+    let json = file_of(Format::Json, &GOOD, Periodic::Xyz).replacen("}", ",\"id\":4}", 1);
+    let (line, reason) = malformed(&json, Format::Json, &ReadOptions::default());
+    assert_eq!(
+        (line, reason.as_str()),
+        (3, "this rod has no id, but the rod on line 2 has one")
+    );
+}
+
+/// The command line: `--origin` reads a centred CSV, the report counts the
+/// wrapped centres (text and JSON, `sample` and `truth`), and `--save-rods`
+/// writes them in rgc's frame, which reads back to the same bodies.
+#[test]
+fn cli_origin_wraps_counts_and_saves() {
+    let dir = scratch("rodfiles-cli-origin");
+    let csv = write(
+        &dir,
+        "hoomd.csv",
+        &file_of(Format::Csv, &HOOMD, Periodic::Xyz),
+    );
+    let saved = dir.join("saved.json").display().to_string();
+    let (b1, b2) = (
+        dir.join("b1.json").display().to_string(),
+        dir.join("b2.json").display().to_string(),
+    );
+    let args = ["sample", "--rods", &csv, "--box", "4", "--origin", "-2"];
+    let out = rgc(&[&args[..], &["--save-rods", &saved, "--save-bodies", &b1]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.starts_with("2 rod centres wrapped into the box along periodic axes\n4 rods,"),
+        "{text}"
+    );
+    let report: Value =
+        serde_json::from_slice(&rgc(&[&args[..], &["--json"]].concat()).stdout).unwrap();
+    assert_eq!(report["wrapped"], 2);
+    assert_eq!(report["cut"], 0);
+    let truth = rgc(&[
+        "truth", "--rods", &csv, "--box", "4", "--origin", "-2,-2,-2",
+    ]);
+    let text = String::from_utf8(truth.stdout).unwrap();
+    assert!(
+        text.starts_with("2 rod centres wrapped into the box along periodic axes\n4 rods,"),
+        "{text}"
+    );
+
+    let back = rgc(&["sample", "--rods", &saved, "--json", "--save-bodies", &b2]);
+    let back: Value = serde_json::from_slice(&back.stdout).unwrap();
+    assert_eq!(back["wrapped"], 0);
+    assert_eq!(back["n_contacts"], report["n_contacts"]);
+    assert_eq!(std::fs::read(&b1).unwrap(), std::fs::read(&b2).unwrap());
+    let loaded = file::read(Path::new(&saved), &ReadOptions::default()).unwrap();
+    let expected = file::parse(
+        &file_of(Format::Csv, &HOOMD_IN_BOX, Periodic::Xyz),
+        Path::new("zero.csv"),
+        Format::Csv,
+        &options(Format::Csv, &Domain::cube(4.0)),
+    )
+    .unwrap();
+    assert!(loaded.system.rods == expected.system.rods);
+
+    let err = cli_error(&["sample", "--rods", &csv, "--box", "4", "--origin", "1,2"]);
+    assert!(
+        err.contains("--origin takes one value or three X,Y,Z, got 2 numbers"),
+        "{err}"
+    );
+    let err = cli_error(&["sample", "--rods", &csv, "--box", "4", "--frame", "1"]);
+    assert!(
+        err.contains("--frame applies to LAMMPS dumps; ") && err.ends_with("is read as rods CSV"),
+        "{err}"
+    );
 }

@@ -6,17 +6,19 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::engine::RuleSet;
 use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
-use rgc::rods::file::{self, Columns, Format, ReadOptions};
+use rgc::rods::file::{self, Columns, Format, Frame, ReadOptions};
 use rgc::rods::{Domain, MIN_GAMMA, Periodic, RodParams};
 use rgc::sample::{Rods, SampleOptions};
 use rgc::spanning::Criterion;
 use rgc::threshold::study::StudySpec;
+use rgc::usage::MemoryBudget;
 use rgc::{Error, Result};
 
-/// How much memory truth may use: `truth` and the studies that run it.
+/// How much memory a system may use: `sample`, `render`, `truth` and the
+/// studies that run truth.
 #[derive(Args)]
 pub struct MemoryArgs {
-    /// Refuse, before its dense work, a system whose exact elimination is estimated to need more than this: bytes, or with a unit (`512M`, `4G`, `1.5GiB`). Default: the memory the machine has available now.
+    /// Refuse, before the work, a system estimated to need more memory than this (its rods, contacts and graph up front; truth's exact elimination before each dense front): bytes, or with a unit (`512M`, `4G`, `1.5GiB`). Default: the memory this process has available now (free memory, within any cgroup or `ulimit -v` limit).
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub memory_limit: Option<u64>,
 }
@@ -25,7 +27,12 @@ impl MemoryArgs {
     /// The limit asked for, or else what the machine has available (none
     /// where that cannot be read).
     pub fn limit(&self) -> Option<u64> {
-        self.memory_limit.or_else(available_memory)
+        self.budget().map(MemoryBudget::bytes)
+    }
+
+    /// [`MemoryArgs::limit`] with where it comes from.
+    pub fn budget(&self) -> Option<MemoryBudget> {
+        MemoryBudget::of(self.memory_limit)
     }
 }
 
@@ -54,14 +61,6 @@ fn parse_size(s: &str) -> std::result::Result<u64, String> {
         return Err(format!("a memory limit must be positive, not {s:?}"));
     }
     Ok((value * scale as f64) as u64)
-}
-
-/// `MemAvailable` of `/proc/meminfo`, in bytes.
-fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }
 
 /// Which motifs the engine applies: every subcommand that compresses.
@@ -101,6 +100,21 @@ pub struct RodsArgs {
     /// Which LAMMPS dump column holds each quantity, as KEY=COLUMN or KEY=VALUE pairs over the defaults x=x,y=y,z=z,dx=mux,dy=muy,dz=muz,length=length,radius=radius (e.g. `dx=c_u[1],dy=c_u[2],dz=c_u[3],length=1,radius=0.02`).
     #[arg(long, requires = "rods", value_name = "MAP")]
     lammps_columns: Option<String>,
+    /// The snapshot of a LAMMPS dump to read: its index in the file, from 0, or `last` (a dump of several snapshots needs it).
+    #[arg(long, requires = "rods", value_name = "N|last")]
+    frame: Option<String>,
+    /// Read only the atoms of these types from a LAMMPS dump (its `type` column): one type or a list, `2` or `2,3`.
+    #[arg(long, requires = "rods", value_delimiter = ',', value_name = "T[,T..]")]
+    atom_type: Option<Vec<String>>,
+    /// The lowest corner of the box in the rods file's coordinates (X,Y,Z, or one value for all three): the box is [X, X + LX) ... (a JSON `origin` or a dump's low bounds give it too). Default 0; e.g. -L/2 for HOOMD's centred box. Centres are wrapped into the box along periodic axes.
+    #[arg(
+        long,
+        requires = "rods",
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        value_name = "O|X,Y,Z"
+    )]
+    origin: Vec<f64>,
     /// Aspect ratio l / (2r) of generated rods (the radius is the mean length over 2 gamma).
     #[arg(long, allow_hyphen_values = true)]
     gamma: Option<f64>,
@@ -149,15 +163,7 @@ impl RodsArgs {
     }
 
     fn sides(&self) -> Result<Option<[f64; 3]>> {
-        match self.sides[..] {
-            [] => Ok(None),
-            [l] => Ok(Some([l; 3])),
-            [x, y, z] => Ok(Some([x, y, z])),
-            _ => Err(Error::Parameter(format!(
-                "--box takes one side L or three sides LX,LY,LZ, got {} numbers",
-                self.sides.len()
-            ))),
-        }
+        three(&self.sides, "--box", "one side L or three sides LX,LY,LZ")
     }
 
     /// The rods these arguments ask for, checked (a file is read and checked now).
@@ -196,7 +202,10 @@ impl RodsArgs {
                 format: self.rods_format,
                 sides,
                 periodic: self.periodic,
+                origin: three(&self.origin, "--origin", "one value or three X,Y,Z")?,
                 columns,
+                frame: self.frame.as_deref().map(Frame::parse).transpose()?,
+                types: self.atom_type.clone(),
             };
             let loaded = file::read(path, &opts)?;
             return Ok(Rods::Read {
@@ -266,6 +275,19 @@ impl RodsArgs {
         };
         ensemble.check()?;
         Ok(Rods::Generated(ensemble))
+    }
+}
+
+/// One number for all three axes, or three; none when not given.
+fn three(v: &[f64], flag: &str, what: &str) -> Result<Option<[f64; 3]>> {
+    match v[..] {
+        [] => Ok(None),
+        [a] => Ok(Some([a; 3])),
+        [x, y, z] => Ok(Some([x, y, z])),
+        _ => Err(Error::Parameter(format!(
+            "{flag} takes {what}, got {} numbers",
+            v.len()
+        ))),
     }
 }
 

@@ -8,12 +8,14 @@ use rgc::plot::rods::{Groups, View, rods_picture};
 use rgc::sample::{Rods, sample_with};
 use rgc::{Result, output};
 
-use crate::args::SystemArgs;
+use crate::args::{MemoryArgs, SystemArgs};
 
 #[derive(Args)]
 pub struct RenderArgs {
     #[command(flatten)]
     system: SystemArgs,
+    #[command(flatten)]
+    memory: MemoryArgs,
     /// Turn of the view about the box's z axis, in degrees.
     #[arg(long, default_value_t = View::default().azimuth, allow_hyphen_values = true)]
     azimuth: f64,
@@ -27,6 +29,7 @@ pub struct RenderArgs {
 
 pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
     let opts = a.system.options()?;
+    opts.rods.check_memory(a.memory.budget())?;
     let view = View {
         azimuth: a.azimuth,
         elevation: a.elevation,

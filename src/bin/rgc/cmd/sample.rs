@@ -7,13 +7,15 @@ use rgc::graph::{graphml, io as graphio};
 use rgc::sample::sample_with;
 use rgc::{Error, Result, output};
 
-use crate::args::SystemArgs;
+use crate::args::{MemoryArgs, SystemArgs};
 
 #[derive(Args)]
 pub struct SampleArgs {
     #[command(flatten)]
     system: SystemArgs,
-    /// Write the rods to this file: CSV (x,y,z,dx,dy,dz,length,radius), or JSON or a LAMMPS dump by the extension; `--rods` reads it back to the same system.
+    #[command(flatten)]
+    memory: MemoryArgs,
+    /// Write the rods to this file: CSV (x,y,z,dx,dy,dz,length,radius, with id first for rods read with ids), or JSON or a LAMMPS dump by the extension, centres in [0, L) and the box at the origin; `--rods` reads it back to the same system.
     #[arg(long)]
     save_rods: Option<PathBuf>,
     /// Write the contact graph as an edge list (`u v` per line) to this file.
@@ -35,6 +37,7 @@ pub struct SampleArgs {
 
 pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     let opts = a.system.options()?;
+    opts.rods.check_memory(a.memory.budget())?;
     // An output that cannot be written fails before the sample is drawn.
     if let Some(path) = &a.save_rods {
         rgc::rods::file::Format::of_path(path)?;
@@ -65,7 +68,7 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     let rules = super::load(&a.system.engine.rules.rule_files)?;
     let s = sample_with(&opts, &rules)?;
     if let Some(path) = &a.save_rods {
-        rgc::rods::file::save(&s.system, path)?;
+        rgc::rods::file::save(&s.system, s.ids.as_deref(), path)?;
     }
     if let Some(path) = &a.save_contacts {
         graphio::save_edge_list(&s.graph, path)?;
@@ -87,6 +90,13 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     }
     if r.cut > 0 {
         say!(out, "{} rods cut at the walls of the box", r.cut);
+    }
+    if r.wrapped > 0 {
+        say!(
+            out,
+            "{} rod centres wrapped into the box along periodic axes",
+            r.wrapped
+        );
     }
     let expected = r
         .c0_expected

@@ -50,13 +50,31 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
                 .into(),
         ));
     }
+    // Rods read from a file: their ids, if it numbers them, and what reading did.
+    let mut ids = None;
+    let mut read = String::new();
     let t = match (&a.graph6, &a.edges) {
         (Some(s), _) => finite(&graphio::parse_graph6(s)?, opts),
         (_, Some(path)) => finite(&graphio::read_edge_list(path)?, opts),
         (None, None) => {
-            let system = match a.rods.rods()? {
+            let rods = a.rods.rods()?;
+            rods.check_memory(a.memory.budget())?;
+            let system = match rods {
                 Rods::Generated(e) => e.generate(a.seed)?,
-                Rods::Read { loaded, .. } => loaded.system,
+                Rods::Read { loaded, .. } => {
+                    if loaded.cut > 0 {
+                        say!(read, "{} rods cut at the walls of the box", loaded.cut);
+                    }
+                    if loaded.wrapped > 0 {
+                        say!(
+                            read,
+                            "{} rod centres wrapped into the box along periodic axes",
+                            loaded.wrapped
+                        );
+                    }
+                    ids = loaded.ids;
+                    loaded.system
+                }
             };
             let contacts = contacts::detect(&system);
             let graph = ContactGraph::from_contacts(system.len(), &contacts);
@@ -70,8 +88,23 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
         )));
     }
     if a.json {
-        return super::print_json(&t, out);
+        let Some(ids) = ids else {
+            return super::print_json(&t, out);
+        };
+        // Each cluster's rods also by the ids the file gave them.
+        let mut v = serde_json::to_value(&t).expect("truth serializes");
+        for c in v["clusters"].as_array_mut().into_iter().flatten() {
+            let named: Vec<u64> = c["rods"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(|r| Some(ids[r.as_u64()? as usize]))
+                .collect();
+            c["ids"] = named.into();
+        }
+        return super::print_json(&v, out);
     }
+    out.push_str(&read);
     summary(&t, out);
     Ok(())
 }
