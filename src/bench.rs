@@ -3,14 +3,13 @@
 //! truth benchmark: how the cost of exact whole-system rigidity grows with
 //! the system, and so how large a box truth can decide.
 
-use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 use crate::contacts;
 use crate::engine::{self, CompiledRule, Engine, RuleSet};
 use crate::graph::ContactGraph;
-use crate::math::stats::{least_squares, median};
+use crate::math::stats::{self, median};
 use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::Criterion;
@@ -404,9 +403,7 @@ impl Growth {
             .filter(|&(x, y)| x > 0.0 && y > 0.0)
             .map(|(x, y)| (x.ln(), y.ln()))
             .collect();
-        let x = DMatrix::from_fn(logs.len(), 2, |i, j| if j == 0 { 1.0 } else { logs[i].0 });
-        let y = DVector::from_fn(logs.len(), |i, _| logs[i].1);
-        let (beta, r2, _) = least_squares(&x, &y)?;
+        let stats::Fit { beta, r2, .. } = stats::line(&logs)?;
         Some(Growth {
             exponent: beta[1],
             prefactor: beta[0].exp(),

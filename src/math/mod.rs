@@ -1,11 +1,12 @@
 //! The arithmetic under everything else: the prime field F_p and the
 //! [`Scalar`] trait, dense matrices and their exact rank, float rank by SVD
-//! or QR, sparse exact elimination for whole systems, three-vectors, and
-//! statistics.
+//! or QR, sparse exact elimination for whole systems, three-vectors,
+//! statistics, and one Levenberg–Marquardt.
 
 pub mod echelon;
 pub mod field;
 pub mod float;
+pub mod marquardt;
 pub mod matrix;
 pub mod sparse;
 pub mod stats;

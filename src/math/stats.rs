@@ -1,7 +1,8 @@
 //! Sample statistics, each written once: mean and standard deviation, one
 //! quantile rule, percentile intervals, and least squares.
 
-use nalgebra::{DMatrix, DVector};
+use faer::linalg::solvers::Solve;
+use faer::{Mat, MatRef, Side};
 
 /// Mean and sample standard deviation (0 for a single value; NaN mean for none).
 pub fn mean_sd(xs: &[f64]) -> (f64, f64) {
@@ -51,24 +52,63 @@ pub fn percentile_interval(v: &mut [f64], confidence: f64) -> Option<(f64, f64)>
     Some((quantile_sorted(v, tail), quantile_sorted(v, 1.0 - tail)))
 }
 
-/// Least squares `y ~ x beta` through the normal equations; `None` when the
-/// columns are linearly dependent. Returns `beta`, R² and the RMS residual.
-pub fn least_squares(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<(DVector<f64>, f64, f64)> {
+/// A pivot of the normal equations at most this fraction of its diagonal
+/// entry marks a column dependent on the ones before it.
+const DEPENDENT: f64 = 1e-12;
+
+/// A least-squares fit: the coefficients, R² and the RMS residual.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fit {
+    pub beta: Vec<f64>,
+    pub r2: f64,
+    pub rms: f64,
+}
+
+/// Least squares `y ~ x beta` through the normal equations, by faer's
+/// Cholesky: the designs here have a handful of well-scaled columns, so
+/// the normal equations lose nothing that matters. `None` when the columns
+/// are linearly dependent.
+pub fn least_squares(x: MatRef<'_, f64>, y: &[f64]) -> Option<Fit> {
+    let y = MatRef::from_column_major_slice(y, y.len(), 1);
     let xt = x.transpose();
-    let beta = (&xt * x).cholesky()?.solve(&(&xt * y));
+    let normal: Mat<f64> = xt * x;
+    let llt = normal.llt(Side::Lower).ok()?;
+    // A pivot that cancels to rounding noise is a dependent column.
+    if (0..normal.ncols()).any(|i| llt.L()[(i, i)].powi(2) <= DEPENDENT * normal[(i, i)]) {
+        return None;
+    }
+    let beta: Mat<f64> = llt.solve(xt * y);
+    let beta: Vec<f64> = (0..beta.nrows()).map(|i| beta[(i, 0)]).collect();
     if beta.iter().any(|b| !b.is_finite()) {
         return None;
     }
-    let resid = y - x * &beta;
-    let ss_res = resid.norm_squared();
-    let mean = y.mean();
-    let ss_tot = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>();
+    let fitted = x * MatRef::from_column_major_slice(&beta, beta.len(), 1);
+    let n = y.nrows();
+    let ss_res: f64 = (0..n).map(|i| (y[(i, 0)] - fitted[(i, 0)]).powi(2)).sum();
+    let mean = (0..n).map(|i| y[(i, 0)]).sum::<f64>() / n as f64;
+    let ss_tot: f64 = (0..n).map(|i| (y[(i, 0)] - mean).powi(2)).sum();
     let r2 = if ss_tot > 0.0 {
         1.0 - ss_res / ss_tot
     } else {
         1.0
     };
-    Some((beta, r2, (ss_res / y.len() as f64).sqrt()))
+    Some(Fit {
+        beta,
+        r2,
+        rms: (ss_res / n as f64).sqrt(),
+    })
+}
+
+/// The straight line `y = beta[0] + beta[1] x` through `(x, y)` points by
+/// [`least_squares`]; `None` with fewer than two distinct `x`.
+pub fn line(points: &[(f64, f64)]) -> Option<Fit> {
+    let x = Mat::from_fn(
+        points.len(),
+        2,
+        |i, j| if j == 0 { 1.0 } else { points[i].0 },
+    );
+    let y: Vec<f64> = points.iter().map(|p| p.1).collect();
+    least_squares(x.as_ref(), &y)
 }
 
 #[cfg(test)]
@@ -104,10 +144,25 @@ mod tests {
 
     #[test]
     fn least_squares_recovers_a_line() {
-        let x = DMatrix::from_fn(4, 2, |i, j| if j == 0 { 1.0 } else { i as f64 });
-        let y = DVector::from_fn(4, |i, _| 3.0 - 2.0 * i as f64);
-        let (beta, r2, rms) = least_squares(&x, &y).unwrap();
+        let points: Vec<(f64, f64)> = (0..4).map(|i| (i as f64, 3.0 - 2.0 * i as f64)).collect();
+        let Fit { beta, r2, rms } = line(&points).unwrap();
         assert!((beta[0] - 3.0).abs() < 1e-12 && (beta[1] + 2.0).abs() < 1e-12);
         assert!((r2 - 1.0).abs() < 1e-12 && rms < 1e-12);
+        assert_eq!(line(&[(1.0, 2.0), (1.0, 3.0)]), None, "one distinct x");
+    }
+
+    #[test]
+    fn least_squares_of_a_known_residual() {
+        // y = 0, 1, 0, 1 on x = 0..3: slope 0.2, intercept 0.2, residuals
+        // -0.2, 0.6, -0.6, 0.2, so SS_res = 0.8 of SS_tot = 1.
+        let points: Vec<(f64, f64)> = [0.0, 1.0, 0.0, 1.0]
+            .iter()
+            .enumerate()
+            .map(|(i, &y)| (i as f64, y))
+            .collect();
+        let fit = line(&points).unwrap();
+        assert!((fit.beta[0] - 0.2).abs() < 1e-12 && (fit.beta[1] - 0.2).abs() < 1e-12);
+        assert!((fit.r2 - 0.2).abs() < 1e-12, "{}", fit.r2);
+        assert!((fit.rms - 0.2_f64.sqrt()).abs() < 1e-12, "{}", fit.rms);
     }
 }

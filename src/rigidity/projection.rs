@@ -7,9 +7,9 @@
 //! offset per group. Equations: `(x_c - x_0) x d_l = 0` for the contacts of
 //! each line, `n_g . x_c = h_g` for the contacts of each group, `n_g . d_l =
 //! 0` for its lines, and unit directions and normals. All are polynomial, so
-//! their Jacobian is exact and small; nalgebra solves the damped steps.
+//! their Jacobian is exact and small; [`crate::math::marquardt`] takes
+//! the damped steps.
 
-use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
@@ -17,9 +17,10 @@ use std::collections::BTreeSet;
 use super::construction::{Line, Plane, Realization, check};
 use super::family::jacobian;
 use super::incidence::{Grouping, Incidence};
-use crate::math::Scalar;
 use crate::math::float::{RankRule, decide_rank_above, singular_values};
+use crate::math::marquardt::{self, Residual, Residuals};
 use crate::math::vec3::{V3, add, cross, dot, scale, size, sub};
+use crate::math::{Matrix, Scalar};
 
 /// Random starts tried before a grouping counts as not found.
 pub const PROJECTION_STARTS: u64 = 16;
@@ -33,13 +34,6 @@ pub const PROJECTION_TOL: f64 = 1e-12;
 /// closer than this to a degenerate or more special position is refused
 /// (its rank would be that of the special position, or unclear).
 pub const SEPARATION: f64 = 1e-3;
-
-/// Damped steps per start.
-const MAX_STEPS: usize = 300;
-
-/// Steps taken after the residual is accepted, while they still reduce it:
-/// the float rank needs the incidences as exact as rounding allows.
-const POLISH_STEPS: usize = 3;
 
 /// The equations of a grouping, with the layout of the unknowns.
 struct System<'a> {
@@ -62,14 +56,13 @@ impl System<'_> {
     fn unknowns(&self) -> usize {
         self.normal(self.groups.len())
     }
-    fn v(u: &DVector<f64>, at: usize) -> V3<f64> {
+    fn v(u: &[f64], at: usize) -> V3<f64> {
         [u[at], u[at + 1], u[at + 2]]
     }
 
-    /// Residuals and, when asked, their Jacobian (dense: the systems are small).
-    fn eval(&self, u: &DVector<f64>, want_jacobian: bool) -> (DVector<f64>, DMatrix<f64>) {
-        let mut r: Vec<f64> = Vec::new();
-        let mut rows: Vec<Vec<(usize, f64)>> = Vec::new();
+    /// The residuals and, when asked, their Jacobian.
+    fn residuals(&self, u: &[f64], jacobian: bool) -> Residuals {
+        let mut ev = Residuals::new(jacobian);
         let x = |c: usize| Self::v(u, 3 * c);
         // [v]_x w = v x w
         let skew = |v: V3<f64>| [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
@@ -81,105 +74,54 @@ impl System<'_> {
                     let f = cross(a, d);
                     let (sd, sa) = (skew(d), skew(a));
                     for k in 0..3 {
-                        r.push(f[k]);
-                        let mut row = Vec::with_capacity(9);
-                        for m in 0..3 {
-                            row.push((3 * c + m, -sd[k][m]));
-                            row.push((3 * c0 + m, sd[k][m]));
-                            row.push((self.dir(l) + m, sa[k][m]));
-                        }
-                        rows.push(row);
+                        ev.row(
+                            f[k],
+                            (0..3).flat_map(|m| {
+                                [
+                                    (3 * c + m, -sd[k][m]),
+                                    (3 * c0 + m, sd[k][m]),
+                                    (self.dir(l) + m, sa[k][m]),
+                                ]
+                            }),
+                        );
                     }
                 }
             }
-            r.push(dot(d, d) - 1.0);
-            rows.push((0..3).map(|m| (self.dir(l) + m, 2.0 * d[m])).collect());
+            ev.row(
+                dot(d, d) - 1.0,
+                (0..3).map(|m| (self.dir(l) + m, 2.0 * d[m])),
+            );
         }
         for (g, members) in self.groups.iter().enumerate() {
             let at = self.normal(g);
             let n = Self::v(u, at);
             let h = u[at + 3];
             for &c in &self.group_contacts[g] {
-                r.push(dot(n, x(c)) - h);
-                let mut row: Vec<(usize, f64)> = (0..3)
-                    .flat_map(|m| [(at + m, x(c)[m]), (3 * c + m, n[m])])
-                    .collect();
-                row.push((at + 3, -1.0));
-                rows.push(row);
+                ev.row(
+                    dot(n, x(c)) - h,
+                    (0..3)
+                        .flat_map(|m| [(at + m, x(c)[m]), (3 * c + m, n[m])])
+                        .chain([(at + 3, -1.0)]),
+                );
             }
             for &l in members {
                 let d = Self::v(u, self.dir(l));
-                r.push(dot(n, d));
-                rows.push(
-                    (0..3)
-                        .flat_map(|m| [(at + m, d[m]), (self.dir(l) + m, n[m])])
-                        .collect(),
+                ev.row(
+                    dot(n, d),
+                    (0..3).flat_map(|m| [(at + m, d[m]), (self.dir(l) + m, n[m])]),
                 );
             }
-            r.push(dot(n, n) - 1.0);
-            rows.push((0..3).map(|m| (at + m, 2.0 * n[m])).collect());
+            ev.row(dot(n, n) - 1.0, (0..3).map(|m| (at + m, 2.0 * n[m])));
         }
-        let mut j = DMatrix::zeros(if want_jacobian { r.len() } else { 0 }, self.unknowns());
-        if want_jacobian {
-            for (i, row) in rows.iter().enumerate() {
-                for &(c, v) in row {
-                    j[(i, c)] += v;
-                }
-            }
-        }
-        (DVector::from_vec(r), j)
+        ev
     }
 
-    /// Levenberg–Marquardt from `u`: the solution, or `None` when the
-    /// damping runs away or the steps run out first.
-    fn solve(&self, mut u: DVector<f64>) -> Option<DVector<f64>> {
-        let mut lambda = 1e-3;
-        let (mut r, mut j) = self.eval(&u, true);
-        let mut cost = r.norm_squared();
-        let mut polish = 0;
-        for _ in 0..MAX_STEPS {
-            let extent = u.rows(0, 3 * self.n_contacts()).amax().max(1.0);
-            if r.amax() <= PROJECTION_TOL * extent {
-                polish += 1;
-                if polish > POLISH_STEPS {
-                    return Some(u);
-                }
-            }
-            let jt = j.transpose();
-            let a = &jt * &j;
-            let g = &jt * &r;
-            let top = a.diagonal().amax().max(1.0);
-            loop {
-                let mut m = a.clone();
-                for i in 0..m.nrows() {
-                    m[(i, i)] += lambda * top;
-                }
-                let step = m.cholesky().map(|ch| -ch.solve(&g))?;
-                let trial = &u + &step;
-                let (rt, _) = self.eval(&trial, false);
-                let ct = rt.norm_squared();
-                if ct.is_finite() && ct < cost {
-                    u = trial;
-                    (r, j) = self.eval(&u, true);
-                    cost = ct;
-                    lambda = (lambda / 4.0).max(1e-14);
-                    break;
-                }
-                lambda *= 4.0;
-                if lambda > 1e8 {
-                    return (polish > 0).then_some(u);
-                }
-            }
-        }
-        None
-    }
-
-    fn random_start(&self, rng: &mut ChaCha8Rng) -> DVector<f64> {
-        DVector::from_fn(self.unknowns(), |_, _| f64::random(rng))
+    fn random_start(&self, rng: &mut ChaCha8Rng) -> Vec<f64> {
+        (0..self.unknowns()).map(|_| f64::random(rng)).collect()
     }
 
     /// The sample a solution stands for.
-    fn sample(&self, grouping: &Grouping, u: &DVector<f64>) -> Realization<f64> {
+    fn sample(&self, grouping: &Grouping, u: &[f64]) -> Realization<f64> {
         let inc = self.inc;
         let points: Vec<V3<f64>> = (0..inc.n_contacts()).map(|c| Self::v(u, 3 * c)).collect();
         let group_planes: Vec<Option<Plane<f64>>> = (0..self.groups.len())
@@ -312,9 +254,28 @@ fn coplanar(points: &[V3<f64>], cs: &[usize], tol: f64) -> bool {
     let c = sel
         .iter()
         .fold([0.0; 3], |acc, &p| add(acc, scale(p, 1.0 / n)));
-    let m = DMatrix::from_fn(sel.len(), 3, |i, k| sel[i][k] - c[k]);
-    let sv = m.singular_values();
-    sv.iter().copied().fold(f64::INFINITY, f64::min) <= tol
+    let m = Matrix {
+        rows: sel.len(),
+        cols: 3,
+        data: sel.iter().flat_map(|&p| sub(p, c)).collect(),
+    };
+    singular_values(&m).is_some_and(|sv| sv.iter().copied().fold(f64::INFINITY, f64::min) <= tol)
+}
+
+impl Residual for System<'_> {
+    fn unknowns(&self) -> usize {
+        self.normal(self.groups.len())
+    }
+    fn eval(&self, u: &[f64], jacobian: bool) -> Residuals {
+        self.residuals(u, jacobian)
+    }
+    /// Relative to the extent of the contact points.
+    fn tolerance(&self, u: &[f64]) -> f64 {
+        let extent = u[..3 * self.n_contacts()]
+            .iter()
+            .fold(1.0_f64, |m, x| m.max(x.abs()));
+        PROJECTION_TOL * extent
+    }
 }
 
 /// A float realization of `grouping` found by numerical projection, or
@@ -343,13 +304,13 @@ pub fn project_twins(
             .map(|g| inc.group_contacts(g))
             .collect(),
     };
-    let accept = |u: &DVector<f64>| {
+    let accept = |u: &[f64]| {
         let s = system.sample(grouping, u);
         (check(inc, grouping, &s).is_ok() && !system.special(&s)).then_some(s)
     };
     for start in 0..PROJECTION_STARTS {
         let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(0x2545_F491).wrapping_add(start));
-        let Some(u) = system.solve(system.random_start(&mut rng)) else {
+        let Some(u) = marquardt::solve(&system, system.random_start(&mut rng)) else {
             continue;
         };
         let Some(base) = accept(&u) else {
@@ -357,8 +318,11 @@ pub fn project_twins(
         };
         let twin = (nudge > 0.0)
             .then(|| {
-                let moved = u.map(|x| x + nudge * f64::random(&mut rng));
-                system.solve(moved).and_then(|v| accept(&v))
+                let moved = u
+                    .iter()
+                    .map(|x| x + nudge * f64::random(&mut rng))
+                    .collect();
+                marquardt::solve(&system, moved).and_then(|v| accept(&v))
             })
             .flatten();
         return Some((base, twin));

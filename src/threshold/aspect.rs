@@ -6,7 +6,6 @@
 
 use std::path::{Path, PathBuf};
 
-use nalgebra::{DMatrix, DVector};
 use serde::{Serialize, Serializer};
 
 use super::fss::{ContactFits, Estimate, LinearFit};
@@ -254,19 +253,19 @@ pub fn fit(points: &[(f64, f64, Estimate)]) -> Result<VexFit> {
     let ln_fixed = ly.iter().zip(&lx).map(|(y, x)| y - x).sum::<f64>() / n as f64;
     let fixed_interval =
         spread(&vec![1.0 / n as f64; n]).map(|h| ((ln_fixed - h).exp(), (ln_fixed + h).exp()));
-    let design = DMatrix::from_fn(n, 2, |i, j| if j == 0 { 1.0 } else { lx[i] });
     let mean_x = lx.iter().sum::<f64>() / n as f64;
     let sxx: f64 = lx.iter().map(|x| (x - mean_x).powi(2)).sum();
     let slope_weights: Vec<f64> = lx.iter().map(|x| (x - mean_x) / sxx).collect();
-    let free =
-        crate::math::stats::least_squares(&design, &DVector::from_vec(ly)).map(|(b, r2, _)| {
-            PowerLaw {
-                a: b[0].exp(),
-                m: b[1],
-                m_interval: spread(&slope_weights).map(|h| (b[1] - h, b[1] + h)),
-                r2,
-            }
-        });
+    let points: Vec<(f64, f64)> = lx.iter().copied().zip(ly).collect();
+    let free = crate::math::stats::line(&points).map(|fit| {
+        let b = &fit.beta;
+        PowerLaw {
+            a: b[0].exp(),
+            m: b[1],
+            m_interval: spread(&slope_weights).map(|h| (b[1] - h, b[1] + h)),
+            r2: fit.r2,
+        }
+    });
     Ok(VexFit {
         fixed: ln_fixed.exp(),
         fixed_interval,

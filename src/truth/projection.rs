@@ -20,21 +20,15 @@
 //! * a class: `n . n = 1`, and `n . w = 0` for each box direction `w` it wraps.
 //!
 //! In a periodic box the side is fixed at a random value: the images of a
-//! line are where the box puts them. The steps solve the damped normal
-//! equations with faer's sparse Cholesky on one thread (so the result does
-//! not depend on the thread count); the pattern is fixed, so it is
-//! analysed once per start.
+//! line are where the box puts them. The steps are
+//! [`crate::math::marquardt`]'s.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::factorize_symbolic_cholesky;
-use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
 use rand::{Rng, RngExt};
 
 use super::planes::Planes;
 use super::realize::{Line, Realization, lattice};
 use super::topology::{Offset, Topology};
+use crate::math::marquardt::{self, Residual, Residuals};
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};
 
 /// Largest residual, relative to the size of the realization, accepted as
@@ -53,9 +47,6 @@ pub const SEPARATION: f64 = 1e-6;
 /// accidental near misses among them.
 pub const PAIR_SEPARATION: f64 = 1e-8;
 
-/// Damped steps per start.
-const MAX_STEPS: usize = 300;
-
 /// Times a degenerate solution is repaired (the rods that show it, their
 /// neighbours and their classes' planes drawn anew, the rest kept) before
 /// the draw is given up: in a large system some local structure or other
@@ -63,52 +54,6 @@ const MAX_STEPS: usize = 300;
 /// On a periodic system of 241 core rods and 33 classes, 4 of 20 starts
 /// gave a realization without repairs, 17 of 20 with up to 8.
 const REPAIRS: usize = 8;
-
-/// Steps taken after the residual is accepted, while they still reduce it:
-/// the float rank needs the incidences as exact as rounding allows.
-const POLISH_STEPS: usize = 3;
-
-/// The residuals of the equations and, when asked, their Jacobian by rows:
-/// row `i` has the entries `starts[i]..starts[i + 1]` of `cols` and `vals`,
-/// always in the same order, so the pattern of the normal equations is fixed.
-struct Eval {
-    r: Vec<f64>,
-    starts: Vec<usize>,
-    cols: Vec<usize>,
-    vals: Vec<f64>,
-    jacobian: bool,
-}
-
-impl Eval {
-    fn new(jacobian: bool) -> Self {
-        Eval {
-            r: Vec::new(),
-            starts: vec![0],
-            cols: Vec::new(),
-            vals: Vec::new(),
-            jacobian,
-        }
-    }
-
-    fn row(&mut self, r: f64, entries: impl IntoIterator<Item = (usize, f64)>) {
-        self.r.push(r);
-        if self.jacobian {
-            for (c, v) in entries {
-                self.cols.push(c);
-                self.vals.push(v);
-            }
-            self.starts.push(self.cols.len());
-        }
-    }
-
-    fn cost(&self) -> f64 {
-        self.r.iter().map(|x| x * x).sum()
-    }
-
-    fn largest(&self) -> f64 {
-        self.r.iter().fold(0.0, |m, x| m.max(x.abs()))
-    }
-}
 
 /// The unknowns of a system: where each object's start.
 struct System<'a> {
@@ -122,6 +67,18 @@ struct System<'a> {
     /// Class `c` has `n` at `plane + 4 c`, then `h`.
     plane: usize,
     unknowns: usize,
+}
+
+impl Residual for System<'_> {
+    fn unknowns(&self) -> usize {
+        self.unknowns
+    }
+    fn eval(&self, u: &[f64], jacobian: bool) -> Residuals {
+        self.residuals(u, jacobian)
+    }
+    fn tolerance(&self, u: &[f64]) -> f64 {
+        RESIDUAL_TOL * self.size(u)
+    }
 }
 
 /// A contact's unknowns: `s_a` at `at` (then `s_b`), the lines' `p` at
@@ -192,8 +149,8 @@ impl<'a> System<'a> {
         self.contacts_of_edges().flatten()
     }
 
-    fn eval(&self, u: &[f64], jacobian: bool) -> Eval {
-        let mut ev = Eval::new(jacobian);
+    fn residuals(&self, u: &[f64], jacobian: bool) -> Residuals {
+        let mut ev = Residuals::new(jacobian);
         for at in self.line.iter().flatten().copied() {
             let (p, d) = (v3(u, at), v3(u, at + 3));
             ev.row(dot(d, d) - 1.0, (0..3).map(|k| (at + 3 + k, 2.0 * d[k])));
@@ -337,107 +294,6 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Levenberg–Marquardt from `u`: a solution, or `None` when the damping
-    /// runs away or the steps run out first.
-    fn solve(&self, mut u: Vec<f64>) -> Option<Vec<f64>> {
-        let n = self.unknowns;
-        let mut ev = self.eval(&u, true);
-        // The lower triangle of J^T J (entry pairs of each row) and the diagonal.
-        let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
-        let mut from: Vec<(usize, usize)> = Vec::new();
-        for i in 0..ev.r.len() {
-            for x in ev.starts[i]..ev.starts[i + 1] {
-                for y in ev.starts[i]..ev.starts[i + 1] {
-                    if ev.cols[x] >= ev.cols[y] {
-                        pairs.push(Pair {
-                            row: ev.cols[x],
-                            col: ev.cols[y],
-                        });
-                        from.push((x, y));
-                    }
-                }
-            }
-        }
-        pairs.extend((0..n).map(|c| Pair { row: c, col: c }));
-        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs).ok()?;
-        let chol = factorize_symbolic_cholesky(
-            symbolic.as_ref(),
-            Side::Lower,
-            Default::default(),
-            Default::default(),
-        )
-        .ok()?;
-        let mut factor = vec![0.0; chol.len_val()];
-        let mut mem = MemBuffer::new(
-            chol.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-                .or(chol.solve_in_place_scratch::<f64>(1, Par::Seq)),
-        );
-        let mut cost = ev.cost();
-        let mut lambda = 1e-3;
-        let mut polish = 0;
-        for _ in 0..MAX_STEPS {
-            if ev.largest() <= RESIDUAL_TOL * self.size(&u) {
-                polish += 1;
-                if polish > POLISH_STEPS {
-                    return Some(u);
-                }
-            }
-            let jtj: Vec<f64> = from.iter().map(|&(x, y)| ev.vals[x] * ev.vals[y]).collect();
-            let mut grad = vec![0.0; n];
-            let mut diag = vec![0.0; n];
-            for (i, r) in ev.r.iter().enumerate() {
-                for x in ev.starts[i]..ev.starts[i + 1] {
-                    grad[ev.cols[x]] += ev.vals[x] * r;
-                    diag[ev.cols[x]] += ev.vals[x] * ev.vals[x];
-                }
-            }
-            let top = diag.iter().fold(1.0_f64, |m, &x| m.max(x));
-            loop {
-                let mut vals = jtj.clone();
-                vals.extend(std::iter::repeat_n(lambda * top, n));
-                let step = SparseColMat::new_from_argsort(symbolic.clone(), &argsort, &vals)
-                    .ok()
-                    .and_then(|a| {
-                        let llt = chol
-                            .factorize_numeric_llt(
-                                &mut factor,
-                                a.as_ref(),
-                                Side::Lower,
-                                LltRegularization::default(),
-                                Par::Seq,
-                                MemStack::new(&mut mem),
-                                Default::default(),
-                            )
-                            .ok()?;
-                        let mut x: Vec<f64> = grad.iter().map(|g| -g).collect();
-                        llt.solve_in_place_with_conj(
-                            Conj::No,
-                            MatMut::from_column_major_slice_mut(&mut x, n, 1),
-                            Par::Seq,
-                            MemStack::new(&mut mem),
-                        );
-                        Some(x)
-                    });
-                if let Some(step) = step {
-                    let trial: Vec<f64> = u.iter().zip(&step).map(|(a, b)| a + b).collect();
-                    let cost_t = self.eval(&trial, false).cost();
-                    if cost_t.is_finite() && cost_t < cost {
-                        u = trial;
-                        ev = self.eval(&u, true);
-                        cost = cost_t;
-                        lambda = (lambda / 4.0).max(1e-14);
-                        break;
-                    }
-                }
-                lambda *= 4.0;
-                if lambda > 1e8 {
-                    return (polish > 0).then_some(u);
-                }
-            }
-        }
-        None
-    }
-
     /// The realization a solution stands for.
     fn realization(&self, u: &[f64]) -> Realization<f64> {
         let lines: Vec<Option<Line<f64>>> = self
@@ -491,7 +347,7 @@ pub fn project(
     let mut u = system.start(rng);
     let mut last: Option<Special> = None;
     for _ in 0..=REPAIRS {
-        let Some(solution) = system.solve(u) else {
+        let Some(solution) = marquardt::solve(&system, u) else {
             return Err(match last {
                 Some(s) => format!("the projection did not converge (repairing: {})", s.why),
                 None => "the projection did not converge".into(),

@@ -2,12 +2,11 @@
 //! straight lines against density, per box size and pooled, and read at the
 //! threshold and the ends of its interval.
 
-use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use super::boxes::{BoxData, ContactPoint};
 use super::estimate::Estimate;
-use crate::math::stats::least_squares;
+use crate::math::stats;
 
 /// A straight line `c = intercept + slope * rho` and its prediction at the threshold.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -41,13 +40,7 @@ pub struct ContactNumbers {
 /// A straight line through `(rho, c)` points, `None` with fewer than two
 /// distinct densities.
 fn line(points: &[(f64, f64)], threshold: &Estimate) -> Option<LinearFit> {
-    let x = DMatrix::from_fn(
-        points.len(),
-        2,
-        |i, j| if j == 0 { 1.0 } else { points[i].0 },
-    );
-    let y = DVector::from_iterator(points.len(), points.iter().map(|p| p.1));
-    let (beta, r2, _) = least_squares(&x, &y)?;
+    let stats::Fit { beta, r2, .. } = stats::line(points)?;
     let at = |rho: f64| beta[0] + beta[1] * rho;
     let interval = threshold
         .lo

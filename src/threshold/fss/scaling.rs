@@ -2,10 +2,10 @@
 //! widths `Delta rho ~ L^(-1/nu)`, and the threshold as the one intercept
 //! of every `rho_x(L)` against `L^(-1/nu)`.
 
-use nalgebra::{DMatrix, DVector};
+use faer::Mat;
 use serde::{Deserialize, Serialize};
 
-use crate::math::stats::least_squares;
+use crate::math::stats::{Fit, least_squares, line};
 use crate::{Error, Result};
 
 /// `Delta rho = prefactor * L^(-1/nu)`, fitted in log-log.
@@ -43,12 +43,13 @@ pub fn fit_nu(box_lens: &[f64], delta_rho: &[f64]) -> Result<NuFit> {
     if let Some(d) = delta_rho.iter().find(|d| !(d.is_finite() && **d > 0.0)) {
         return Err(Error::analysis(format!("Delta rho {d} is not positive")));
     }
-    let x = DMatrix::from_fn(box_lens.len(), 2, |i, j| {
-        if j == 0 { 1.0 } else { box_lens[i].ln() }
-    });
-    let y = DVector::from_iterator(delta_rho.len(), delta_rho.iter().map(|d| d.ln()));
-    let (beta, r2, rms) = least_squares(&x, &y)
-        .ok_or_else(|| Error::analysis("nu needs at least 2 distinct box sizes"))?;
+    let points: Vec<(f64, f64)> = box_lens
+        .iter()
+        .zip(delta_rho)
+        .map(|(l, d)| (l.ln(), d.ln()))
+        .collect();
+    let Fit { beta, r2, rms } =
+        line(&points).ok_or_else(|| Error::analysis("nu needs at least 2 distinct box sizes"))?;
     let nu = -1.0 / beta[1];
     if !(nu.is_finite() && nu > 0.0) {
         return Err(Error::analysis(format!(
@@ -81,7 +82,7 @@ pub fn extrapolate(t: &[f64], rho_x: &[Vec<f64>]) -> Result<Extrapolation> {
         ));
     }
     let (m, n) = (rho_x.len(), t.len());
-    let x = DMatrix::from_fn(m * n, m + 1, |row, col| {
+    let x = Mat::from_fn(m * n, m + 1, |row, col| {
         let (j, i) = (row / n, row % n);
         match col {
             0 => 1.0,
@@ -89,8 +90,8 @@ pub fn extrapolate(t: &[f64], rho_x: &[Vec<f64>]) -> Result<Extrapolation> {
             _ => 0.0,
         }
     });
-    let y = DVector::from_iterator(m * n, rho_x.iter().flatten().copied());
-    let (beta, r2, rms) = least_squares(&x, &y).ok_or_else(|| {
+    let y: Vec<f64> = rho_x.iter().flatten().copied().collect();
+    let Fit { beta, r2, rms } = least_squares(x.as_ref(), &y).ok_or_else(|| {
         Error::analysis("the common-intercept fit needs at least 2 distinct values of L^(-1/nu)")
     })?;
     Ok(Extrapolation {
