@@ -1,8 +1,8 @@
 //! Sample statistics, each written once: mean and standard deviation, one
 //! quantile rule, percentile intervals, and least squares.
 
-use faer::linalg::solvers::Solve;
-use faer::{Mat, MatRef, Side};
+use faer::linalg::solvers::SolveLstsq;
+use faer::{Mat, MatRef};
 
 /// Mean and sample standard deviation (0 for a single value; NaN mean for none).
 pub fn mean_sd(xs: &[f64]) -> (f64, f64) {
@@ -52,9 +52,9 @@ pub fn percentile_interval(v: &mut [f64], confidence: f64) -> Option<(f64, f64)>
     Some((quantile_sorted(v, tail), quantile_sorted(v, 1.0 - tail)))
 }
 
-/// A pivot of the normal equations at most this fraction of its diagonal
-/// entry marks a column dependent on the ones before it.
-const DEPENDENT: f64 = 1e-12;
+/// A diagonal entry of `R` at most this fraction of the largest marks a
+/// column dependent on the ones before it.
+const DEPENDENT: f64 = 1e-10;
 
 /// A least-squares fit: the coefficients, R² and the RMS residual.
 #[derive(Clone, Debug, PartialEq)]
@@ -64,20 +64,22 @@ pub struct Fit {
     pub rms: f64,
 }
 
-/// Least squares `y ~ x beta` through the normal equations, by faer's
-/// Cholesky: the designs here have a handful of well-scaled columns, so
-/// the normal equations lose nothing that matters. `None` when the columns
-/// are linearly dependent.
+/// Least squares `y ~ x beta` by faer's Householder QR, not the normal
+/// equations: an intercept far from the data (a contact number's line at
+/// densities near 40) keeps its digits. `None` when the columns are
+/// linearly dependent or a coefficient is not finite.
 pub fn least_squares(x: MatRef<'_, f64>, y: &[f64]) -> Option<Fit> {
-    let y = MatRef::from_column_major_slice(y, y.len(), 1);
-    let xt = x.transpose();
-    let normal: Mat<f64> = xt * x;
-    let llt = normal.llt(Side::Lower).ok()?;
-    // A pivot that cancels to rounding noise is a dependent column.
-    if (0..normal.ncols()).any(|i| llt.L()[(i, i)].powi(2) <= DEPENDENT * normal[(i, i)]) {
+    if x.nrows() < x.ncols() || x.nrows() != y.len() {
         return None;
     }
-    let beta: Mat<f64> = llt.solve(xt * y);
+    let y = MatRef::from_column_major_slice(y, y.len(), 1);
+    let qr = x.qr();
+    let r = qr.thin_R();
+    let top = (0..r.ncols()).fold(0.0_f64, |m, i| m.max(r[(i, i)].abs()));
+    if (0..r.ncols()).any(|i| !(r[(i, i)].abs() > DEPENDENT * top)) {
+        return None;
+    }
+    let beta: Mat<f64> = qr.solve_lstsq(y);
     let beta: Vec<f64> = (0..beta.nrows()).map(|i| beta[(i, 0)]).collect();
     if beta.iter().any(|b| !b.is_finite()) {
         return None;
