@@ -76,7 +76,8 @@ pub fn least_squares(x: MatRef<'_, f64>, y: &[f64]) -> Option<Fit> {
     let qr = x.qr();
     let r = qr.thin_R();
     let top = (0..r.ncols()).fold(0.0_f64, |m, i| m.max(r[(i, i)].abs()));
-    if (0..r.ncols()).any(|i| !(r[(i, i)].abs() > DEPENDENT * top)) {
+    let pivot = |i: usize| r[(i, i)].abs();
+    if (0..r.ncols()).any(|i| pivot(i).is_nan() || pivot(i) <= DEPENDENT * top) {
         return None;
     }
     let beta: Mat<f64> = qr.solve_lstsq(y);
