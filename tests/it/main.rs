@@ -27,6 +27,7 @@ mod sample;
 mod spanning;
 mod stability;
 mod stamp;
+mod stdin;
 mod threshold;
 mod truth;
 mod truth_contract;

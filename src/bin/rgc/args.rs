@@ -91,7 +91,7 @@ pub struct EngineArgs {
 /// `render`, `truth`).
 #[derive(Args)]
 pub struct RodsArgs {
-    /// Read the rods from this file instead of generating them: a CSV with the header x,y,z,dx,dy,dz,length,radius, JSON, or a LAMMPS dump (.dump, .lammpstrj); cores crossing a wall are cut to the box.
+    /// Read the rods from this file instead of generating them ('-': standard input): a CSV with the header x,y,z,dx,dy,dz,length,radius, JSON, or a LAMMPS dump (.dump, .lammpstrj); cores crossing a wall are cut to the box.
     #[arg(long, value_name = "FILE")]
     rods: Option<PathBuf>,
     /// The rods file's format, when its extension does not say.
@@ -187,17 +187,6 @@ impl RodsArgs {
                 Some(text) => Columns::parse(text)?,
                 None => Columns::default(),
             };
-            let format = match self.rods_format {
-                Some(f) => f,
-                None => file::Format::of_path(path)?,
-            };
-            if self.lammps_columns.is_some() && format != file::Format::Lammps {
-                return Err(Error::Parameter(format!(
-                    "--lammps-columns applies to LAMMPS dumps; {} is read as {}",
-                    path.display(),
-                    format.name()
-                )));
-            }
             let opts = ReadOptions {
                 format: self.rods_format,
                 sides,

@@ -39,6 +39,20 @@ impl Format {
         }
     }
 
+    /// The format text read without a name is in: JSON when it opens with
+    /// `{` or `[`, a LAMMPS dump with `ITEM:`, else CSV (whose header the
+    /// reader then checks).
+    pub fn sniff(text: &str) -> Self {
+        let start = text.trim_start();
+        if start.starts_with(['{', '[']) {
+            Format::Json
+        } else if start.starts_with("ITEM:") {
+            Format::Lammps
+        } else {
+            Format::Csv
+        }
+    }
+
     /// What a file of this format is called in messages.
     pub fn name(self) -> &'static str {
         match self {

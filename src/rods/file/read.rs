@@ -16,6 +16,7 @@
 //! mid-line.
 
 use nalgebra::Vector3;
+use std::io::Read;
 use std::path::Path;
 
 use super::columns::Columns;
@@ -60,8 +61,22 @@ pub struct Loaded {
     pub ids: Option<Vec<u64>>,
 }
 
-/// Reads and checks the rods of `path` (see the module docs).
+/// The path that stands for standard input.
+pub const STDIN: &str = "-";
+
+/// Reads and checks the rods of `path`, or of standard input for
+/// [`STDIN`], whose format is the options' or else told by its first
+/// characters ([`Format::sniff`]); see the module docs.
 pub fn read(path: &Path, opts: &ReadOptions) -> Result<Loaded> {
+    if path == Path::new(STDIN) {
+        let name = Path::new("standard input");
+        let mut text = String::new();
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .map_err(|e| Error::io(name, e))?;
+        let format = opts.format.unwrap_or_else(|| Format::sniff(&text));
+        return parse(&text, name, format, opts);
+    }
     let format = match opts.format {
         Some(f) => f,
         None => Format::of_path(path)?,
@@ -80,6 +95,7 @@ pub fn parse(text: &str, path: &Path, format: Format, opts: &ReadOptions) -> Res
     };
     if format != Format::Lammps {
         let dump_only = [
+            ("--lammps-columns", opts.columns != Columns::default()),
             ("--frame", opts.frame.is_some()),
             ("--atom-type", opts.types.is_some()),
         ];
