@@ -1,6 +1,6 @@
 //! Which rods touch (MODEL §1): an O(N) periodic grid of rod covers
-//! ([`grid`]) over a robust segment–segment distance ([`segment`]), with
-//! the O(N^2) all-pairs reference ([`pair`]).
+//! (`grid`) over a robust segment–segment distance (`segment`), with
+//! the O(N^2) all-pairs reference (`pair`).
 
 mod grid;
 mod pair;

@@ -192,7 +192,7 @@ impl Geometry {
     }
 }
 
-/// All contacts by testing every pair: the O(N^2) reference for [`detect`],
+/// All contacts by testing every pair: the O(N^2) reference for [`super::grid::detect`],
 /// with the same conventions and bit-identical output.
 pub fn detect_all_pairs(system: &RodSystem) -> Vec<Contact> {
     let geo = Geometry::of(system);

@@ -13,6 +13,22 @@
 //! Searches start from what changed: a rod at the start (rods-only rules),
 //! or a pair of nodes whose relation a merge changed, mapped onto a pattern
 //! contact.
+//!
+//! Four backtracking searches, each kept for a reason:
+//! * [`State::extend`], the plain search, defines the answer: which match
+//!   is met first, and so which merge a motif order makes. Everything else
+//!   must find the same first match, and `Matching::Unindexed` runs it
+//!   alone, so tests can compare.
+//! * `survey` counts the complete maps, up to two, in the cheapest order:
+//!   the plain order may walk a body's thousands of neighbours where
+//!   another order reaches the same nodes through a rod. Most attempts end
+//!   here with none.
+//! * `extend_indexed` replays the plain order on the index's cached
+//!   neighbour lists when the survey found two or more maps, since only the
+//!   plain order says which of them comes first.
+//! * [`super::ball::Ball::search`] is the same replay for rods-only rules
+//!   with bit operations on the free rods around a rod task: the hot path of
+//!   a dense system, where cached lists would be rebuilt for every task.
 
 use super::assignment::assignable;
 use super::demand::{accepts, fits};

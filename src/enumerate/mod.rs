@@ -1,8 +1,8 @@
 //! Enumeration of small graphs (MODEL §7): non-isomorphic connected simple
 //! graphs with the audit's filters pushed into generation, canonical forms,
 //! and typed multigraph patterns for mixed motifs ([`typed_patterns`]).
-//! [`small`] holds the bitmask graphs, their filters and canonical forms,
-//! [`connected`] the generator.
+//! `small` holds the bitmask graphs, their filters and canonical forms,
+//! `connected` the generator.
 
 mod canon;
 mod connected;

@@ -172,7 +172,7 @@ impl Normal {
 }
 
 /// Levenberg–Marquardt from `u`: a point whose residuals are within the
-/// equations' tolerance (polished by up to [`POLISH_STEPS`] more steps), or
+/// equations' tolerance (polished by a few more steps), or
 /// `None` when the damping runs away or the steps run out first.
 pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
     let n = eq.unknowns();

@@ -14,7 +14,7 @@ pub enum Decision {
     /// Exact F_p rank at exact twin realizations.
     Exact,
     /// No construction order exists: float rank with a clear singular-value
-    /// gap at twin float realizations that agree ([`fallback`]).
+    /// gap at twin float realizations that agree ([`super::fallback`]).
     Float,
     /// No realization could be built, or its float rank was unclear;
     /// nothing is claimed.
@@ -37,7 +37,7 @@ impl std::fmt::Display for Decision {
 pub struct TruthOptions {
     pub seed: u64,
     /// Redraws of a realization that lands on a degenerate position (the
-    /// float fallback draws [`fallback::DRAWS_PER_ATTEMPT`] times as many).
+    /// float fallback draws [`super::fallback::DRAWS_PER_ATTEMPT`] times as many).
     pub attempts: usize,
     /// Rank a second, independent realization too (the generic rank is the
     /// larger). One realization already proves what it finds rigid; the twin
