@@ -6,6 +6,29 @@ use super::field::Scalar;
 /// A point or vector over a field.
 pub type V3<S> = [S; 3];
 
+/// A line `p + t d`: a rod's axis in a realization, over F_p or in floats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Line<S> {
+    pub p: V3<S>,
+    pub d: V3<S>,
+}
+
+/// A plane `q + a u + b v`, normal `u x v`: spanned by two directions
+/// (two rods, or a rod and a box direction), so it is built without a
+/// division and its points are drawn as `q + a u + b v`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plane<S> {
+    pub q: V3<S>,
+    pub u: V3<S>,
+    pub v: V3<S>,
+}
+
+impl<S: Scalar> Plane<S> {
+    pub fn normal(&self) -> V3<S> {
+        cross(self.u, self.v)
+    }
+}
+
 pub fn sub<S: Scalar>(a: V3<S>, b: V3<S>) -> V3<S> {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }

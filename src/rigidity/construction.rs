@@ -29,7 +29,8 @@ use serde::{Deserialize, Serialize};
 
 use super::incidence::{Grouping, Incidence};
 use crate::math::vec3::{
-    DISTINCT_TOL, V3, add, cross, dot, finite, null_rel, parallel, same_point, scale, size, sub,
+    DISTINCT_TOL, Line, Plane, V3, add, cross, dot, finite, null_rel, parallel, same_point, scale,
+    size, sub,
 };
 use crate::math::{Fp, Scalar};
 use crate::pattern::NodeKind;
@@ -40,27 +41,6 @@ use crate::pattern::NodeKind;
 /// carries their conditioning; tight enough that a violated incidence
 /// (residual of order 1) is never accepted.
 pub const INCIDENCE_TOL: f64 = 1e-9;
-
-/// A line `p + t d`.
-#[derive(Clone, Copy, Debug)]
-pub struct Line<S> {
-    pub p: V3<S>,
-    pub d: V3<S>,
-}
-
-/// A plane `q + a u + b v`, normal `n = u x v`.
-#[derive(Clone, Copy, Debug)]
-pub struct Plane<S> {
-    pub q: V3<S>,
-    pub u: V3<S>,
-    pub v: V3<S>,
-}
-
-impl<S: Scalar> Plane<S> {
-    pub fn normal(&self) -> V3<S> {
-        cross(self.u, self.v)
-    }
-}
 
 /// One realization: a point per contact, a line per rod, a plane per group.
 #[derive(Clone, Debug)]

@@ -8,7 +8,8 @@
 //! by bars and moves every other point as their affine combination. Internal
 //! degrees of freedom are `3 P - rank - 6` (5 when every point is on one line).
 
-use super::construction::{Line, Plane, Realization, exact, invert_all, normalized};
+use super::construction::{Realization, exact, invert_all, normalized};
+use crate::math::vec3::{Line, Plane};
 use super::incidence::Incidence;
 use crate::math::vec3::{V3, add, cross, dot, parallel, same_point, scale, size, sub};
 use crate::math::{Matrix, Scalar};

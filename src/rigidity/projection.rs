@@ -14,12 +14,12 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeSet;
 
-use super::construction::{Line, Plane, Realization, check};
+use super::construction::{Realization, check};
 use super::family::jacobian;
 use super::incidence::{Grouping, Incidence};
 use crate::math::float::{RankRule, decide_rank_above, singular_values};
 use crate::math::marquardt::{self, Residual, Residuals};
-use crate::math::vec3::{V3, add, cross, dot, scale, size, sub};
+use crate::math::vec3::{Line, Plane, V3, add, cross, dot, scale, size, sub};
 use crate::math::{Matrix, Scalar};
 
 /// Random starts tried before a grouping counts as not found.

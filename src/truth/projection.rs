@@ -26,10 +26,10 @@
 use rand::{Rng, RngExt};
 
 use super::planes::Planes;
-use super::realize::{Line, Realization, lattice};
+use super::realize::{Realization, lattice};
 use super::topology::{Offset, Topology};
 use crate::math::marquardt::{self, Residual, Residuals};
-use crate::math::vec3::{V3, add, cross, dot, scale, sub};
+use crate::math::vec3::{Line, V3, add, cross, dot, scale, sub};
 
 /// Largest residual, relative to the size of the realization, accepted as
 /// a solution of the incidences.

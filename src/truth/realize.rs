@@ -12,25 +12,14 @@ use rand::Rng;
 use super::order::preplaced;
 use super::planes::Planes;
 use super::topology::{Offset, Topology};
-use crate::math::vec3::{V3, add, cross, dot, is_null, scale, sub};
+use crate::math::vec3::{Line, Plane, V3, add, cross, dot, is_null, scale, sub};
 use crate::math::{Field, Fp, Scalar};
 
-/// A line `p + s d`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Line<S = Fp> {
-    pub p: V3<S>,
-    pub d: V3<S>,
-}
-
-/// A plane through `q` with normal `n`.
-#[derive(Clone, Copy, Debug)]
-struct Plane<F> {
-    q: V3<F>,
-    n: V3<F>,
-}
-
 /// One realization of the active rods: exact over F_p, or in floats where
-/// no construction order exists ([`super::projection`]).
+/// no construction order exists ([`super::projection`]). A whole system's,
+/// so unlike a motif's ([`crate::rigidity::construction::Realization`]) it
+/// has a box side for the periodic images, and lines and points only where
+/// the rods are active.
 #[derive(Clone, Debug)]
 pub struct Realization<S = Fp> {
     /// The box side: the image at offset `o` is shifted by `side * o`.
@@ -82,11 +71,12 @@ fn point_on<F: Field>(l: &Line<F>, rng: &mut impl Rng) -> V3<F> {
 
 /// Where line `l` crosses plane `pl`.
 fn crossing<F: Field>(l: &Line<F>, pl: &Plane<F>) -> Result<V3<F>, Failure> {
-    let den = dot(pl.n, l.d);
+    let n = pl.normal();
+    let den = dot(n, l.d);
     let inv = den
         .inverse()
         .ok_or_else(|| Failure::Degenerate("a line parallel to a plane it must cross".into()))?;
-    Ok(add(l.p, scale(l.d, dot(pl.n, sub(pl.q, l.p)) * inv)))
+    Ok(add(l.p, scale(l.d, dot(n, sub(pl.q, l.p)) * inv)))
 }
 
 fn through<F: Field>(a: V3<F>, b: V3<F>) -> Line<F> {
@@ -111,7 +101,8 @@ pub fn build<F: Field>(
             let [w1, w2] = [class.wraps[0], class.wraps[1]].map(|w| lattice(F::one(), w));
             plane[c] = Some(Plane {
                 q: random_v3(rng),
-                n: cross(w1, w2),
+                u: w1,
+                v: w2,
             });
         }
     }
@@ -122,7 +113,7 @@ pub fn build<F: Field>(
             .filter_map(|&(c, o)| {
                 plane[c as usize].map(|pl| Plane {
                     q: sub(pl.q, lattice(side, o)),
-                    n: pl.n,
+                    ..pl
                 })
             })
             .collect();
@@ -162,7 +153,7 @@ pub fn build<F: Field>(
                 for t in ts {
                     pts.push(crossing(t, pl)?);
                 }
-                let in_plane = |rng: &mut _| cross(random_v3(rng), pl.n);
+                let in_plane = |rng: &mut _| cross(random_v3(rng), pl.normal());
                 match pts.as_slice() {
                     [] => Line {
                         p: add(pl.q, in_plane(rng)),
@@ -177,12 +168,12 @@ pub fn build<F: Field>(
                 }
             }
             ([p1, p2], []) => {
-                let d = cross(p1.n, p2.n);
+                let d = cross(p1.normal(), p2.normal());
                 let inv = dot(d, d).inverse().ok_or_else(|| {
                     Failure::Degenerate(format!("rod {x}: two planes without a common line"))
                 })?;
-                let (h1, h2) = (dot(p1.n, p1.q), dot(p2.n, p2.q));
-                let p = add(scale(cross(p2.n, d), h1), scale(cross(d, p1.n), h2));
+                let (h1, h2) = (dot(p1.normal(), p1.q), dot(p2.normal(), p2.q));
+                let p = add(scale(cross(p2.normal(), d), h1), scale(cross(d, p1.normal()), h2));
                 Line {
                     p: scale(p, inv),
                     d,
@@ -214,16 +205,17 @@ pub fn build<F: Field>(
                 [w] => lattice(F::one(), *w),
                 _ => unreachable!("a class wrapping twice is placed first"),
             };
-            let n = cross(line.d, other);
-            if is_null(n) {
+            let held = Plane {
+                q: add(line.p, lattice(side, o)),
+                u: line.d,
+                v: other,
+            };
+            if is_null(held.normal()) {
                 return Err(Failure::Degenerate(format!(
                     "the plane of class {c} through rod {x} is undetermined"
                 )));
             }
-            plane[c] = Some(Plane {
-                q: add(line.p, lattice(side, o)),
-                n,
-            });
+            plane[c] = Some(held);
         }
     }
 
