@@ -9,10 +9,10 @@ use std::path::{Path, PathBuf};
 use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol, pi_curve};
 use super::sequence::{Kind, Record};
 use super::study::StudySpec;
-use crate::{Error, Result};
 use crate::math::stats::mean_sd;
 use crate::output::{self, cell};
 use crate::rods::excluded_volume;
+use crate::{Error, Result};
 
 /// What motif order did to a study's compressions (MODEL §8: where
 /// compression order breaks monotonicity).
@@ -562,9 +562,7 @@ pub fn conclude(
 ) -> Result<Concluded> {
     match write_study(dir, spec, records, bootstrap) {
         Ok(full) => Ok(Concluded::Full(full)),
-        Err(Error::Analysis(why)) => {
-            write_per_box(dir, spec, records, &why).map(Concluded::PerBox)
-        }
+        Err(Error::Analysis(why)) => write_per_box(dir, spec, records, &why).map(Concluded::PerBox),
         Err(e) => Err(e),
     }
 }

@@ -714,9 +714,18 @@ fn a_failed_scaling_fit_concludes_with_the_per_box_results() {
         report::Concluded::PerBox(p) => p,
         report::Concluded::Full(_) => panic!("the scaling fit should fail"),
     };
-    let boxes: Vec<(f64, usize)> = per_box.boxes.iter().map(|b| (b.box_len, b.sequences)).collect();
+    let boxes: Vec<(f64, usize)> = per_box
+        .boxes
+        .iter()
+        .map(|b| (b.box_len, b.sequences))
+        .collect();
     assert_eq!(boxes, [(3.0, 5), (3.5, 5), (4.0, 5)]);
-    assert!(per_box.boxes.iter().all(|b| b.fit.is_some_and(|f| f.mu > 0.0)));
+    assert!(
+        per_box
+            .boxes
+            .iter()
+            .all(|b| b.fit.is_some_and(|f| f.mu > 0.0))
+    );
     let names: Vec<String> = per_box
         .files
         .iter()
@@ -724,7 +733,10 @@ fn a_failed_scaling_fit_concludes_with_the_per_box_results() {
         .collect();
     assert_eq!(names, ["records.csv", "timing.json", "boxes.csv"]);
     assert!(per_box.files.iter().all(|f| f.exists()));
-    assert!(!dir.join("summary.json").exists(), "no threshold is written");
+    assert!(
+        !dir.join("summary.json").exists(),
+        "no threshold is written"
+    );
     assert_eq!(
         per_box.warning(),
         format!("the scaling analysis failed: {}", per_box.error)
