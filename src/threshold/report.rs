@@ -540,8 +540,9 @@ pub fn file_list(files: &[PathBuf]) -> String {
 
 /// What a finished study's analysis came to.
 pub enum Concluded {
-    /// Finite-size scaling worked: the summary and every table.
-    Full(StudyReport),
+    /// Finite-size scaling worked: the summary and every table (boxed: the
+    /// summary is large).
+    Full(Box<StudyReport>),
     /// It failed: each box's own fit instead, with why.
     PerBox(PerBoxReport),
 }
@@ -561,7 +562,7 @@ pub fn conclude(
     bootstrap: usize,
 ) -> Result<Concluded> {
     match write_study(dir, spec, records, bootstrap) {
-        Ok(full) => Ok(Concluded::Full(full)),
+        Ok(full) => Ok(Concluded::Full(Box::new(full))),
         Err(Error::Analysis(why)) => write_per_box(dir, spec, records, &why).map(Concluded::PerBox),
         Err(e) => Err(e),
     }

@@ -141,7 +141,7 @@ pub fn analyse(
     out: &mut String,
 ) -> Result<()> {
     let mut written = match report::conclude(dir, spec, records, bootstrap)? {
-        Concluded::Full(w) => w,
+        Concluded::Full(w) => *w,
         Concluded::PerBox(per_box) => {
             if json {
                 super::print_json(
