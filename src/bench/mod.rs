@@ -27,5 +27,5 @@ pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networ
 pub use truth::{
     PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES, TRUTH_GAMMA,
     TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,
-    predict_largest_box, run_truth,
+    predict_largest_box, run_truth, truth_in_child,
 };

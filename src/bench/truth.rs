@@ -371,3 +371,23 @@ impl TruthSystem {
             .map_err(|e| failed(format!("truth on system {spec}: unreadable row: {e}")))
     }
 }
+
+/// [`TruthSystem::measure_in_child`] on the system these numbers name: what
+/// `rgc bench` gives [`run_truth`] and [`run_truth_aspects`] to measure.
+///
+/// [`run_truth_aspects`]: super::aspects::run_truth_aspects
+pub fn truth_in_child(
+    rgc: &Path,
+    gamma: f64,
+    density: f64,
+    box_len: usize,
+    seed: u64,
+) -> Result<TruthRow> {
+    TruthSystem {
+        gamma,
+        density,
+        box_len,
+        seed,
+    }
+    .measure_in_child(rgc)
+}

@@ -528,6 +528,21 @@ fn rods_6() -> ContactGraph {
     ContactGraph::new(6, edges.to_vec()).unwrap()
 }
 
+/// `g` mined as a finite framework (seed 1) within these caps.
+fn mined_within(
+    g: &ContactGraph,
+    pairs: usize,
+    max_radius: usize,
+    max_ball_rods: usize,
+) -> mine::Mined {
+    let search = Search {
+        pairs,
+        max_radius,
+        max_ball_rods,
+    };
+    mine::mine_graph(g, 1, &search)
+}
+
 /// Not-local accounting on the rods-6 motif, every one of its eight
 /// contacts a seed pair: four pairs ({0,1}, {1,4}, {0,5}, {4,5}) see all six
 /// rods one layer out, the other four need two layers. With one layer the
@@ -540,12 +555,7 @@ fn rods_6() -> ContactGraph {
 fn pairs_not_local_within_the_caps_are_counted_as_such() {
     let g = rods_6();
     let counted = |max_radius, max_ball_rods| {
-        let search = Search {
-            pairs: 8,
-            max_radius,
-            max_ball_rods,
-        };
-        let c = mine::mine_graph(&g, 1, &search).counts;
+        let c = mined_within(&g, 8, max_radius, max_ball_rods).counts;
         assert_eq!((c.bodies, c.nodes), (0, 6));
         assert_eq!(
             (c.missed_clusters, c.missed_rods, c.unseeded_clusters),
@@ -621,14 +631,7 @@ fn rigid_27() -> ContactGraph {
 #[test]
 fn a_minimal_set_beyond_the_pattern_sizes_is_counted_too_large() {
     let g = rigid_27();
-    let mine_with = |max_radius, max_ball_rods| {
-        let search = Search {
-            pairs: 1,
-            max_radius,
-            max_ball_rods,
-        };
-        mine::mine_graph(&g, 1, &search)
-    };
+    let mine_with = |max_radius, max_ball_rods| mined_within(&g, 1, max_radius, max_ball_rods);
     let mined = mine_with(27, 800);
     let c = &mined.counts;
     assert_eq!(
@@ -643,28 +646,12 @@ fn a_minimal_set_beyond_the_pattern_sizes_is_counted_too_large() {
     assert_eq!((set.pattern.as_ref(), set.canonical.as_ref()), (None, None));
     assert_eq!(rgc::pattern::MAX_PATTERN_NODES, 24);
 
-    let c = mine_with(1, 800).counts;
-    assert_eq!(
-        (
-            c.pairs,
-            c.found,
-            c.beyond_radius,
-            c.beyond_rods,
-            c.sets,
-            c.too_large
-        ),
-        (3, 0, 3, 0, 0, 0)
-    );
-    let c = mine_with(27, 26).counts;
-    assert_eq!(
-        (
-            c.pairs,
-            c.found,
-            c.beyond_radius,
-            c.beyond_rods,
-            c.sets,
-            c.too_large
-        ),
-        (3, 0, 0, 3, 0, 0)
-    );
+    // (pairs, found, beyond the radius, beyond the rods, sets, too large)
+    let capped = |max_radius, max_ball_rods| {
+        let c = mine_with(max_radius, max_ball_rods).counts;
+        let all = (c.pairs, c.found, c.beyond_radius, c.beyond_rods, c.sets);
+        (all, c.too_large)
+    };
+    assert_eq!(capped(1, 800), ((3, 0, 3, 0, 0), 0));
+    assert_eq!(capped(27, 26), ((3, 0, 0, 3, 0), 0));
 }

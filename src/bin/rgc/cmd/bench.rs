@@ -8,6 +8,7 @@ use rgc::bench::{
     Foundation, Growth, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow, TruthSystem,
 };
 use rgc::{Error, Result, bench, output};
+use serde::Serialize;
 
 use crate::progress::Reporter;
 
@@ -128,12 +129,8 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         None
     };
     let all = Foundation { report, networkx };
-    if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&all).expect("bench figures serialize");
-        output::write_atomic(path, text + "\n")?;
-    }
-    if a.json {
-        return super::print_json(&all, out);
+    if written(&all, &a, out)? {
+        return Ok(());
     }
     foundation_table(&all, out);
     Ok(())
@@ -203,8 +200,8 @@ fn foundation_table(all: &Foundation, out: &mut String) {
 fn truth(a: BenchArgs, out: &mut String) -> Result<()> {
     let default = TruthPlan::default();
     let plan = TruthPlan {
-        densities: a.truth_densities.unwrap_or(default.densities),
-        boxes: a.truth_boxes.unwrap_or(default.boxes),
+        densities: a.truth_densities.clone().unwrap_or(default.densities),
+        boxes: a.truth_boxes.clone().unwrap_or(default.boxes),
         seeds: a.truth_seeds.unwrap_or(default.seeds),
     };
     let exe = rgc_exe()?;
@@ -213,22 +210,12 @@ fn truth(a: BenchArgs, out: &mut String) -> Result<()> {
         a.truth_max_seconds,
         a.truth_reach.map(|b| b as usize),
         |density, box_len, seed| {
-            TruthSystem {
-                gamma: bench::TRUTH_GAMMA,
-                density,
-                box_len,
-                seed,
-            }
-            .measure_in_child(&exe)
+            bench::truth_in_child(&exe, bench::TRUTH_GAMMA, density, box_len, seed)
         },
         &Reporter::new(a.json),
     )?;
-    if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&report).expect("truth report serializes");
-        output::write_atomic(path, text + "\n")?;
-    }
-    if a.json {
-        return super::print_json(&report, out);
+    if written(&report, &a, out)? {
+        return Ok(());
     }
     truth_table(&report, out);
     Ok(())
@@ -238,23 +225,11 @@ fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
     let exe = rgc_exe()?;
     let report = bench::run_truth_aspects(
         a.truth_large,
-        |gamma, density, box_len, seed| {
-            TruthSystem {
-                gamma,
-                density,
-                box_len,
-                seed,
-            }
-            .measure_in_child(&exe)
-        },
+        |gamma, density, box_len, seed| bench::truth_in_child(&exe, gamma, density, box_len, seed),
         &Reporter::new(a.json),
     )?;
-    if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&report).expect("truth report serializes");
-        output::write_atomic(path, text + "\n")?;
-    }
-    if a.json {
-        return super::print_json(&report, out);
+    if written(&report, &a, out)? {
+        return Ok(());
     }
     say!(
         out,
@@ -299,6 +274,19 @@ fn law(l: Option<Growth>) -> String {
     l.map_or("too few sizes to fit".into(), |l| {
         format!("N^{:.2} (R² {:.2})", l.exponent, l.r2)
     })
+}
+
+/// Writes the figures to --out when asked, and prints them as JSON with
+/// --json: then nothing else is printed (true).
+fn written(figures: &impl Serialize, a: &BenchArgs, out: &mut String) -> Result<bool> {
+    if let Some(path) = &a.out {
+        let text = serde_json::to_string_pretty(figures).expect("bench figures serialize");
+        output::write_atomic(path, text + "\n")?;
+    }
+    if a.json {
+        super::print_json(figures, out)?;
+    }
+    Ok(a.json)
 }
 
 /// This executable, which the benchmarks run in child processes.
