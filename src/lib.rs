@@ -30,7 +30,7 @@
 //! * [`stability`] — where float ranks fail against the exact verdict;
 //! * [`threshold`] — rod sequences, studies, finite-size scaling, variants;
 //! * [`plot`] — charts of what the layers above computed;
-//! * [`mod@bench`] — the speed and memory benchmark behind `rgc bench`.
+//! * [`mod@bench`] — the speed and memory benchmarks behind `rgc bench`.
 
 pub mod error;
 pub mod math;

@@ -9,10 +9,10 @@ use std::path::{Path, PathBuf};
 use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol, pi_curve};
 use super::sequence::{Kind, Record};
 use super::study::StudySpec;
-use crate::Result;
 use crate::math::stats::mean_sd;
 use crate::output::{self, cell};
 use crate::rods::excluded_volume;
+use crate::{Error, Result};
 
 /// What motif order did to a study's compressions (MODEL §8: where
 /// compression order breaks monotonicity).
@@ -510,4 +510,60 @@ pub fn write_per_box(
         boxes,
         files,
     })
+}
+
+impl PerBoxReport {
+    /// The warning printed beside the per-box results.
+    pub fn warning(&self) -> String {
+        format!("the scaling analysis failed: {}", self.error)
+    }
+
+    /// The error the command still ends with: the analysis failed, and
+    /// where the per-box results are.
+    pub fn failure(&self) -> Error {
+        Error::Analysis(format!(
+            "{} (the per-box results are in {})",
+            self.error,
+            file_list(&self.files)
+        ))
+    }
+}
+
+/// Files as one comma-separated line, as the commands print them.
+pub fn file_list(files: &[PathBuf]) -> String {
+    files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// What a finished study's analysis came to.
+pub enum Concluded {
+    /// Finite-size scaling worked: the summary and every table (boxed: the
+    /// summary is large).
+    Full(Box<StudyReport>),
+    /// It failed: each box's own fit instead, with why.
+    PerBox(PerBoxReport),
+}
+
+/// Writes a finished study's results into `dir`: [`write_study`] when the
+/// scaling analysis works; when it fails for want of data (an
+/// [`Error::Analysis`], such as a width that grows with the box so that no
+/// nu exists), [`write_per_box`] instead. A failed fit across box sizes
+/// must neither lose the sequences' work, which may be hours of runs, nor
+/// pass for a threshold: callers print the per-box results with
+/// [`PerBoxReport::warning`] and still fail with [`PerBoxReport::failure`].
+/// Any other error (a file that cannot be written) is returned as it is.
+pub fn conclude(
+    dir: &Path,
+    spec: &StudySpec,
+    records: &[Record],
+    bootstrap: usize,
+) -> Result<Concluded> {
+    match write_study(dir, spec, records, bootstrap) {
+        Ok(full) => Ok(Concluded::Full(Box::new(full))),
+        Err(Error::Analysis(why)) => write_per_box(dir, spec, records, &why).map(Concluded::PerBox),
+        Err(e) => Err(e),
+    }
 }

@@ -122,3 +122,23 @@ fn the_cli_writes_the_figures_it_prints_and_refuses_what_it_cannot_run() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn the_rule_sets_load_from_the_project_motifs_and_a_missing_file_is_named() {
+    let motifs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs");
+    let sets = bench::load_rule_sets(&motifs).unwrap();
+    let names: Vec<&str> = sets.iter().map(|(n, _)| *n).collect();
+    assert_eq!(names, ["extended", "mined"]);
+    assert_eq!(sets[1].1.len(), mined().len());
+    let dir = crate::scratch("bench-rule-sets");
+    std::fs::copy(motifs.join("rods-6.json"), dir.join("rods-6.json")).unwrap();
+    let err = bench::load_rule_sets(&dir).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!(
+            "rule file {} not found",
+            dir.join("rods-8.json").display()
+        )),
+        "{err}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

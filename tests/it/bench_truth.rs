@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use rgc::bench::{self, Growth, REACH_DENSITY, TruthPlan, TruthRow};
+use rgc::bench::{self, Growth, REACH_DENSITY, TruthPlan, TruthRow, TruthSystem};
 use rgc::progress::Silent;
 
 fn assert_consistent(r: &TruthRow) {
@@ -194,4 +194,37 @@ fn the_aspect_benchmark_fits_each_gamma_and_compares_the_cost_per_rod() {
         .n_rods() as f64;
     let want = (1e-6 * n98.powf(1.5) / n98) / 1e-7;
     assert!((report.per_rod_ratio.unwrap() / want - 1.0).abs() < 1e-9);
+}
+
+#[test]
+fn a_truth_system_reads_back_what_it_writes_and_refuses_the_rest() {
+    let system = TruthSystem {
+        gamma: 98.0,
+        density: 165.5,
+        box_len: 7,
+        seed: 3,
+    };
+    assert_eq!(system.to_string(), "98,165.5,7,3");
+    assert_eq!("98, 165.5, 7, 3".parse::<TruthSystem>().unwrap(), system);
+    for bad in ["98,165.5,7", "98,165.5,7,3,1", "98,x,7,3", "98,165.5,7.5,3"] {
+        let err = bad.parse::<TruthSystem>().unwrap_err().to_string();
+        assert!(
+            err.contains("--truth-system wants gamma,density,box,seed") && err.contains(bad),
+            "{err}"
+        );
+    }
+    // In this process it measures the system it names.
+    let row = TruthSystem {
+        gamma: 23.0,
+        density: 34.0,
+        box_len: 3,
+        seed: 1,
+    }
+    .measure()
+    .unwrap();
+    assert_consistent(&row);
+    assert_eq!(
+        (row.gamma, row.density, row.box_len, row.seed),
+        (23.0, 34.0, 3, 1)
+    );
 }

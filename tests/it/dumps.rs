@@ -6,6 +6,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 use rgc::Error;
+use rgc::rods::Periodic;
 use rgc::rods::file::{self, Columns, Format, Frame, Loaded, ReadOptions};
 use rgc::rods::rotate;
 use serde_json::Value;
@@ -407,4 +408,92 @@ fn atom_ids_reach_the_outputs() {
         serde_json::from_slice(&run(&["truth", "--rods", &plain, "--box", "4", "--json"])).unwrap();
     assert!(plain_truth["clusters"][0].get("ids").is_none());
     assert_eq!(plain_truth["clusters"][0]["rods"], clusters[0]["rods"]);
+}
+
+/// Boundary flags: `pp` on every axis, `pp` on x and y, or none; fixed and
+/// shrink-wrapped ends (`f`, `s`, `m`, mixed per end) are walls at the
+/// bounds the snapshot gives; a periodic axis between walls (`pp ff pp`), a
+/// flag periodic at one end only and an unknown flag are refused at the
+/// header's line.
+#[test]
+fn boundary_flags_give_walls_or_periodic_axes_or_a_refusal() {
+    let with = |flags: &str| snapshot(0, "", &FIRST).replace("BOX BOUNDS pp pp pp", flags);
+    for (flags, periodic) in [
+        ("BOX BOUNDS pp pp pp", Periodic::Xyz),
+        ("BOX BOUNDS ss ss ss", Periodic::None),
+        ("BOX BOUNDS mm mm mm", Periodic::None),
+        ("BOX BOUNDS fs sm mf", Periodic::None),
+        ("BOX BOUNDS pp pp ff", Periodic::Xy),
+        ("BOX BOUNDS pp pp sm", Periodic::Xy),
+    ] {
+        let loaded = parse(&with(flags), &options()).unwrap();
+        assert_eq!(loaded.system.domain.periodic, periodic, "{flags}");
+        assert_eq!(loaded.system.domain.sides, [4.0; 3], "{flags}");
+        assert_eq!((loaded.system.len(), loaded.cut), (2, 0), "{flags}");
+    }
+    let refused = |flags: &str| match parse(&with(flags), &options()) {
+        Err(Error::Malformed { line, reason, .. }) => (line, reason),
+        other => panic!("{flags}: {other:?}"),
+    };
+    for flags in ["pp ff pp", "ff pp pp", "pp ss pp", "ss pp ss"] {
+        assert_eq!(
+            refused(&format!("BOX BOUNDS {flags}")),
+            (
+                5,
+                format!("boundary flags {flags}: rgc supports periodic xyz, xy or none")
+            )
+        );
+    }
+    for (flags, bad) in [
+        ("pf pp pp", "pf"),
+        ("pp sp pp", "sp"),
+        ("pp pp xx", "xx"),
+        ("pp pp f", "f"),
+    ] {
+        assert_eq!(
+            refused(&format!("BOX BOUNDS {flags}")),
+            (
+                5,
+                format!(
+                    "boundary flag {bad:?}: each axis takes pp, or two of f, s and m (one per end)"
+                )
+            )
+        );
+    }
+}
+
+/// A snapshot with fewer atom lines than `ITEM: NUMBER OF ATOMS` says is
+/// refused with both counts, whether the next snapshot or the end of the
+/// file comes early, and whichever snapshot is asked for: its atoms are
+/// never read from the next snapshot's header.
+#[test]
+fn a_truncated_atom_list_is_refused_with_its_counts() {
+    let short = snapshot(0, "", &FIRST).replace("NUMBER OF ATOMS\n2", "NUMBER OF ATOMS\n3");
+    let two = short.clone() + &snapshot(100, "", &SECOND);
+    for frame in [None, Some(Frame::Index(1)), Some(Frame::Last)] {
+        let opts = ReadOptions { frame, ..options() };
+        match parse(&two, &opts) {
+            Err(Error::Malformed { line, reason, .. }) => {
+                assert_eq!(line, 12, "{frame:?}");
+                assert_eq!(
+                    reason,
+                    "the snapshot holds 2 atom lines where ITEM: NUMBER OF ATOMS says 3"
+                );
+            }
+            other => panic!("{frame:?}: {other:?}"),
+        }
+    }
+    match parse(&short, &options()) {
+        Err(Error::Malformed { line, reason, .. }) => {
+            assert_eq!(line, 12);
+            assert_eq!(
+                reason,
+                "the file ends where an atom line was expected: 2 atom lines where ITEM: NUMBER OF ATOMS says 3"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    // With the count right, both read.
+    let fixed = short.replace("NUMBER OF ATOMS\n3", "NUMBER OF ATOMS\n2");
+    assert_eq!(parse(&fixed, &options()).unwrap().system.len(), 2);
 }

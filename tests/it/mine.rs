@@ -509,3 +509,149 @@ fn mined_rules_can_span_falsely_where_certification_does_not() {
         );
     }
 }
+
+/// The rods-6 motif of `motifs/rods-6.json` (0-1, 0-2, 1-3, 1-4, 2-4, 0-5,
+/// 3-5, 4-5): rigid as a whole, while no five of its rods hold any two
+/// together (`rgc truth --edges` on each: no cluster). The engine leaves
+/// its six rods apart.
+fn rods_6() -> ContactGraph {
+    let edges = [
+        [0, 1],
+        [0, 2],
+        [1, 3],
+        [1, 4],
+        [2, 4],
+        [0, 5],
+        [3, 5],
+        [4, 5],
+    ];
+    ContactGraph::new(6, edges.to_vec()).unwrap()
+}
+
+/// `g` mined as a finite framework (seed 1) within these caps.
+fn mined_within(
+    g: &ContactGraph,
+    pairs: usize,
+    max_radius: usize,
+    max_ball_rods: usize,
+) -> mine::Mined {
+    let search = Search {
+        pairs,
+        max_radius,
+        max_ball_rods,
+    };
+    mine::mine_graph(g, 1, &search)
+}
+
+/// Not-local accounting on the rods-6 motif, every one of its eight
+/// contacts a seed pair: four pairs ({0,1}, {1,4}, {0,5}, {4,5}) see all six
+/// rods one layer out, the other four need two layers. With one layer the
+/// first four find the motif and the others count beyond the radius; with
+/// five rods per ball every pair counts beyond the rods (one layer out is
+/// six rods for the first four; five that hold nothing, then six, for the
+/// others); with six rods and two layers all eight find it. Nothing is
+/// exhausted: every rod is in the missed cluster.
+#[test]
+fn pairs_not_local_within_the_caps_are_counted_as_such() {
+    let g = rods_6();
+    let counted = |max_radius, max_ball_rods| {
+        let c = mined_within(&g, 8, max_radius, max_ball_rods).counts;
+        assert_eq!((c.bodies, c.nodes), (0, 6));
+        assert_eq!(
+            (c.missed_clusters, c.missed_rods, c.unseeded_clusters),
+            (1, 6, 0)
+        );
+        assert_eq!((c.pairs, c.exhausted, c.too_large), (8, 0, 0));
+        (c.found, c.beyond_radius, c.beyond_rods, c.sets)
+    };
+    assert_eq!(counted(1, 800), (4, 4, 0, 1));
+    assert_eq!(counted(3, 5), (0, 0, 8, 0));
+    assert_eq!(counted(2, 6), (8, 0, 0, 1));
+    assert_eq!(counted(1, 6), (4, 4, 0, 1));
+}
+
+/// 27 rods and 43 contacts, triangle free, rigid as a whole (`rgc truth
+/// --edges`: DOF 0, one cluster of 27 rods) while no 26 of them hold any two
+/// together (each rod left out in turn: no cluster): Maxwell's count
+/// `3 m = 5 n - 6` with no rigid part.
+fn rigid_27() -> ContactGraph {
+    let edges = [
+        [0, 9],
+        [0, 19],
+        [0, 22],
+        [1, 6],
+        [1, 13],
+        [2, 4],
+        [2, 8],
+        [2, 19],
+        [3, 9],
+        [3, 23],
+        [4, 15],
+        [5, 7],
+        [5, 10],
+        [5, 20],
+        [6, 16],
+        [6, 20],
+        [7, 9],
+        [7, 15],
+        [7, 21],
+        [8, 10],
+        [8, 24],
+        [8, 25],
+        [9, 13],
+        [9, 20],
+        [9, 24],
+        [10, 21],
+        [11, 21],
+        [11, 23],
+        [11, 26],
+        [12, 15],
+        [12, 16],
+        [12, 23],
+        [13, 18],
+        [13, 19],
+        [14, 16],
+        [14, 17],
+        [16, 25],
+        [17, 24],
+        [17, 26],
+        [18, 22],
+        [18, 26],
+        [20, 26],
+        [22, 25],
+    ];
+    ContactGraph::new(27, edges.to_vec()).unwrap()
+}
+
+/// Every seed pair of the 27 rods needs all of them: the one minimal set
+/// has 27 nodes, more than a pattern holds (24), so it counts as too large,
+/// with no pattern and no canonical form. Capped at one layer, or at 26
+/// rods per ball, each of the three seed pairs (3 per started ten nodes)
+/// counts as not local instead, and no set is found.
+#[test]
+fn a_minimal_set_beyond_the_pattern_sizes_is_counted_too_large() {
+    let g = rigid_27();
+    let mine_with = |max_radius, max_ball_rods| mined_within(&g, 1, max_radius, max_ball_rods);
+    let mined = mine_with(27, 800);
+    let c = &mined.counts;
+    assert_eq!(
+        (c.bodies, c.nodes, c.missed_clusters, c.missed_rods),
+        (0, 27, 1, 27)
+    );
+    assert_eq!((c.pairs, c.found, c.sets, c.too_large), (3, 3, 1, 1));
+    assert_eq!((c.beyond_radius, c.beyond_rods, c.exhausted), (0, 0, 0));
+    let set = &mined.sets[0];
+    assert_eq!(set.nodes, (0..27).collect::<Vec<u32>>());
+    assert!(set.whole);
+    assert_eq!((set.pattern.as_ref(), set.canonical.as_ref()), (None, None));
+    assert_eq!(rgc::pattern::MAX_PATTERN_NODES, 24);
+
+    // (pairs, found, beyond the radius, beyond the rods, sets, too large)
+    let capped = |max_radius, max_ball_rods| {
+        let c = mine_with(max_radius, max_ball_rods).counts;
+        let all = (c.pairs, c.found, c.beyond_radius, c.beyond_rods, c.sets);
+        (all, c.too_large)
+    };
+    assert_eq!(capped(1, 800), ((3, 0, 3, 0, 0), 0));
+    assert_eq!(capped(27, 26), ((3, 0, 0, 3, 0), 0));
+}

@@ -1182,3 +1182,46 @@ fn cli_origin_wraps_counts_and_saves() {
         "{err}"
     );
 }
+
+/// JSON rods without a box: refused unless the box is given, then read in
+/// it (periodic on every axis unless told otherwise), the same rods as the
+/// file that carries the box; a box without a periodicity is periodic.
+#[test]
+fn json_rods_without_a_box_take_the_given_one() {
+    let with_box = file_of(Format::Json, &GOOD, Periodic::Xyz);
+    let bare = with_box.replace("\"box\":[4,4,4],\"periodic\":\"xyz\",", "");
+    assert!(bare.starts_with("{\"rods\":["), "{bare}");
+    let path = Path::new("bare.json");
+    match file::parse(&bare, path, Format::Json, &ReadOptions::default()) {
+        Err(Error::Parameter(why)) => assert_eq!(
+            why,
+            "bare.json: the file has no box; give it with --box L or --box LX,LY,LZ"
+        ),
+        other => panic!("{other:?}"),
+    }
+    let given = |sides, periodic| ReadOptions {
+        sides: Some(sides),
+        periodic,
+        ..ReadOptions::default()
+    };
+    let read = file::parse(&bare, path, Format::Json, &given([4.0; 3], None)).unwrap();
+    let carried = file::parse(&with_box, path, Format::Json, &ReadOptions::default()).unwrap();
+    assert_eq!(read.system.domain, carried.system.domain);
+    assert_eq!(read.system.domain.periodic, Periodic::Xyz);
+    assert_eq!(read.system.rods, carried.system.rods);
+    assert_eq!(read.lines, [2, 3]);
+    let walls = file::parse(
+        &bare,
+        path,
+        Format::Json,
+        &given([4.0, 5.0, 6.0], Some(Periodic::None)),
+    )
+    .unwrap();
+    assert_eq!(
+        (walls.system.domain.sides, walls.system.domain.periodic),
+        ([4.0, 5.0, 6.0], Periodic::None)
+    );
+    let no_periodic = with_box.replace("\"periodic\":\"xyz\",", "");
+    let read = file::parse(&no_periodic, path, Format::Json, &ReadOptions::default()).unwrap();
+    assert_eq!(read.system.domain, carried.system.domain);
+}

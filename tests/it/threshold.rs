@@ -692,3 +692,79 @@ fn truth_records_keep_the_largest_cluster_below_and_at_the_critical_number() {
     assert!(old.steps.iter().all(|s| s.largest.is_none()));
     assert_eq!(old.jump(), None);
 }
+
+/// The policy when finite-size scaling fails: the per-box results are
+/// written and reported with a warning, and the failure names them; where
+/// it works, the full report is written and nothing per box.
+#[test]
+fn a_failed_scaling_fit_concludes_with_the_per_box_results() {
+    // Seed 4 gives a Delta rho that grows from L = 3 to L = 4: no nu.
+    let failing = StudySpec {
+        sequences: 5,
+        runs: 1,
+        seed: 4,
+        ..spec(Kind::Contact, Protocol::Nested)
+    };
+    let dir = scratch("conclude-failed");
+    run_in(&failing, &dir, Shard::WHOLE, 1);
+    let records = results(&failing, &dir);
+    assert_eq!(records.len(), 15);
+    assert!(report::write_study(&dir, &failing, &records, 20).is_err());
+    let per_box = match report::conclude(&dir, &failing, &records, 20).unwrap() {
+        report::Concluded::PerBox(p) => p,
+        report::Concluded::Full(_) => panic!("the scaling fit should fail"),
+    };
+    let boxes: Vec<(f64, usize)> = per_box
+        .boxes
+        .iter()
+        .map(|b| (b.box_len, b.sequences))
+        .collect();
+    assert_eq!(boxes, [(3.0, 5), (3.5, 5), (4.0, 5)]);
+    assert!(
+        per_box
+            .boxes
+            .iter()
+            .all(|b| b.fit.is_some_and(|f| f.mu > 0.0))
+    );
+    let names: Vec<String> = per_box
+        .files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["records.csv", "timing.json", "boxes.csv"]);
+    assert!(per_box.files.iter().all(|f| f.exists()));
+    assert!(
+        !dir.join("summary.json").exists(),
+        "no threshold is written"
+    );
+    assert_eq!(
+        per_box.warning(),
+        format!("the scaling analysis failed: {}", per_box.error)
+    );
+    let failure = per_box.failure();
+    assert!(matches!(failure, rgc::Error::Analysis(_)), "{failure}");
+    let text = failure.to_string();
+    assert!(
+        text.contains(&per_box.error)
+            && text.contains(&format!(
+                "(the per-box results are in {})",
+                report::file_list(&per_box.files)
+            )),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    // The same boxes with the fit working: the full report.
+    let working = spec(Kind::Contact, Protocol::Nested);
+    let dir = scratch("conclude-full");
+    run_in(&working, &dir, Shard::WHOLE, 1);
+    let records = results(&working, &dir);
+    match report::conclude(&dir, &working, &records, 20).unwrap() {
+        report::Concluded::Full(full) => {
+            assert_eq!(full.summary.fss.boxes.len(), 3);
+            assert!(dir.join("summary.json").exists());
+        }
+        report::Concluded::PerBox(p) => panic!("the fit should work: {}", p.error),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,8 +1,8 @@
 //! Rods from a LAMMPS text dump (`dump custom`): one snapshot of it, picked
 //! by its index; `ITEM: UNITS` and `ITEM: TIME` (`dump_modify units yes`,
 //! `time yes`) skipped; the box and boundary flags from its header (the low
-//! bounds are the box's origin); atoms picked by type; each atom's `id`
-//! kept as the rod's id.
+//! bounds are the box's origin; shrink-wrapped axes are walls at those
+//! bounds); atoms picked by type; each atom's `id` kept as the rod's id.
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -116,6 +116,20 @@ fn header<'a>(
             ),
         ));
     }
+    // Each axis has a flag per end: p (periodic, both ends or neither), f
+    // (fixed), s or m (shrink-wrapped). A non-periodic axis has walls at the
+    // bounds the snapshot gives, which for s and m enclose its atoms.
+    if let Some(f) = flags.iter().find(|f| {
+        let ends: Vec<char> = f.chars().collect();
+        !(ends.len() == 2
+            && ends.iter().all(|c| "pfsm".contains(*c))
+            && (ends[0] == 'p') == (ends[1] == 'p'))
+    }) {
+        return Err(bad(
+            n,
+            format!("boundary flag {f:?}: each axis takes pp, or two of f, s and m (one per end)"),
+        ));
+    }
     let wraps: Vec<bool> = flags.iter().map(|f| *f == "pp").collect();
     let periodic = match wraps[..] {
         [true, true, true] => Periodic::Xyz,
@@ -182,10 +196,28 @@ pub(super) fn parse_lammps(
     let chosen = loop {
         let h = header(&lines, k, bad)?;
         let end = h.atoms + h.count;
+        // A snapshot with fewer atom lines than it announces ends at the
+        // next item or at the end of the file: named, never read as atoms.
+        let item =
+            (h.atoms..end.min(lines.len())).find(|&i| lines[i].trim_start().starts_with("ITEM:"));
+        if let Some(i) = item {
+            return Err(bad(
+                i + 1,
+                format!(
+                    "the snapshot holds {} atom lines where ITEM: NUMBER OF ATOMS says {}",
+                    i - h.atoms,
+                    h.count
+                ),
+            ));
+        }
         if end > lines.len() {
             return Err(bad(
                 lines.len() + 1,
-                "the file ends where an atom line was expected".into(),
+                format!(
+                    "the file ends where an atom line was expected: {} atom lines where ITEM: NUMBER OF ATOMS says {}",
+                    lines.len() - h.atoms,
+                    h.count
+                ),
             ));
         }
         let next = filled(end);

@@ -1,14 +1,12 @@
 //! `rgc bench`: speed and memory on the reference systems, rank
 //! throughput, or the cost of truth.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::Instant;
+use std::path::PathBuf;
 
 use clap::Args;
-use rgc::bench::{Growth, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow};
-use rgc::engine::CompiledRule;
-use rgc::math::stats::median;
+use rgc::bench::{
+    Foundation, Growth, REACH_DENSITY, TAIL_BOXES, TruthPlan, TruthReport, TruthRow, TruthSystem,
+};
 use rgc::{Error, Result, bench, output};
 use serde::Serialize;
 
@@ -95,7 +93,7 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         return Ok(());
     }
     if let Some(spec) = &a.truth_system {
-        let row = one_system(spec)?;
+        let row = spec.parse::<TruthSystem>()?.measure()?;
         return super::print_json(&row, out);
     }
     if a.truth {
@@ -108,10 +106,10 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
     let sets = if a.no_rules {
         Vec::new()
     } else {
-        rule_sets(&a.motifs)?
+        bench::load_rule_sets(&a.motifs)?
     };
     if a.networkx {
-        networkx_version(&a.python)?;
+        bench::networkx_version(&a.python)?;
     }
     let named: Vec<bench::RuleSetBench> = sets
         .iter()
@@ -122,29 +120,20 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         .collect();
     let report = bench::run(a.repeat as usize, a.max_rods, &named);
     let networkx = if a.networkx {
-        Some(against_networkx(&a.python, a.repeat as usize)?)
+        Some(bench::against_networkx(
+            &rgc_exe()?,
+            &a.python,
+            a.repeat as usize,
+        )?)
     } else {
         None
     };
     let all = Foundation { report, networkx };
-    if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&all).expect("bench figures serialize");
-        output::write_atomic(path, text + "\n")?;
-    }
-    if a.json {
-        return super::print_json(&all, out);
+    if written(&all, &a, out)? {
+        return Ok(());
     }
     foundation_table(&all, out);
     Ok(())
-}
-
-/// The foundation benchmark's figures, with the networkx comparison when asked.
-#[derive(Serialize)]
-struct Foundation {
-    #[serde(flatten)]
-    report: bench::BenchReport,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    networkx: Option<Networkx>,
 }
 
 fn foundation_table(all: &Foundation, out: &mut String) {
@@ -208,187 +197,39 @@ fn foundation_table(all: &Foundation, out: &mut String) {
     }
 }
 
-/// The rule sets in `dir` that the benchmark times: every file must exist.
-fn rule_sets(dir: &Path) -> Result<Vec<(&'static str, Vec<CompiledRule>)>> {
-    let sets: [(&str, &[&str]); 2] = [
-        ("extended", &["rods-6.json", "rods-8.json", "mixed-4.json"]),
-        ("mined", &["mined.json"]),
-    ];
-    sets.iter()
-        .map(|(name, files)| {
-            let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
-            if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
-                return Err(Error::Parameter(format!(
-                    "rule file {} not found (--motifs names the directory of the project's rule files; --no-rules times none)",
-                    missing.display()
-                )));
-            }
-            Ok((*name, super::load(&paths)?))
-        })
-        .collect()
-}
-
-/// The whole `rgc sample` process against networkx, interleaved, medians.
-#[derive(Serialize)]
-struct Networkx {
-    networkx_version: String,
-    /// Wall time of the whole `rgc sample` process (generation, contacts,
-    /// statistics, compression, JSON), median.
-    rgc_sample_seconds: f64,
-    /// networkx's first step on the saved contact graph, median: 3-clique
-    /// communities, communities sharing a rod merged, and the quotient graph.
-    networkx_seconds: f64,
-    ratio: f64,
-    repeat: usize,
-}
-
-/// networkx's first RGC step, timed inside Python (reading the graph and
-/// importing networkx are not counted): the edge list is argv[1].
-const NETWORKX_STEP: &str = r#"
-import sys, time
-import networkx as nx
-from networkx.algorithms.community import k_clique_communities
-lines = open(sys.argv[1]).read().splitlines()
-n = int(lines[0].split()[2])
-G = nx.Graph()
-G.add_nodes_from(range(n))
-G.add_edges_from(tuple(map(int, l.split())) for l in lines[1:] if l and not l.startswith('#'))
-t = time.perf_counter()
-parent = list(range(n))
-def find(x):
-    while parent[x] != x:
-        parent[x] = parent[parent[x]]
-        x = parent[x]
-    return x
-for c in k_clique_communities(G, 3):
-    c = list(c)
-    for v in c[1:]:
-        a, b = find(c[0]), find(v)
-        if a != b:
-            parent[a] = b
-H = nx.Graph()
-H.add_nodes_from(find(v) for v in range(n))
-H.add_edges_from((find(a), find(b)) for a, b in G.edges() if find(a) != find(b))
-print(time.perf_counter() - t)
-"#;
-
-fn networkx_version(python: &Path) -> Result<String> {
-    let child = Command::new(python)
-        .args(["-c", "import networkx; print(networkx.__version__)"])
-        .output();
-    let why = match &child {
-        Ok(c) if c.status.success() => None,
-        Ok(c) => Some(String::from_utf8_lossy(&c.stderr).trim().to_string()),
-        Err(e) => Some(e.to_string()),
-    };
-    if let Some(why) = why {
-        return Err(Error::Parameter(format!(
-            "--networkx needs {} with networkx (pip install networkx): {why}",
-            python.display()
-        )));
-    }
-    let child = child.map_err(|e| Error::io(python, e))?;
-    Ok(String::from_utf8_lossy(&child.stdout).trim().to_string())
-}
-
-fn against_networkx(python: &Path, repeat: usize) -> Result<Networkx> {
-    let networkx_version = networkx_version(python)?;
-    let exe = std::env::current_exe().map_err(|e| Error::io("rgc", e))?;
-    let dir = std::env::temp_dir().join(format!("rgc-bench-networkx-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-    let graph = dir.join("contacts.txt");
-    let (gamma, density, l) = bench::RULES_SYSTEM;
-    let sample = [
-        "sample".to_string(),
-        format!("--gamma={gamma}"),
-        format!("--box={l}"),
-        format!("--density={density}"),
-        "--json".to_string(),
-    ];
-    let failed = |what: &str, child: &std::process::Output| {
-        Error::io(
-            what,
-            std::io::Error::other(String::from_utf8_lossy(&child.stderr).trim().to_string()),
-        )
-    };
-    let child = Command::new(&exe)
-        .args(&sample)
-        .arg("--save-contacts")
-        .arg(&graph)
-        .output()
-        .map_err(|e| Error::io(&exe, e))?;
-    if !child.status.success() {
-        return Err(failed("rgc sample", &child));
-    }
-    let (mut ours, mut theirs) = (Vec::new(), Vec::new());
-    for _ in 0..repeat.max(1) {
-        let t = Instant::now();
-        let child = Command::new(&exe)
-            .args(&sample)
-            .output()
-            .map_err(|e| Error::io(&exe, e))?;
-        ours.push(t.elapsed().as_secs_f64());
-        if !child.status.success() {
-            return Err(failed("rgc sample", &child));
-        }
-        let child = Command::new(python)
-            .args(["-c", NETWORKX_STEP])
-            .arg(&graph)
-            .output()
-            .map_err(|e| Error::io(python, e))?;
-        if !child.status.success() {
-            return Err(failed("python3 (networkx)", &child));
-        }
-        let seconds: f64 = String::from_utf8_lossy(&child.stdout)
-            .trim()
-            .parse()
-            .map_err(|_| failed("python3 (networkx): no time printed", &child))?;
-        theirs.push(seconds);
-    }
-    std::fs::remove_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
-    let mut ratios: Vec<f64> = theirs.iter().zip(&ours).map(|(t, o)| t / o).collect();
-    Ok(Networkx {
-        networkx_version,
-        rgc_sample_seconds: median(&mut ours),
-        networkx_seconds: median(&mut theirs),
-        ratio: median(&mut ratios),
-        repeat: repeat.max(1),
-    })
-}
-
 fn truth(a: BenchArgs, out: &mut String) -> Result<()> {
     let default = TruthPlan::default();
     let plan = TruthPlan {
-        densities: a.truth_densities.unwrap_or(default.densities),
-        boxes: a.truth_boxes.unwrap_or(default.boxes),
+        densities: a.truth_densities.clone().unwrap_or(default.densities),
+        boxes: a.truth_boxes.clone().unwrap_or(default.boxes),
         seeds: a.truth_seeds.unwrap_or(default.seeds),
     };
+    let exe = rgc_exe()?;
     let report = bench::run_truth(
         &plan,
         a.truth_max_seconds,
         a.truth_reach.map(|b| b as usize),
-        |density, l, seed| in_child(bench::TRUTH_GAMMA, density, l, seed),
+        |density, box_len, seed| {
+            bench::truth_in_child(&exe, bench::TRUTH_GAMMA, density, box_len, seed)
+        },
         &Reporter::new(a.json),
     )?;
-    if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&report).expect("truth report serializes");
-        output::write_atomic(path, text + "\n")?;
-    }
-    if a.json {
-        return super::print_json(&report, out);
+    if written(&report, &a, out)? {
+        return Ok(());
     }
     truth_table(&report, out);
     Ok(())
 }
 
 fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
-    let report = bench::run_truth_aspects(a.truth_large, in_child, &Reporter::new(a.json))?;
-    if let Some(path) = &a.out {
-        let text = serde_json::to_string_pretty(&report).expect("truth report serializes");
-        output::write_atomic(path, text + "\n")?;
-    }
-    if a.json {
-        return super::print_json(&report, out);
+    let exe = rgc_exe()?;
+    let report = bench::run_truth_aspects(
+        a.truth_large,
+        |gamma, density, box_len, seed| bench::truth_in_child(&exe, gamma, density, box_len, seed),
+        &Reporter::new(a.json),
+    )?;
+    if written(&report, &a, out)? {
+        return Ok(());
     }
     say!(
         out,
@@ -435,44 +276,22 @@ fn law(l: Option<Growth>) -> String {
     })
 }
 
-/// Truth on `gamma,density,box,seed` in this process.
-fn one_system(spec: &str) -> Result<TruthRow> {
-    let bad = || {
-        Error::Parameter(format!(
-            "--truth-system wants gamma,density,box,seed, got {spec:?}"
-        ))
-    };
-    let [gamma, density, l, seed] = spec.split(',').collect::<Vec<_>>()[..] else {
-        return Err(bad());
-    };
-    bench::measure_truth_at(
-        gamma.trim().parse().map_err(|_| bad())?,
-        density.trim().parse().map_err(|_| bad())?,
-        l.trim().parse().map_err(|_| bad())?,
-        seed.trim().parse().map_err(|_| bad())?,
-    )
+/// Writes the figures to --out when asked, and prints them as JSON with
+/// --json: then nothing else is printed (true).
+fn written(figures: &impl Serialize, a: &BenchArgs, out: &mut String) -> Result<bool> {
+    if let Some(path) = &a.out {
+        let text = serde_json::to_string_pretty(figures).expect("bench figures serialize");
+        output::write_atomic(path, text + "\n")?;
+    }
+    if a.json {
+        super::print_json(figures, out)?;
+    }
+    Ok(a.json)
 }
 
-/// Truth on one system in a child process of its own, so that its peak
-/// memory is its own: in one long process, pages the allocator kept from
-/// earlier systems would hide what later ones need. (The standard library
-/// cannot read a child's peak memory, so the child reports it.)
-fn in_child(gamma: f64, density: f64, l: usize, seed: u64) -> Result<TruthRow> {
-    let exe = std::env::current_exe().map_err(|e| Error::io("rgc", e))?;
-    let spec = format!("{gamma},{density},{l},{seed}");
-    let child = Command::new(&exe)
-        .args(["bench", "--truth-system", &spec])
-        .output()
-        .map_err(|e| Error::io(&exe, e))?;
-    let failed = |why: String| Error::io(&exe, std::io::Error::other(why));
-    if !child.status.success() {
-        return Err(failed(format!(
-            "truth on system {spec} failed: {}",
-            String::from_utf8_lossy(&child.stderr).trim()
-        )));
-    }
-    serde_json::from_slice(&child.stdout)
-        .map_err(|e| failed(format!("truth on system {spec}: unreadable row: {e}")))
+/// This executable, which the benchmarks run in child processes.
+fn rgc_exe() -> Result<PathBuf> {
+    std::env::current_exe().map_err(|e| Error::io("rgc", e))
 }
 
 fn truth_table(r: &TruthReport, out: &mut String) {

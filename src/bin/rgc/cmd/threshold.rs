@@ -7,10 +7,10 @@ use clap::Args;
 use serde::Serialize;
 
 use rgc::threshold::fss::{self, Estimate, Protocol};
-use rgc::threshold::report::{self, PerBoxReport, Summary};
+use rgc::threshold::report::{self, Concluded, PerBoxReport, Summary, file_list};
 use rgc::threshold::sequence::{Kind, Record};
 use rgc::threshold::study::{self, MotifSet, RunOptions, Shard, StudySpec};
-use rgc::{Error, Result, plot, rule_file};
+use rgc::{Result, plot, rule_file};
 
 use crate::args::{MemoryArgs, RuleArgs, StudyArgs};
 use crate::progress::Reporter;
@@ -128,10 +128,9 @@ pub struct Ran {
 }
 
 /// Writes a finished study's tables and charts into `dir` and prints its
-/// summary (as JSON with `json`, with `ran` when a run came first). When the
-/// scaling analysis fails, the per-box results are written and printed
-/// instead and the command still fails (exit status 2): the sequences'
-/// work is kept, but no threshold came of it.
+/// summary (as JSON with `json`, with `ran` when a run came first); where
+/// the scaling analysis fails, the per-box results and the failure that
+/// [`report::conclude`] gives.
 pub fn analyse(
     dir: &Path,
     spec: &StudySpec,
@@ -141,11 +140,9 @@ pub fn analyse(
     json: bool,
     out: &mut String,
 ) -> Result<()> {
-    let mut written = match report::write_study(dir, spec, records, bootstrap) {
-        Ok(w) => w,
-        Err(Error::Analysis(why)) => {
-            let per_box = report::write_per_box(dir, spec, records, &why)?;
-            let files = shown(&per_box.files);
+    let mut written = match report::conclude(dir, spec, records, bootstrap)? {
+        Concluded::Full(w) => *w,
+        Concluded::PerBox(per_box) => {
             if json {
                 super::print_json(
                     &serde_json::json!({ "run": ran, "complete": true, "summary": null, "per_box": per_box }),
@@ -153,14 +150,11 @@ pub fn analyse(
                 )?;
             } else {
                 print_per_box(&per_box, out);
-                say!(out, "warning: the scaling analysis failed: {why}");
-                say!(out, "Files: {files}");
+                say!(out, "warning: {}", per_box.warning());
+                say!(out, "Files: {}", file_list(&per_box.files));
             }
-            return Err(Error::Analysis(format!(
-                "{why} (the per-box results are in {files})"
-            )));
+            return Err(per_box.failure());
         }
-        Err(e) => return Err(e),
     };
     let charts = plot::study_charts(spec, &written, dir)?;
     written.files.extend(charts);
@@ -172,16 +166,8 @@ pub fn analyse(
         );
     }
     print_summary(&s, out);
-    say!(out, "Files: {}", shown(&files));
+    say!(out, "Files: {}", file_list(&files));
     Ok(())
-}
-
-fn shown(files: &[PathBuf]) -> String {
-    files
-        .iter()
-        .map(|f| f.display().to_string())
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// The header of the per-box table both summaries print.

@@ -1,0 +1,31 @@
+//! The benchmarks behind `rgc bench`: the foundation benchmark (contact
+//! detection and one compression, single threaded, on the reference systems
+//! of the paper's aspect ratios, with rule sets and networkx as
+//! references), and the truth benchmarks: how the cost of exact
+//! whole-system rigidity grows with the system, and so how large a box
+//! truth can decide. Every figure, median and ratio is made here; the
+//! command line only prints them.
+
+pub mod aspects;
+pub mod foundation;
+pub mod growth;
+pub mod measure;
+pub mod networkx;
+pub mod truth;
+
+pub use crate::usage::{peak_rss_mib, reset_peak_rss};
+pub use aspects::{
+    ASPECT_LARGE, ASPECT_PAIR, ASPECT_SYSTEMS, AspectReport, AspectScaling, run_truth_aspects,
+};
+pub use foundation::{
+    BenchReport, BenchRow, RULE_SETS, RULES_SYSTEM, RuleSetBench, RulesRow, SYSTEMS,
+    check_max_rods, load_rule_sets, run,
+};
+pub use growth::Growth;
+pub use measure::one_thread;
+pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networkx_version};
+pub use truth::{
+    PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES, TRUTH_GAMMA,
+    TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,
+    predict_largest_box, run_truth, truth_in_child,
+};

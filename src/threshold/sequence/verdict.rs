@@ -1,0 +1,116 @@
+//! Whether the first `n` rods of a sequence span: `Setup::runs`
+//! compressions (certified where asked), or the exact truth.
+
+use super::rods::Sequence;
+use super::setup::{Kind, Setup};
+use super::step::Step;
+use crate::body::Body;
+use crate::engine::{self, Engine, RuleSet, certify, run_seed};
+use crate::spanning::SpanChecker;
+use crate::truth::{self, TruthOptions};
+use crate::{Error, Result};
+
+/// Compresses the first `n` rods `setup.runs` times, run `k` starting from
+/// `start[k]` (bodies of a smaller prefix, rigid here too) or from nothing.
+/// Returns the step, each run's bodies and whether certification was
+/// undecided in a run that did not span (then the step's "no" is no
+/// verdict). For the truth kind, evaluates the exact truth of the prefix
+/// instead (one "run", no bodies carried).
+pub(super) fn compress(
+    setup: &Setup,
+    seq: &Sequence,
+    n: usize,
+    start: Option<&[Vec<Body>]>,
+) -> Result<(Step, Vec<Vec<Body>>, bool)> {
+    let graph = seq.graph(n);
+    let contacts = seq.contacts_of(n);
+    if setup.kind == Kind::Truth {
+        let spans = truth_spans(setup, seq, n)?;
+        let step = Step::new(n, spans, usize::from(spans));
+        return Ok((step, vec![Vec::new(); setup.runs], false));
+    }
+    let seed = run_seed(seq.seed, n as u64);
+    // Certified compression only changes a verdict that spans (its bodies lie
+    // inside the sound ones), so truth checks only the spanning runs; the
+    // bodies a run carries on are certified when a later run spans.
+    let certified = setup.engine.rules == RuleSet::Certified;
+    let engine = if certified {
+        Engine {
+            rules: RuleSet::Sound,
+            ..setup.engine
+        }
+    } else {
+        setup.engine
+    };
+    let results: Vec<(bool, Vec<Body>, bool)> = (0..setup.runs)
+        .map(|k| {
+            let from = start.map_or(&[][..], |s| &s[k][..]);
+            let run_seed = run_seed(seed, k as u64);
+            let mut run = engine.compress(&graph, from, run_seed)?;
+            let mut checker = SpanChecker::new();
+            let mut spans = |run: &engine::Compression| {
+                run.bodies
+                    .iter()
+                    .any(|b| checker.spans(&seq.system, contacts, &graph, &b.rods, setup.criterion))
+            };
+            let mut spanning = spans(&run);
+            if certified && spanning {
+                let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
+                let topo = truth::Topology::periodic(&graph, &shifts)?;
+                run = certify::certify(&topo, run, run_seed);
+                spanning = spans(&run);
+            }
+            Ok((spanning, run.bodies, run.undecided))
+        })
+        .collect::<Result<_>>()?;
+    let runs_spanning = results.iter().filter(|r| r.0).count();
+    let step = Step::new(n, runs_spanning > 0, runs_spanning);
+    let undecided = !step.spans && results.iter().any(|r| r.2);
+    Ok((step, results.into_iter().map(|r| r.1).collect(), undecided))
+}
+
+/// The exact truth of the first `n` rods, its realizations seeded by the
+/// sequence and `n`.
+pub(super) fn truth_of(setup: &Setup, seq: &Sequence, n: usize) -> truth::Truth {
+    let opts = TruthOptions {
+        memory_limit: setup.memory_limit,
+        ..TruthOptions::seeded(run_seed(seq.seed, n as u64))
+    };
+    truth::of_system(
+        &seq.system,
+        seq.contacts_of(n),
+        &seq.graph(n),
+        setup.criterion,
+        opts,
+    )
+}
+
+/// Whether a rigid cluster of the exact truth of the first `n` rods spans,
+/// or `None` when truth is undecided there.
+pub fn truth_spanning(setup: &Setup, seq: &Sequence, n: usize) -> Option<bool> {
+    truth_of(setup, seq, n).spanning
+}
+
+/// The error of a truth refused for the memory limit.
+pub(super) fn refusal(seq: &Sequence, n: usize, t: truth::Truth) -> Error {
+    Error::Memory(format!(
+        "truth of the first {n} rods of the sequence seeded {}: {} (raise it with --memory-limit)",
+        seq.seed,
+        t.reason.unwrap_or_default()
+    ))
+}
+
+/// [`truth_spanning`], where an undecided truth is an error rather than a guess.
+pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
+    let t = truth_of(setup, seq, n);
+    if t.refused.is_some() {
+        return Err(refusal(seq, n, t));
+    }
+    t.spanning.ok_or_else(|| {
+        Error::Analysis(format!(
+            "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
+            seq.seed,
+            t.reason.unwrap_or_default()
+        ))
+    })
+}
