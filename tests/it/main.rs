@@ -31,6 +31,7 @@ mod threshold;
 mod truth;
 mod truth_contract;
 mod truth_motions;
+mod vtk;
 
 use std::path::PathBuf;
 
