@@ -117,7 +117,7 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     assert_eq!(g.n_edges() as u64, first["n_contacts"].as_u64().unwrap());
     // The GraphML holds the same graph, with each contact's geometry.
     let ml = rgc::graph::graphml::read_graphml(&graphml_path).unwrap();
-    assert_eq!(ml.n_rods, g.n_nodes());
+    assert_eq!(ml.system.len(), g.n_nodes());
     let ml_edges: Vec<[u32; 2]> = ml.contacts.iter().map(|c| c.rods).collect();
     assert_eq!(ml_edges, g.edges());
     assert!(

@@ -14,6 +14,7 @@ mod fallback;
 mod float;
 mod fss;
 mod graphio;
+mod graphml;
 mod layers;
 mod mine;
 mod planes;
