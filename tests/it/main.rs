@@ -18,6 +18,7 @@ mod graphml;
 mod layers;
 mod mine;
 mod planes;
+mod render;
 mod projection;
 mod rank;
 mod rigidity;
