@@ -1567,3 +1567,53 @@ fn transition_reports_the_jump_per_box_and_the_share_above_the_threshold() {
     );
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Usage errors are two lines (clap's own ran to five or six): the error,
+/// naming the flag, with clap's suggestion or the possible values on it,
+/// then where to read more; exit code 2. Help still prints whole, exit 0.
+#[test]
+fn usage_errors_are_two_lines_naming_the_flag() {
+    let cases: [(&[&str], &str, &str); 5] = [
+        (
+            &["sample", "--gamma", "23", "--sed", "3"],
+            "rgc: error: unexpected argument '--sed' found (did you mean '--seed'?)",
+            "sample",
+        ),
+        (
+            &["render", "--gamma", "23"],
+            "rgc: error: missing the required argument --out <OUT>",
+            "render",
+        ),
+        (
+            &["sample", "--rules", "papr"],
+            "rgc: error: invalid value 'papr' for '--rules <RULES>' (did you mean 'paper'?) (possible values: sound, paper, certified)",
+            "sample",
+        ),
+        (
+            &["compress"],
+            "rgc: error: missing the required argument <--graph6 <GRAPH6>|--edges <EDGES>>",
+            "compress",
+        ),
+        (
+            &["samplx"],
+            "rgc: error: unrecognized subcommand 'samplx' (did you mean 'sample'?)",
+            "",
+        ),
+    ];
+    for (args, first, sub) in cases {
+        let out = rgc(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        let hint = if sub.is_empty() {
+            "see 'rgc --help'".to_string()
+        } else {
+            format!("see 'rgc {sub} --help'")
+        };
+        assert_eq!(err, format!("{first}\n{hint}\n"), "{args:?}");
+        assert!(out.stdout.is_empty());
+    }
+    let help = rgc(&["sample", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&help.stdout);
+    assert!(text.contains("Usage: rgc sample") && text.contains("--save-vtk"));
+}
