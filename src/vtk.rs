@@ -283,7 +283,8 @@ pub fn to_vtp(system: &RodSystem, fields: &[Field]) -> Vec<u8> {
     w.xml.push_str("    </FieldData>\n");
     w.piece(&rods, &types);
     w.piece(&outline, &types);
-    w.xml.push_str("  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _");
+    w.xml
+        .push_str("  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _");
     let mut file = w.xml.into_bytes();
     file.extend_from_slice(&w.data);
     file.extend_from_slice(b"\n  </AppendedData>\n</VTKFile>\n");

@@ -266,7 +266,10 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
             r.ok_or_else(|| {
                 fail(
                     line,
-                    format!("node {i} is missing: rods are numbered 0, 1, 2 ... up to {}", n_rods - 1),
+                    format!(
+                        "node {i} is missing: rods are numbered 0, 1, 2 ... up to {}",
+                        n_rods - 1
+                    ),
                 )
             })
         })
@@ -342,7 +345,11 @@ fn parse_tag(inner: &str) -> std::result::Result<Tag<'_>, String> {
 
 /// The value of attribute `key` in `data`, or why there is none; `what`
 /// names the element.
-fn value<'a>(data: &'a [(String, String)], key: &str, what: &str) -> std::result::Result<&'a str, String> {
+fn value<'a>(
+    data: &'a [(String, String)],
+    key: &str,
+    what: &str,
+) -> std::result::Result<&'a str, String> {
     data.iter()
         .find(|(k, _)| k == key)
         .map(|(_, v)| v.as_str())
@@ -388,9 +395,7 @@ fn domain(data: &[(String, String)]) -> std::result::Result<Domain, String> {
         "xy" => Periodic::Xy,
         "none" => Periodic::None,
         other => {
-            return Err(format!(
-                "periodic {other:?} is none of xyz, xy and none"
-            ));
+            return Err(format!("periodic {other:?} is none of xyz, xy and none"));
         }
     };
     Ok(Domain { sides, periodic })

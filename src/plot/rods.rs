@@ -128,7 +128,12 @@ pub fn rods_pixels(system: &RodSystem, groups: &Groups, view: View) -> Result<Ve
 
 /// The pixel (column, row) where `point` lands in [`rods_pixels`]'s
 /// picture of `system` from `view`.
-pub fn pixel_of(system: &RodSystem, groups: &Groups, view: View, point: Vector3<f64>) -> (i32, i32) {
+pub fn pixel_of(
+    system: &RodSystem,
+    groups: &Groups,
+    view: View,
+    point: Vector3<f64>,
+) -> (i32, i32) {
     let scene = Scene::new(system, groups, view, "");
     scene.place(SIZE).pixel(view.project(&point).0)
 }
@@ -353,7 +358,10 @@ fn legend(
     let mut lines = Vec::new();
     match chosen {
         Some(k) if groups.groups[k].1 => {
-            lines.push((format!("spanning {noun}: {} rods", thousands(held[k])), HIGHLIGHT));
+            lines.push((
+                format!("spanning {noun}: {} rods", thousands(held[k])),
+                HIGHLIGHT,
+            ));
         }
         Some(k) => lines.push((
             format!("largest {noun} (none spans): {} rods", thousands(held[k])),

@@ -158,7 +158,11 @@ fn a_graphml_file_in_networkx_shape_reads_back_by_its_key_names() {
         .filter(|l| !l.trim_start().starts_with("<key "))
         .map(|l| format!("{l}\n"))
         .collect();
-    same(&parse_graphml(&bare, Path::new("t.graphml")).unwrap(), &s, &c);
+    same(
+        &parse_graphml(&bare, Path::new("t.graphml")).unwrap(),
+        &s,
+        &c,
+    );
 }
 
 #[test]
@@ -189,7 +193,10 @@ fn broken_graphml_is_refused_with_its_line() {
         ),
         (
             good.replacen("<data key=\"s0\">", "<data key=\"s0\">x", 1),
-            format!("line {first_edge}: edge {} {}: s0 \"x", c[0].rods[0], c[0].rods[1]),
+            format!(
+                "line {first_edge}: edge {} {}: s0 \"x",
+                c[0].rods[0], c[0].rods[1]
+            ),
         ),
         (
             good.replacen("<data key=\"kx\">0", "<data key=\"kx\">0.5", 1),

@@ -99,7 +99,10 @@ fn the_highlighted_rod_is_red_where_it_lies_as_wide_as_it_is_and_nowhere_else() 
         red_rows.len()
     );
     let other = at(&px, pixel([3.5, 2.0, 3.0]));
-    assert!(other != RED && other != FREE && other != [255; 3], "{other:?}");
+    assert!(
+        other != RED && other != FREE && other != [255; 3],
+        "{other:?}"
+    );
     assert_eq!(at(&px, pixel([1.0, 2.0, 3.0])), FREE);
     // Without bodies nothing is red: the colour means the chosen group.
     let px = rods_pixels(&s, &groups(vec![]), FRONT).unwrap();
@@ -108,7 +111,10 @@ fn the_highlighted_rod_is_red_where_it_lies_as_wide_as_it_is_and_nowhere_else() 
     let thin = system(&[([2.0, 2.0, 1.0], x, 2.0)], 1e-5);
     let g = groups(vec![(&[0][..], true)]);
     let px = rods_pixels(&thin, &g, FRONT).unwrap();
-    assert_eq!(at(&px, pixel_of(&thin, &g, FRONT, Vector3::new(2.0, 2.0, 1.0))), RED);
+    assert_eq!(
+        at(&px, pixel_of(&thin, &g, FRONT, Vector3::new(2.0, 2.0, 1.0))),
+        RED
+    );
     // A view that cannot be is refused.
     let bad = View {
         azimuth: 0.0,
@@ -156,7 +162,14 @@ fn strokes(svg: &str, colour: &str) -> Vec<u32> {
         .skip(1)
         .filter(|p| p.contains(&format!("stroke=\"{colour}\"")))
         .map(|p| {
-            p.split("stroke-width=\"").nth(1).unwrap().split('"').next().unwrap().parse().unwrap()
+            p.split("stroke-width=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
         })
         .collect()
 }
@@ -193,14 +206,25 @@ fn render_of_a_rods_file_titles_it_and_draws_walls_apart_from_periodic_faces() {
             "--out",
             prefix.to_str().unwrap(),
         ]);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let svg = std::fs::read_to_string(prefix.with_extension("svg")).unwrap();
-        assert!(svg.contains("three.csv: 3 rods, box 4, rules sound"), "title");
+        assert!(
+            svg.contains("three.csv: 3 rods, box 4, rules sound"),
+            "title"
+        );
         assert!(!svg.contains("seed") && !svg.contains("density"));
         assert!(svg.contains("rods in no body: 3"));
         assert!(!svg.contains("spanning") && !svg.contains("other bodies"));
         assert!(svg.contains(line), "{periodic}: {line}");
-        assert_eq!(strokes(&svg, "#282828"), vec![3; walls], "{periodic}: wall edges");
+        assert_eq!(
+            strokes(&svg, "#282828"),
+            vec![3; walls],
+            "{periodic}: wall edges"
+        );
         let dashes = strokes(&svg, "#6E6E6E");
         assert_eq!(!dashes.is_empty(), dashed, "{periodic}: dashed edges");
         assert!(dashes.iter().all(|&w| w == 1));
@@ -237,13 +261,30 @@ fn count_after(svg: &str, label: &str) -> Option<usize> {
 fn render_truth_highlights_truths_cluster() {
     let dir = crate::scratch("render-truth");
     let system = [
-        "--gamma", "23", "--box", "4", "--density", "40", "--seed", "2",
+        "--gamma",
+        "23",
+        "--box",
+        "4",
+        "--density",
+        "40",
+        "--seed",
+        "2",
     ];
     let render = |extra: &[&str], name: &str| {
         let prefix = dir.join(name);
-        let args = [&["render"][..], &system, extra, &["--out", prefix.to_str().unwrap()]].concat();
+        let args = [
+            &["render"][..],
+            &system,
+            extra,
+            &["--out", prefix.to_str().unwrap()],
+        ]
+        .concat();
         let out = rgc(&args);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         std::fs::read_to_string(prefix.with_extension("svg")).unwrap()
     };
     let (with, without) = (render(&["--truth"], "truth"), render(&[], "bodies"));
@@ -255,12 +296,21 @@ fn render_truth_highlights_truths_cluster() {
     let spanning = clusters.iter().find(|c| c["spans"]["wrap"] == true);
     let (label, want) = match spanning {
         Some(c) => ("spanning true rigid cluster: ", size(c)),
-        None => ("largest true rigid cluster (none spans): ", size(&clusters[0])),
+        None => (
+            "largest true rigid cluster (none spans): ",
+            size(&clusters[0]),
+        ),
     };
     assert_eq!(count_after(&with, label), Some(want), "{label}");
     let mut held: Vec<u64> = clusters
         .iter()
-        .flat_map(|c| c["rods"].as_array().unwrap().iter().map(|r| r.as_u64().unwrap()))
+        .flat_map(|c| {
+            c["rods"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|r| r.as_u64().unwrap())
+        })
         .collect();
     held.sort_unstable();
     held.dedup();
@@ -273,7 +323,10 @@ fn render_truth_highlights_truths_cluster() {
     let body = count_after(&without, "spanning body: ")
         .or_else(|| count_after(&without, "largest body (none spans): "))
         .expect("the default legend names the body");
-    assert!(body < want, "truth holds more rods rigid: {body} against {want}");
+    assert!(
+        body < want,
+        "truth holds more rods rigid: {body} against {want}"
+    );
     assert!(!without.contains("true rigid cluster"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -120,8 +120,7 @@ pub fn read_vtp(path: &Path) -> Vtp {
                 assert_eq!(attr(tag, "format"), Some("appended"), "{tag}");
                 let offset: usize = attr(tag, "offset").unwrap().parse().unwrap();
                 assert_eq!(offset, end, "arrays back to back: {tag}");
-                let len =
-                    u64::from_le_bytes(data[offset..offset + 8].try_into().unwrap()) as usize;
+                let len = u64::from_le_bytes(data[offset..offset + 8].try_into().unwrap()) as usize;
                 let raw = &data[offset + 8..offset + 8 + len];
                 end = offset + 8 + len;
                 let ty = attr(tag, "type").unwrap().to_string();
@@ -145,11 +144,7 @@ pub fn read_vtp(path: &Path) -> Vtp {
                     other => panic!("unexpected type {other}"),
                 };
                 let comps: usize = attr(tag, "NumberOfComponents").unwrap().parse().unwrap();
-                let array = Array {
-                    ty,
-                    comps,
-                    values,
-                };
+                let array = Array { ty, comps, values };
                 let name = attr(tag, "Name").unwrap().to_string();
                 if section == "FieldData" {
                     assert_eq!(attr(tag, "NumberOfTuples"), Some("1"));
@@ -219,7 +214,11 @@ fn check_frame(vtp: &Vtp, system: &rgc::rods::RodSystem, fields: &[&str]) {
     for (i, r) in system.rods.iter().enumerate() {
         let (a, b) = (r.at(-0.5 * r.length), r.at(0.5 * r.length));
         let want = [a.x, a.y, a.z, b.x, b.y, b.z];
-        assert_eq!(points[6 * i..6 * i + 6], want, "rod {i}'s core, bit for bit");
+        assert_eq!(
+            points[6 * i..6 * i + 6],
+            want,
+            "rod {i}'s core, bit for bit"
+        );
         assert_eq!(per_point[2 * i..2 * i + 2], [r.radius; 2]);
         assert_eq!(per_cell[i], r.radius);
     }
@@ -300,7 +299,11 @@ fn a_sample_vtk_file_reads_back_to_the_librarys_rods_bodies_and_clusters() {
         "--save-bodies",
         bodies.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let s = sample(&SampleOptions {
         rods: rgc::rods::RodParams::new(10.0, 4.0, 12.0).unwrap().into(),
         seed: 9,
@@ -379,7 +382,11 @@ fn vtk_carries_each_rods_size_its_box_and_its_true_rigid_cluster() {
         rods.to_str().unwrap(),
         "--json",
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let report: Value = serde_json::from_slice(&out.stdout).unwrap();
     let truth = &report["truth"];
     assert_eq!(truth["method"], "exact");
@@ -428,10 +435,21 @@ fn truth_writes_its_clusters_as_json_and_vtk() {
     let p = |name: &str| dir.join(name).to_str().unwrap().to_string();
     let (plain, csv, vtp, json) = (p("plain.csv"), p("ids.csv"), p("t.vtp"), p("c.json"));
     let generated = [
-        "--gamma", "23", "--box", "3", "--density", "40", "--seed", "4",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "40",
+        "--seed",
+        "4",
     ];
     let out = rgc(&[&["sample", "--save-rods", plain.as_str()], &generated[..]].concat());
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // The same rods numbered from 500 down, by an id column.
     let text = std::fs::read_to_string(&plain).unwrap();
     let mut lines = text.lines();
@@ -443,7 +461,11 @@ fn truth_writes_its_clusters_as_json_and_vtk() {
     let run = |extra: &[&str]| {
         let args = [&["truth", "--rods", csv.as_str(), "--box", "3"][..], extra].concat();
         let out = rgc(&args);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         serde_json::from_slice::<Value>(&out.stdout).unwrap()
     };
     let printed = run(&["--save-vtk", &vtp, "--save-clusters", &json, "--json"]);
@@ -487,7 +509,11 @@ fn truth_writes_its_clusters_as_json_and_vtk() {
     let system = loaded.system;
     let n = system.len();
     let file = read_vtp(Path::new(&vtp));
-    check_frame(&file, &system, &["degree", "true_cluster", "true_spans", "id"]);
+    check_frame(
+        &file,
+        &system,
+        &["degree", "true_cluster", "true_spans", "id"],
+    );
     let (cluster, spans) = per_rod(n, &clusters);
     let rods = &file.pieces[0];
     assert_eq!(rods.cells("true_cluster"), cluster.as_slice());
@@ -519,7 +545,11 @@ fn truth_outputs_are_checked_before_the_work() {
     };
     let both = same.to_str().unwrap();
     refused(
-        &[&generated[..], &["--save-vtk", both, "--save-clusters", both]].concat(),
+        &[
+            &generated[..],
+            &["--save-vtk", both, "--save-clusters", both],
+        ]
+        .concat(),
         &format!("--save-vtk and --save-clusters both write {both}"),
     );
     refused(
@@ -531,7 +561,11 @@ fn truth_outputs_are_checked_before_the_work() {
         &[&generated[..], &["--save-vtk", legacy.to_str().unwrap()]].concat(),
         "--save-vtk writes VTK XML PolyData: name the file .vtp",
     );
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "nothing written");
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing written"
+    );
     // A triangle of rods is one rigid cluster of a finite framework: no spans.
     let json = dir.join("c.json");
     let out = rgc(&[
@@ -541,7 +575,11 @@ fn truth_outputs_are_checked_before_the_work() {
         "--save-clusters",
         json.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let saved: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     assert_eq!(
         saved,

@@ -131,8 +131,8 @@ fn usage(e: &clap::Error) -> ExitCode {
         ContextKind::SuggestedSubcommand,
         ContextKind::SuggestedValue,
     ]
-        .map(strings)
-        .join("");
+    .map(strings)
+    .join("");
     if !suggested.is_empty() {
         message += &format!(" (did you mean '{suggested}'?)");
     }

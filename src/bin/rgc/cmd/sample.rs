@@ -24,7 +24,7 @@ pub struct SampleArgs {
     /// Write the rods and contacts as GraphML (rod centres, axes, lengths and radii; each contact's point, axis parameters and periodic image) to this file.
     #[arg(long)]
     save_graphml: Option<PathBuf>,
-    /// Write the rods as VTK PolyData (.vtp: line cells with their radius; per rod the body of the reported run, -1 if free, whether it spans, the degree, and with --truth the true rigid cluster and whether it spans) to this file.
+    /// Write the rods as VTK PolyData (.vtp, binary: line cells with their radius, the box outline as a second piece and the box as field data; per rod the body of the reported run, -1 if free, whether it spans, the degree, and with --truth the true rigid cluster and whether it spans) to this file.
     #[arg(long)]
     save_vtk: Option<PathBuf>,
     /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
