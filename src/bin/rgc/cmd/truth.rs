@@ -80,23 +80,10 @@ fn check_outputs(a: &TruthArgs) -> Result<()> {
         }
         rgc::vtk::check_extension(path)?;
     }
-    let given: Vec<(&str, &PathBuf)> = [
+    super::check_outputs(&[
         ("--save-vtk", &a.save_vtk),
         ("--save-clusters", &a.save_clusters),
-    ]
-    .into_iter()
-    .filter_map(|(flag, p)| Some((flag, p.as_ref()?)))
-    .collect();
-    for (i, (flag, path)) in given.iter().enumerate() {
-        output::check_file(path)?;
-        if let Some((other, _)) = given[..i].iter().find(|(_, p)| p == path) {
-            return Err(Error::Parameter(format!(
-                "{other} and {flag} both write {}: one would overwrite the other",
-                path.display()
-            )));
-        }
-    }
-    Ok(())
+    ])
 }
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
