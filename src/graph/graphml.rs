@@ -12,9 +12,14 @@
 //! exact form, so a file read back gives the very same contacts.
 //!
 //! The reader is for files of this shape (rgc's own, or another program's
-//! with the same keys): elements and attributes in any order and layout,
-//! without entities, comments inside elements or CDATA.
+//! with the same attribute names, e.g. networkx's `write_graphml`, whose
+//! keys are `d0`, `d1` ... declared with their `attr.name`): elements and
+//! attributes in any order and layout, nodes in any order (numbered 0 to
+//! n - 1), an edge's ends either way round, without entities, comments
+//! inside elements or CDATA. It gives back the rods with their box and the
+//! contacts.
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -22,7 +27,7 @@ use nalgebra::Vector3;
 
 use crate::contacts::Contact;
 use crate::output;
-use crate::rods::RodSystem;
+use crate::rods::{Domain, Periodic, Rod, RodSystem};
 use crate::{Error, Result};
 
 /// Node keys, in file order.
@@ -101,15 +106,16 @@ pub fn save_graphml(system: &RodSystem, contacts: &[Contact], path: &Path) -> Re
     output::write_atomic(path, to_graphml(system, contacts))
 }
 
-/// A GraphML file read back: the rods' number and their contacts.
-#[derive(Clone, Debug, PartialEq)]
+/// A GraphML file read back: the rods with their box, and their contacts.
+#[derive(Clone, Debug)]
 pub struct GraphmlContacts {
-    pub n_rods: usize,
+    pub system: RodSystem,
     pub contacts: Vec<Contact>,
 }
 
-/// The edge being read: its line, its rods, and its data by key.
-type OpenEdge<'a> = (usize, [u32; 2], Vec<(&'a str, &'a str)>);
+/// An element being read: its line, what it names (a node's id, an edge's
+/// rods) and its data as (key id, value).
+type Open<'a, T> = Option<(usize, T, Vec<(&'a str, &'a str)>)>;
 
 /// One element's start tag: its name, attributes, and whether it closes itself.
 struct Tag<'a> {
@@ -118,8 +124,11 @@ struct Tag<'a> {
     closed: bool,
 }
 
-/// Reads the contacts of a GraphML document written by [`to_graphml`] (or
-/// of the same shape); `path` names it in errors, which give the line.
+/// Reads the rods, box and contacts of a GraphML document written by
+/// [`to_graphml`], or by another program with the same attribute names
+/// (networkx names its keys `d0`, `d1` ... and gives the names in
+/// `<key attr.name=..>`; data are matched through those declarations);
+/// `path` names it in errors, which give the line.
 pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
     let fail = |line: usize, reason: String| Error::Malformed {
         format: "GraphML",
@@ -127,12 +136,18 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
         line,
         reason,
     };
-    let mut n_rods = 0usize;
+    // Attribute names by key id; an undeclared key is its own name.
+    let mut names: HashMap<&str, &str> = HashMap::new();
+    let mut graph_data: Vec<(&str, &str)> = Vec::new();
+    let mut rods: Vec<Option<Rod>> = Vec::new();
+    // Node ids index the rods: none may pass the number of node elements.
+    let most = text.matches("<node").count();
     let mut contacts = Vec::new();
     let mut rest = text;
     let mut line = 1;
     let mut seen_end = false;
-    let mut edge: Option<OpenEdge> = None;
+    let mut node: Open<usize> = None;
+    let mut edge: Open<[u32; 2]> = None;
     while let Some(at) = rest.find('<') {
         line += rest[..at].matches('\n').count();
         rest = &rest[at..];
@@ -149,10 +164,16 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
         if let Some(name) = inner.strip_prefix('/') {
             match name.trim() {
                 "edge" => {
-                    let (l, rods, data) = edge
+                    let (l, ends, data) = edge
                         .take()
                         .ok_or_else(|| fail(tag_line, "</edge> without <edge>".into()))?;
-                    contacts.push(contact(rods, &data).map_err(|r| fail(l, r))?);
+                    contacts.push(contact(ends, &named(&data, &names)).map_err(|r| fail(l, r))?);
+                }
+                "node" => {
+                    let (l, id, data) = node
+                        .take()
+                        .ok_or_else(|| fail(tag_line, "</node> without <node>".into()))?;
+                    rods[id] = Some(rod(id, &named(&data, &names)).map_err(|r| fail(l, r))?);
                 }
                 "graphml" => seen_end = true,
                 _ => {}
@@ -177,44 +198,82 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
             })
         };
         match tag.name {
+            "key" => {
+                let id = attr("id")?;
+                let name = tag
+                    .attributes
+                    .iter()
+                    .find(|(k, _)| *k == "attr.name")
+                    .map_or(id, |(_, v)| *v);
+                names.insert(id, name);
+            }
             "node" => {
+                if node.is_some() || edge.is_some() {
+                    return Err(fail(tag_line, "a <node> inside another element".into()));
+                }
                 let id = index("id")? as usize;
-                if id != n_rods {
+                if id >= most {
                     return Err(fail(
                         tag_line,
                         format!(
-                            "node {id} where node {n_rods} was expected: rods are numbered 0, 1, 2 ... in order"
+                            "node {id} is out of range: the file has {most} nodes, numbered 0, 1, 2 ..."
                         ),
                     ));
                 }
-                n_rods += 1;
+                if id >= rods.len() {
+                    rods.resize(id + 1, None);
+                }
+                if rods[id].is_some() {
+                    return Err(fail(tag_line, format!("node {id} is given twice")));
+                }
+                if tag.closed {
+                    return Err(fail(tag_line, format!("node {id} has no geometry")));
+                }
+                node = Some((tag_line, id, Vec::new()));
             }
             "edge" => {
-                if edge.is_some() {
-                    return Err(fail(tag_line, "an <edge> inside an <edge>".into()));
+                if node.is_some() || edge.is_some() {
+                    return Err(fail(tag_line, "an <edge> inside another element".into()));
                 }
                 let (a, b) = (index("source")?, index("target")?);
-                let data = Vec::new();
                 if tag.closed {
                     return Err(fail(tag_line, "an edge without its contact data".into()));
                 }
-                edge = Some((tag_line, [a, b], data));
+                edge = Some((tag_line, [a, b], Vec::new()));
             }
             "data" => {
-                if let Some((_, _, data)) = edge.as_mut() {
-                    let key = attr("key")?;
-                    let end = rest.find("</data>").ok_or_else(|| {
-                        fail(tag_line, format!("<data key={key:?}> is not closed"))
-                    })?;
-                    data.push((key, rest[..end].trim()));
+                let key = attr("key")?;
+                let end = rest
+                    .find("</data>")
+                    .ok_or_else(|| fail(tag_line, format!("<data key={key:?}> is not closed")))?;
+                let value = (key, rest[..end].trim());
+                match (node.as_mut(), edge.as_mut()) {
+                    (Some((_, _, data)), _) | (_, Some((_, _, data))) => data.push(value),
+                    (None, None) => graph_data.push(value),
                 }
             }
             _ => {}
         }
     }
-    if edge.is_some() || !seen_end {
+    if edge.is_some() || node.is_some() || !seen_end {
         return Err(fail(line, "the file ends before </graphml>".into()));
     }
+    let n_rods = rods.len();
+    let rods: Vec<Rod> = rods
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            r.ok_or_else(|| {
+                fail(
+                    line,
+                    format!(
+                        "node {i} is missing: rods are numbered 0, 1, 2 ... up to {}",
+                        n_rods - 1
+                    ),
+                )
+            })
+        })
+        .collect::<Result<_>>()?;
     for c in &contacts {
         if c.rods[1] as usize >= n_rods {
             return Err(fail(
@@ -226,7 +285,18 @@ pub fn parse_graphml(text: &str, path: &Path) -> Result<GraphmlContacts> {
             ));
         }
     }
-    Ok(GraphmlContacts { n_rods, contacts })
+    let domain = domain(&named(&graph_data, &names)).map_err(|r| fail(line, r))?;
+    Ok(GraphmlContacts {
+        system: RodSystem { domain, rods },
+        contacts,
+    })
+}
+
+/// Data as (attribute name, value).
+fn named(data: &[(&str, &str)], names: &HashMap<&str, &str>) -> Vec<(String, String)> {
+    data.iter()
+        .map(|(k, v)| (names.get(k).unwrap_or(k).to_string(), v.to_string()))
+        .collect()
 }
 
 /// Reads a GraphML file (see [`parse_graphml`]).
@@ -273,42 +343,78 @@ fn parse_tag(inner: &str) -> std::result::Result<Tag<'_>, String> {
     })
 }
 
-/// An edge's contact from its data.
-fn contact(rods: [u32; 2], data: &[(&str, &str)]) -> std::result::Result<Contact, String> {
-    if rods[0] >= rods[1] {
+/// The value of attribute `key` in `data`, or why there is none; `what`
+/// names the element.
+fn value<'a>(
+    data: &'a [(String, String)],
+    key: &str,
+    what: &str,
+) -> std::result::Result<&'a str, String> {
+    data.iter()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+        .ok_or_else(|| format!("{what} has no {key}"))
+}
+
+/// A finite number.
+fn double(data: &[(String, String)], key: &str, what: &str) -> std::result::Result<f64, String> {
+    let v = value(data, key, what)?;
+    v.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| format!("{what}: {key} {v:?} is not a finite number"))
+}
+
+/// A node's rod from its data.
+fn rod(id: usize, data: &[(String, String)]) -> std::result::Result<Rod, String> {
+    let what = format!("node {id}");
+    let [cx, cy, cz, ax, ay, az, length, radius] = NODE_KEYS.map(|k| double(data, k, &what));
+    let (length, radius) = (length?, radius?);
+    if length <= 0.0 || radius <= 0.0 {
         return Err(format!(
-            "edge {} {}: the source must be the lower-numbered rod",
-            rods[0], rods[1]
+            "{what}: a rod needs a positive length and radius, not {length} and {radius}"
         ));
     }
-    let value = |key: &str| {
-        data.iter()
-            .find(|(k, _)| *k == key)
-            .map(|(_, v)| *v)
-            .ok_or_else(|| format!("edge {} {} has no {key}", rods[0], rods[1]))
+    Ok(Rod::new(
+        Vector3::new(cx?, cy?, cz?),
+        Vector3::new(ax?, ay?, az?),
+        length,
+        radius,
+    ))
+}
+
+/// The box from the graph's data.
+fn domain(data: &[(String, String)]) -> std::result::Result<Domain, String> {
+    let [x, y, z] = ["box_x", "box_y", "box_z"].map(|k| double(data, k, "the graph"));
+    let sides = [x?, y?, z?];
+    if sides.iter().any(|&l| l <= 0.0) {
+        return Err(format!("the box sides {sides:?} must be positive"));
+    }
+    let periodic = match value(data, "periodic", "the graph")? {
+        "xyz" => Periodic::Xyz,
+        "xy" => Periodic::Xy,
+        "none" => Periodic::None,
+        other => {
+            return Err(format!("periodic {other:?} is none of xyz, xy and none"));
+        }
     };
-    let double = |key: &str| -> std::result::Result<f64, String> {
-        let v = value(key)?;
-        v.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| {
-                format!(
-                    "edge {} {}: {key} {v:?} is not a finite number",
-                    rods[0], rods[1]
-                )
-            })
-    };
+    Ok(Domain { sides, periodic })
+}
+
+/// An edge's contact from its data; `s0` and the image belong to the
+/// lower-numbered rod whichever end the edge names first.
+fn contact(ends: [u32; 2], data: &[(String, String)]) -> std::result::Result<Contact, String> {
+    let rods = [ends[0].min(ends[1]), ends[0].max(ends[1])];
+    let what = format!("edge {} {}", ends[0], ends[1]);
+    if rods[0] == rods[1] {
+        return Err(format!("{what}: a rod does not touch itself"));
+    }
     let int = |key: &str| -> std::result::Result<i32, String> {
-        let v = value(key)?;
-        v.parse::<i32>().map_err(|_| {
-            format!(
-                "edge {} {}: {key} {v:?} is not an integer",
-                rods[0], rods[1]
-            )
-        })
+        let v = value(data, key, &what)?;
+        v.parse::<i32>()
+            .map_err(|_| format!("{what}: {key} {v:?} is not an integer"))
     };
-    let [s0, s1, px, py, pz] = EDGE_DOUBLES.map(double);
+    let [s0, s1, px, py, pz] = EDGE_DOUBLES.map(|k| double(data, k, &what));
     let [kx, ky, kz] = EDGE_INTS.map(int);
     Ok(Contact {
         rods,

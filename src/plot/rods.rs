@@ -1,14 +1,18 @@
 //! A rod system as a person would look at it: an orthographic view of the
-//! box with each rod's core as a segment, coloured by its group: a run's
-//! rigid bodies, or the true rigid clusters. The group that matters (the
-//! first spanning one, else the largest) is drawn last, strong and wide; the
-//! other groups in faded colours; rods in none pale grey; the box as a wire
-//! frame.
+//! box with each rod's core as a segment as wide as the rod (at least a
+//! pixel), coloured by its group: a run's rigid bodies, or the true rigid
+//! clusters. The group that matters (the first spanning one, else the
+//! largest) is strong red; the other groups in faded colours; rods in none
+//! pale grey. Rods and box edges are drawn far to near (the painter's
+//! algorithm), so a near rod covers a far one whatever their groups. Box
+//! edges on a wall are solid and thick, edges between periodic faces thin
+//! and dashed. A legend under the title counts the rods of each kind.
 
 use std::path::Path;
 
 use nalgebra::Vector3;
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::chart::{Chart, Drawn, colour, render};
@@ -19,10 +23,11 @@ use crate::truth::Truth;
 use crate::{Error, Result};
 
 /// The rods to colour: groups largest first, each with whether it spans,
-/// and what a group is called in the picture's label.
+/// and what a group is called in the picture's legend (singular, plural).
 #[derive(Clone, Debug)]
 pub struct Groups<'a> {
     pub noun: &'static str,
+    pub nouns: &'static str,
     pub groups: Vec<(&'a [u32], bool)>,
 }
 
@@ -31,6 +36,7 @@ impl<'a> Groups<'a> {
     pub fn bodies(bodies: &'a ReportedBodies) -> Self {
         Groups {
             noun: "body",
+            nouns: "bodies",
             groups: bodies
                 .bodies
                 .iter()
@@ -43,6 +49,7 @@ impl<'a> Groups<'a> {
     pub fn true_clusters(truth: &'a Truth, criterion: Criterion) -> Self {
         Groups {
             noun: "true rigid cluster",
+            nouns: "true rigid clusters",
             groups: truth
                 .clusters
                 .iter()
@@ -54,6 +61,12 @@ impl<'a> Groups<'a> {
         }
     }
 }
+
+/// The colour of the group that matters.
+pub const HIGHLIGHT: RGBColor = RGBColor(214, 39, 40);
+/// Box edges on a wall, and edges where only periodic faces meet.
+pub const WALL: RGBColor = RGBColor(40, 40, 40);
+pub const PERIODIC: RGBColor = RGBColor(110, 110, 110);
 
 /// The picture's side in pixels.
 pub const SIZE: (u32, u32) = (1000, 1000);
@@ -77,12 +90,15 @@ impl Default for View {
 }
 
 impl View {
-    /// Screen coordinates (right, up) of a point.
-    fn project(&self, p: &Vector3<f64>) -> (f64, f64) {
+    /// Screen coordinates (right, up) of a point, and its depth (distance
+    /// from the viewer along the line of sight, up to a constant).
+    fn project(&self, p: &Vector3<f64>) -> ((f64, f64), f64) {
         let (a, e) = (self.azimuth.to_radians(), self.elevation.to_radians());
-        let x = a.cos() * p.x - a.sin() * p.y;
-        let depth = a.sin() * p.x + a.cos() * p.y;
-        (x, e.cos() * p.z - e.sin() * depth)
+        let right = a.cos() * p.x - a.sin() * p.y;
+        // Horizontal distance away from the viewer.
+        let ahead = a.sin() * p.x + a.cos() * p.y;
+        let up = e.cos() * p.z + e.sin() * ahead;
+        ((right, up), e.cos() * ahead - e.sin() * p.z)
     }
 }
 
@@ -99,7 +115,8 @@ pub fn rods_picture(
     render(&Scene::new(system, groups, view, title), SIZE, svg, png)
 }
 
-/// The picture as RGB bytes (row by row, `SIZE`), without files: for checks.
+/// The picture as RGB bytes (row by row, `SIZE`), without title or legend
+/// and without files: for checks.
 pub fn rods_pixels(system: &RodSystem, groups: &Groups, view: View) -> Result<Vec<u8>> {
     check(view)?;
     let mut buf = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
@@ -107,6 +124,18 @@ pub fn rods_pixels(system: &RodSystem, groups: &Groups, view: View) -> Result<Ve
         .draw(BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area())
         .map_err(|e| Error::Parameter(format!("drawing the rods: {e}")))?;
     Ok(buf)
+}
+
+/// The pixel (column, row) where `point` lands in [`rods_pixels`]'s
+/// picture of `system` from `view`.
+pub fn pixel_of(
+    system: &RodSystem,
+    groups: &Groups,
+    view: View,
+    point: Vector3<f64>,
+) -> (i32, i32) {
+    let scene = Scene::new(system, groups, view, "");
+    scene.place(SIZE).pixel(view.project(&point).0)
 }
 
 fn check(view: View) -> Result<()> {
@@ -119,65 +148,130 @@ fn check(view: View) -> Result<()> {
     Ok(())
 }
 
-/// What is drawn: rods' screen segments by layer, and the box's edges.
+/// How a stroke is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    /// A rod of the group that matters.
+    Highlight,
+    /// A rod of another group, with its group's colour index.
+    Faded(usize),
+    /// A rod in no group.
+    Free,
+    /// A box edge on a wall.
+    Wall,
+    /// A box edge where only periodic faces meet.
+    Periodic,
+}
+
+/// One rod or box edge on screen.
+struct Stroke {
+    segment: Segment,
+    depth: f64,
+    /// Width in world units (a rod's diameter; 0 for a box edge).
+    width: f64,
+    kind: Kind,
+}
+
+/// What is drawn: rods and box edges far to near, the legend's lines.
 struct Scene {
     title: String,
-    free: Vec<Segment>,
-    /// Other groups' rods, with their group's colour index.
-    faded: Vec<(Segment, usize)>,
-    highlight: Vec<Segment>,
-    label: String,
-    frame: Vec<Segment>,
+    strokes: Vec<Stroke>,
+    legend: Vec<(String, RGBColor)>,
     bounds: [f64; 4],
 }
 
 type Segment = [(f64, f64); 2];
 
+/// Screen units to pixels in a picture of a given size.
+struct Place {
+    scale: f64,
+    centre: (f64, f64),
+    middle: (f64, f64),
+}
+
+impl Place {
+    fn pixel(&self, (x, y): (f64, f64)) -> (i32, i32) {
+        (
+            (self.middle.0 + (x - self.centre.0) * self.scale).round() as i32,
+            (self.middle.1 - (y - self.centre.1) * self.scale).round() as i32,
+        )
+    }
+}
+
+/// `1234567` as `1,234,567`.
+fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Opaque pale colours rather than transparency: the same look, and a PNG
+/// a fraction of the size (few distinct colours).
+fn pale(c: RGBColor, a: f64) -> RGBColor {
+    let mix = |v: u8| (a * v as f64 + (1.0 - a) * 255.0).round() as u8;
+    RGBColor(mix(c.0), mix(c.1), mix(c.2))
+}
+
+fn faded(k: usize) -> RGBColor {
+    pale(colour(k % 9 + 1), 0.45)
+}
+
+const FREE: RGBColor = RGBColor(211, 211, 211);
+
+/// Pixels from the top to the drawing, for the title and the legend.
+const TITLE: f64 = 44.0;
+const LINE: f64 = 22.0;
+const MARGIN: f64 = 30.0;
+
 impl Scene {
     fn new(system: &RodSystem, groups: &Groups, view: View, title: &str) -> Scene {
         let n = system.len();
-        // A rod in several groups (true clusters meet at hinge rods) takes the first.
-        let mut owner = vec![usize::MAX; n];
-        for (k, (rods, _)) in groups.groups.iter().enumerate() {
-            for &r in rods.iter() {
-                if owner[r as usize] == usize::MAX {
-                    owner[r as usize] = k;
-                }
-            }
-        }
         // Groups come largest first: the first spanning one, else the first.
         let chosen = groups
             .groups
             .iter()
             .position(|g| g.1)
             .or((!groups.groups.is_empty()).then_some(0));
-        let segment = |r: usize| {
-            let rod = &system.rods[r];
-            [
-                view.project(&rod.at(-0.5 * rod.length)),
-                view.project(&rod.at(0.5 * rod.length)),
-            ]
-        };
-        let (mut free, mut faded, mut highlight) = (Vec::new(), Vec::new(), Vec::new());
-        for (r, &k) in owner.iter().enumerate() {
-            match k {
-                usize::MAX => free.push(segment(r)),
-                k if Some(k) == chosen => highlight.push(segment(r)),
-                k => faded.push((segment(r), k)),
+        // A rod in several groups (true clusters meet at hinge rods) takes
+        // the chosen group, else the first; so the chosen group keeps all
+        // its rods.
+        let mut owner = vec![usize::MAX; n];
+        let order = chosen.into_iter().chain(0..groups.groups.len());
+        for k in order {
+            for &r in groups.groups[k].0 {
+                if owner[r as usize] == usize::MAX {
+                    owner[r as usize] = k;
+                }
             }
         }
-        let noun = groups.noun;
-        let label = match chosen {
-            Some(k) if groups.groups[k].1 => {
-                format!("spanning {noun}: {} of {n} rods", groups.groups[k].0.len())
-            }
-            Some(k) => format!(
-                "largest {noun} (none spans): {} of {n} rods",
-                groups.groups[k].0.len()
-            ),
-            None => format!("no {noun} among {n} rods"),
-        };
+        let mut strokes: Vec<Stroke> = system
+            .rods
+            .iter()
+            .zip(&owner)
+            .map(|(rod, &k)| {
+                let (a, da) = view.project(&rod.at(-0.5 * rod.length));
+                let (b, db) = view.project(&rod.at(0.5 * rod.length));
+                let kind = match k {
+                    usize::MAX => Kind::Free,
+                    k if Some(k) == chosen => Kind::Highlight,
+                    k => Kind::Faded(k),
+                };
+                Stroke {
+                    segment: [a, b],
+                    depth: (da + db) / 2.0,
+                    width: 2.0 * rod.radius,
+                    kind,
+                }
+            })
+            .collect();
         let l = system.domain.sides;
+        let periodic = system.domain.periodic.axes();
         let corner = |i: usize| {
             Vector3::new(
                 l[0] * (i & 1) as f64,
@@ -185,24 +279,32 @@ impl Scene {
                 l[2] * ((i >> 2) & 1) as f64,
             )
         };
-        let frame: Vec<Segment> = (0..8usize)
-            .flat_map(|i| [1, 2, 4].map(move |bit| (i, i | bit)))
-            .filter(|&(i, j)| i != j)
-            .map(|(i, j)| [view.project(&corner(i)), view.project(&corner(j))])
-            .collect();
-        let points = frame
-            .iter()
-            .chain(&free)
-            .chain(&highlight)
-            .chain(faded.iter().map(|(s, _)| s))
-            .flatten();
+        for (i, axis) in (0..8usize).flat_map(|i| [(i, 0), (i, 1), (i, 2)]) {
+            let j = i | (1 << axis);
+            if i == j {
+                continue;
+            }
+            // The edge lies on the faces across the two other axes: on a
+            // wall if either of them has walls.
+            let wall = (0..3).any(|k| k != axis && !periodic[k]);
+            let (a, da) = view.project(&corner(i));
+            let (b, db) = view.project(&corner(j));
+            strokes.push(Stroke {
+                segment: [a, b],
+                depth: (da + db) / 2.0,
+                width: 0.0,
+                kind: if wall { Kind::Wall } else { Kind::Periodic },
+            });
+        }
+        // Far first; ties keep their order, so the picture is reproducible.
+        strokes.sort_by(|a, b| b.depth.total_cmp(&a.depth));
         let mut bounds = [
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::INFINITY,
             f64::NEG_INFINITY,
         ];
-        for &(x, y) in points {
+        for &(x, y) in strokes.iter().flat_map(|s| &s.segment) {
             bounds = [
                 bounds[0].min(x),
                 bounds[1].max(x),
@@ -212,66 +314,126 @@ impl Scene {
         }
         Scene {
             title: title.to_string(),
-            free,
-            faded,
-            highlight,
-            label,
-            frame,
+            legend: legend(groups, chosen, &owner, periodic),
+            strokes,
             bounds,
         }
     }
+
+    /// Where the drawing goes in a picture of `(w, h)` pixels.
+    fn place(&self, (w, h): (u32, u32)) -> Place {
+        let top = if self.title.is_empty() {
+            MARGIN
+        } else {
+            TITLE + LINE * self.legend.len() as f64 + 10.0
+        };
+        let [x0, x1, y0, y1] = self.bounds;
+        let scale = ((w as f64 - 2.0 * MARGIN) / (x1 - x0).max(1e-12))
+            .min((h as f64 - top - MARGIN) / (y1 - y0).max(1e-12));
+        Place {
+            scale,
+            centre: ((x0 + x1) / 2.0, (y0 + y1) / 2.0),
+            middle: (w as f64 / 2.0, top + (h as f64 - top - MARGIN) / 2.0),
+        }
+    }
+}
+
+/// The legend's lines with their colours: the group that matters, the other
+/// groups, the rods in none (each with its count), and the box's edges.
+fn legend(
+    groups: &Groups,
+    chosen: Option<usize>,
+    owner: &[usize],
+    periodic: [bool; 3],
+) -> Vec<(String, RGBColor)> {
+    let (noun, nouns) = (groups.noun, groups.nouns);
+    let mut held = vec![0usize; groups.groups.len()];
+    let mut free = 0;
+    for &k in owner {
+        match held.get_mut(k) {
+            Some(h) => *h += 1,
+            None => free += 1,
+        }
+    }
+    let mut lines = Vec::new();
+    match chosen {
+        Some(k) if groups.groups[k].1 => {
+            lines.push((
+                format!("spanning {noun}: {} rods", thousands(held[k])),
+                HIGHLIGHT,
+            ));
+        }
+        Some(k) => lines.push((
+            format!("largest {noun} (none spans): {} rods", thousands(held[k])),
+            HIGHLIGHT,
+        )),
+        None => {}
+    }
+    let others: Vec<usize> = (0..held.len())
+        .filter(|&k| Some(k) != chosen && held[k] > 0)
+        .collect();
+    if !others.is_empty() {
+        let rods: usize = others.iter().map(|&k| held[k]).sum();
+        lines.push((
+            format!(
+                "other {nouns} ({}): {} rods",
+                thousands(others.len()),
+                thousands(rods)
+            ),
+            faded(others[0]),
+        ));
+    }
+    lines.push((format!("rods in no {noun}: {}", thousands(free)), FREE));
+    let box_line = match (periodic.contains(&true), periodic.contains(&false)) {
+        (true, true) => "box: walls solid, periodic faces dashed",
+        (true, false) => "box: periodic faces (dashed edges)",
+        _ => "box: walls (solid edges)",
+    };
+    lines.push((box_line.to_string(), WALL));
+    lines
 }
 
 impl Chart for Scene {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
         root.fill(&WHITE)?;
-        let (w, h) = root.dim_in_pixel();
-        let (top, margin) = (70.0, 30.0);
-        let [x0, x1, y0, y1] = self.bounds;
-        let scale = ((w as f64 - 2.0 * margin) / (x1 - x0).max(1e-12))
-            .min((h as f64 - top - margin) / (y1 - y0).max(1e-12));
-        let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
-        let (mx, my) = (w as f64 / 2.0, top + (h as f64 - top - margin) / 2.0);
-        let pixel = |(x, y): (f64, f64)| {
-            (
-                (mx + (x - cx) * scale).round() as i32,
-                (my - (y - cy) * scale).round() as i32,
-            )
-        };
-        let line = |s: &Segment, style: ShapeStyle| {
-            root.draw(&PathElement::new(vec![pixel(s[0]), pixel(s[1])], style))
-        };
-        for s in &self.frame {
-            line(s, RGBColor(120, 120, 120).stroke_width(1))?;
+        let place = self.place(root.dim_in_pixel());
+        for s in &self.strokes {
+            let ends = vec![place.pixel(s.segment[0]), place.pixel(s.segment[1])];
+            // As wide as the rod, at least a pixel.
+            let width = (s.width * place.scale).round().max(1.0) as u32;
+            match s.kind {
+                Kind::Periodic => root.draw(&DashedPathElement::new(
+                    ends,
+                    6,
+                    5,
+                    PERIODIC.stroke_width(1),
+                ))?,
+                kind => {
+                    let style = match kind {
+                        Kind::Highlight => HIGHLIGHT.stroke_width(width),
+                        Kind::Faded(k) => faded(k).stroke_width(width),
+                        Kind::Free => FREE.stroke_width(width),
+                        _ => WALL.stroke_width(3),
+                    };
+                    root.draw(&PathElement::new(ends, style))?;
+                }
+            }
         }
-        // Opaque pale colours rather than transparency: the same look, and
-        // a PNG a fraction of the size (few distinct colours).
-        let pale = |c: RGBColor, a: f64| {
-            let mix = |v: u8| (a * v as f64 + (1.0 - a) * 255.0).round() as u8;
-            RGBColor(mix(c.0), mix(c.1), mix(c.2))
-        };
-        for s in &self.free {
-            line(s, pale(RGBColor(150, 150, 150), 0.3).stroke_width(1))?;
+        if self.title.is_empty() {
+            return Ok(());
         }
-        for (s, k) in &self.faded {
-            line(s, pale(colour(*k % 9 + 1), 0.45).stroke_width(1))?;
-        }
-        // Thinner as the body grows, so that a large one keeps its texture.
-        let width = if self.highlight.len() > 1500 { 1 } else { 2 };
-        for s in &self.highlight {
-            line(s, RGBColor(214, 39, 40).stroke_width(width))?;
-        }
-        if !self.title.is_empty() {
-            root.draw(&Text::new(
-                self.title.as_str(),
-                (20, 12),
-                ("sans-serif", 24),
+        root.draw(&Text::new(
+            self.title.as_str(),
+            (20, 12),
+            ("sans-serif", 24),
+        ))?;
+        for (i, (text, colour)) in self.legend.iter().enumerate() {
+            let y = (TITLE + LINE * i as f64) as i32;
+            root.draw(&Rectangle::new(
+                [(20, y + 3), (34, y + 15)],
+                colour.filled(),
             ))?;
-            root.draw(&Text::new(
-                self.label.as_str(),
-                (20, 42),
-                ("sans-serif", 18).into_font().color(&RGBColor(214, 39, 40)),
-            ))?;
+            root.draw(&Text::new(text.as_str(), (42, y), ("sans-serif", 18)))?;
         }
         Ok(())
     }

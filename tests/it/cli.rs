@@ -74,7 +74,6 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     let path = dir.join("contacts.txt");
     let bodies_path = dir.join("bodies.json");
     let graphml_path = dir.join("contacts.graphml");
-    let vtk_path = dir.join("rods.vtp");
     let args = |p: &str| {
         vec![
             "sample",
@@ -98,8 +97,6 @@ fn sample_is_reproducible_and_saves_its_contacts() {
             bodies_path.to_str().unwrap(),
             "--save-graphml",
             graphml_path.to_str().unwrap(),
-            "--save-vtk",
-            vtk_path.to_str().unwrap(),
             "--json",
         ]
         .into_iter()
@@ -120,7 +117,7 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     assert_eq!(g.n_edges() as u64, first["n_contacts"].as_u64().unwrap());
     // The GraphML holds the same graph, with each contact's geometry.
     let ml = rgc::graph::graphml::read_graphml(&graphml_path).unwrap();
-    assert_eq!(ml.n_rods, g.n_nodes());
+    assert_eq!(ml.system.len(), g.n_nodes());
     let ml_edges: Vec<[u32; 2]> = ml.contacts.iter().map(|c| c.rods).collect();
     assert_eq!(ml_edges, g.edges());
     assert!(
@@ -135,58 +132,6 @@ fn sample_is_reproducible_and_saves_its_contacts() {
     assert_eq!(bodies["run"], first["reported_run"]);
     let spanning = list.iter().any(|b| b["spans"].as_bool().unwrap());
     let runs_spanning = first["runs_spanning"].as_u64().unwrap();
-    // The VTK file: two points and one line cell per rod, each rod's core
-    // from the GraphML's centre and axis, and per cell its body and degree.
-    let vtp = std::fs::read_to_string(&vtk_path).unwrap();
-    let n = g.n_nodes();
-    assert!(vtp.contains(&format!(
-        "NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"{n}\"",
-        2 * n
-    )));
-    let arrays = vtk_arrays(&vtp);
-    let get = |name: &str| {
-        arrays
-            .iter()
-            .filter(|(k, _)| k == name)
-            .map(|(_, v)| v.clone())
-            .collect::<Vec<_>>()
-    };
-    assert_eq!(get("points")[0].len(), 6 * n);
-    assert_eq!(get("connectivity")[0].len(), 2 * n);
-    assert_eq!(get("offsets")[0].last().copied(), Some(2.0 * n as f64));
-    let radii = get("radius");
-    assert_eq!((radii[0].len(), radii[1].len()), (2 * n, n));
-    assert!(radii.iter().flatten().all(|&r| r == 0.05));
-    let graph_text = std::fs::read_to_string(&graphml_path).unwrap();
-    let rods = rgc::graph::graphml::parse_graphml(&graph_text, &graphml_path).unwrap();
-    assert_eq!(rods.n_rods, n);
-    let points = &get("points")[0];
-    let node0: Vec<f64> = graph_text
-        .lines()
-        .find(|l| l.contains("<node id=\"0\">"))
-        .unwrap()
-        .split("\">")
-        .skip(2)
-        .map(|v| v.split('<').next().unwrap().parse().unwrap())
-        .collect();
-    for k in 0..3 {
-        let (c, a) = (node0[k], node0[3 + k]);
-        assert!((points[k] - (c - a / 2.0)).abs() < 1e-12);
-        assert!((points[3 + k] - (c + a / 2.0)).abs() < 1e-12);
-    }
-    let body = &get("body")[0];
-    for (k, b) in list.iter().enumerate() {
-        for r in b["rods"].as_array().unwrap() {
-            assert_eq!(body[r.as_u64().unwrap() as usize], k as f64);
-        }
-    }
-    let in_bodies: usize = list
-        .iter()
-        .map(|b| b["rods"].as_array().unwrap().len())
-        .sum();
-    assert_eq!(body.iter().filter(|&&b| b == -1.0).count(), n - in_bodies);
-    let degree = &get("degree")[0];
-    assert!((0..n as u32).all(|r| degree[r as usize] == g.degree(r) as f64));
     assert_eq!(
         spanning,
         runs_spanning > 0,
@@ -1382,109 +1327,6 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     std::fs::remove_dir_all(&base).unwrap();
 }
 
-/// Every `<DataArray Name="..">values</DataArray>` of a VTK XML file, in
-/// file order: a reader of its own, so the test does not trust the writer.
-fn vtk_arrays(text: &str) -> Vec<(String, Vec<f64>)> {
-    text.split("<DataArray ")
-        .skip(1)
-        .map(|chunk| {
-            let name = chunk
-                .split("Name=\"")
-                .nth(1)
-                .unwrap()
-                .split('"')
-                .next()
-                .unwrap();
-            let body = chunk
-                .split_once('>')
-                .unwrap()
-                .1
-                .split("</DataArray>")
-                .next()
-                .unwrap();
-            let values = body
-                .split_whitespace()
-                .map(|v| v.parse::<f64>().unwrap())
-                .collect();
-            (name.to_string(), values)
-        })
-        .collect()
-}
-
-/// `sample --truth --save-vtk` on unequal rods: each line cell runs along its
-/// own rod's core with its own radius (checked against `--save-rods`), and the
-/// true rigid clusters in the file are the ones the report counts.
-#[test]
-fn vtk_carries_each_rods_size_and_its_true_rigid_cluster() {
-    let dir = crate::scratch("vtk-truth");
-    let (vtk, rods) = (dir.join("s.vtp"), dir.join("s.csv"));
-    let report = json(&[
-        "sample",
-        "--box",
-        "4",
-        "--density",
-        "30",
-        "--length",
-        "uniform:0.8,1.2",
-        "--radius",
-        "uniform:0.02,0.03",
-        "--truth",
-        "--save-vtk",
-        vtk.to_str().unwrap(),
-        "--save-rods",
-        rods.to_str().unwrap(),
-        "--json",
-    ]);
-    let truth = &report["truth"];
-    assert_eq!(truth["method"], "exact");
-    let system = rgc::rods::file::read(
-        &rods,
-        &rgc::rods::file::ReadOptions {
-            sides: Some([4.0; 3]),
-            ..Default::default()
-        },
-    )
-    .unwrap()
-    .system;
-    let n = system.len();
-    let arrays = vtk_arrays(&std::fs::read_to_string(&vtk).unwrap());
-    let get = |name: &str| -> Vec<Vec<f64>> {
-        arrays
-            .iter()
-            .filter(|(k, _)| k == name)
-            .map(|(_, v)| v.clone())
-            .collect()
-    };
-    let (points, radii) = (&get("points")[0], get("radius"));
-    for (i, r) in system.rods.iter().enumerate() {
-        assert_eq!((radii[0][2 * i], radii[1][i]), (r.radius, r.radius));
-        for k in 0..3 {
-            assert!((points[6 * i + k] - r.at(-0.5 * r.length)[k]).abs() < 1e-12);
-            assert!((points[6 * i + 3 + k] - r.at(0.5 * r.length)[k]).abs() < 1e-12);
-        }
-    }
-    let cluster = &get("true_cluster")[0];
-    let spans = &get("true_spans")[0];
-    assert_eq!(cluster.len(), n);
-    let clusters = cluster.iter().fold(-1.0f64, |a, &b| a.max(b)) + 1.0;
-    assert_eq!(clusters, truth["clusters"].as_f64().unwrap());
-    let largest = cluster.iter().filter(|&&c| c == 0.0).count();
-    assert_eq!(
-        largest as u64,
-        truth["largest_cluster_rods"].as_u64().unwrap()
-    );
-    assert!(largest >= 2);
-    let any_spans = spans.contains(&1.0);
-    assert_eq!(Some(any_spans), truth["spanning"].as_bool());
-    assert!(
-        spans
-            .iter()
-            .zip(cluster)
-            .all(|(&s, &c)| s == 0.0 || c >= 0.0)
-    );
-    std::fs::remove_dir_all(&dir).unwrap();
-}
-
 #[test]
 fn truth_over_the_memory_limit_is_refused_before_its_front_with_the_sizes() {
     // gamma 48, L 5: its largest front needs about 10 MB; 8 MB (above the
@@ -1724,4 +1566,54 @@ fn transition_reports_the_jump_per_box_and_the_share_above_the_threshold() {
         "box 7 has no records",
     );
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Usage errors are two lines (clap's own ran to five or six): the error,
+/// naming the flag, with clap's suggestion or the possible values on it,
+/// then where to read more; exit code 2. Help still prints whole, exit 0.
+#[test]
+fn usage_errors_are_two_lines_naming_the_flag() {
+    let cases: [(&[&str], &str, &str); 5] = [
+        (
+            &["sample", "--gamma", "23", "--sed", "3"],
+            "rgc: error: unexpected argument '--sed' found (did you mean '--seed'?)",
+            "sample",
+        ),
+        (
+            &["render", "--gamma", "23"],
+            "rgc: error: missing the required argument --out <OUT>",
+            "render",
+        ),
+        (
+            &["sample", "--rules", "papr"],
+            "rgc: error: invalid value 'papr' for '--rules <RULES>' (did you mean 'paper'?) (possible values: sound, paper, certified)",
+            "sample",
+        ),
+        (
+            &["compress"],
+            "rgc: error: missing the required argument <--graph6 <GRAPH6>|--edges <EDGES>>",
+            "compress",
+        ),
+        (
+            &["samplx"],
+            "rgc: error: unrecognized subcommand 'samplx' (did you mean 'sample'?)",
+            "",
+        ),
+    ];
+    for (args, first, sub) in cases {
+        let out = rgc(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        let hint = if sub.is_empty() {
+            "see 'rgc --help'".to_string()
+        } else {
+            format!("see 'rgc {sub} --help'")
+        };
+        assert_eq!(err, format!("{first}\n{hint}\n"), "{args:?}");
+        assert!(out.stdout.is_empty());
+    }
+    let help = rgc(&["sample", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&help.stdout);
+    assert!(text.contains("Usage: rgc sample") && text.contains("--save-vtk"));
 }

@@ -14,11 +14,13 @@ mod fallback;
 mod float;
 mod fss;
 mod graphio;
+mod graphml;
 mod layers;
 mod mine;
 mod planes;
 mod projection;
 mod rank;
+mod render;
 mod rigidity;
 mod rodfiles;
 mod rulefiles;
@@ -32,6 +34,7 @@ mod threshold;
 mod truth;
 mod truth_contract;
 mod truth_motions;
+mod vtk;
 
 use std::path::PathBuf;
 

@@ -5,7 +5,8 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// Appends a line to a subcommand's output (writing to a `String` cannot fail).
 macro_rules! say {
@@ -75,8 +76,12 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage(&e),
+    };
     let mut out = String::new();
-    let result = run(Cli::parse(), &mut out);
+    let result = run(cli, &mut out);
     // A reader that closed the pipe early (`rgc audit | head`) is not an error.
     match std::io::stdout().write_all(out.as_bytes()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
@@ -92,6 +97,57 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// A usage error in two lines, the error and where to read more, exit code
+/// 2 (clap's own runs to five or six); help and version as clap prints them.
+fn usage(e: &clap::Error) -> ExitCode {
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::from(e.exit_code() as u8);
+    }
+    let strings = |kind| match e.get(kind) {
+        Some(ContextValue::Strings(v)) => v.join(", "),
+        Some(ContextValue::String(v)) => v.clone(),
+        _ => String::new(),
+    };
+    let rendered = e.render().to_string();
+    let first = rendered.lines().next().unwrap_or_default();
+    let mut message = match e.kind() {
+        ErrorKind::MissingRequiredArgument => format!(
+            "missing the required argument {}",
+            strings(ContextKind::InvalidArg)
+        ),
+        _ => first.strip_prefix("error: ").unwrap_or(first).to_string(),
+    };
+    // What clap would say on its further lines, kept on the first.
+    let suggested = [
+        ContextKind::SuggestedArg,
+        ContextKind::SuggestedSubcommand,
+        ContextKind::SuggestedValue,
+    ]
+    .map(strings)
+    .join("");
+    if !suggested.is_empty() {
+        message += &format!(" (did you mean '{suggested}'?)");
+    }
+    let valid = strings(ContextKind::ValidValue);
+    if !valid.is_empty() {
+        message += &format!(" (possible values: {valid})");
+    }
+    // The subcommand the arguments name, for the help to read.
+    let cmd = Cli::command();
+    let sub = std::env::args()
+        .skip(1)
+        .find(|a| cmd.find_subcommand(a).is_some())
+        .map_or(String::new(), |s| format!(" {s}"));
+    eprintln!("rgc: error: {message}\nsee 'rgc{sub} --help'");
+    ExitCode::from(2)
 }
 
 fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {

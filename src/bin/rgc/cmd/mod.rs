@@ -36,8 +36,25 @@ pub mod tradeoff;
 pub mod transition;
 pub mod truth;
 
-/// Refuses to replace `PREFIX.ext` for any of `exts` unless `force`: an
-/// exploratory run never silently replaces committed results.
+/// The output files given, as (flag, path), checked before the work: each
+/// writable, and no two the same file.
+fn check_outputs(outputs: &[(&str, &Option<PathBuf>)]) -> Result<()> {
+    let given: Vec<(&str, &PathBuf)> = outputs
+        .iter()
+        .filter_map(|(flag, p)| Some((*flag, p.as_ref()?)))
+        .collect();
+    for (i, (flag, path)) in given.iter().enumerate() {
+        output::check_file(path)?;
+        if let Some((other, _)) = given[..i].iter().find(|(_, p)| p == path) {
+            return Err(rgc::Error::Parameter(format!(
+                "{other} and {flag} both write {}: one would overwrite the other",
+                path.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// An `--out` prefix must end in a file name: `DIR/` would write the
 /// hidden files `DIR/.png` and `DIR/.svg`.
 fn check_prefix(prefix: &std::path::Path) -> Result<()> {
@@ -51,6 +68,8 @@ fn check_prefix(prefix: &std::path::Path) -> Result<()> {
     Ok(())
 }
 
+/// Refuses to replace `PREFIX.ext` for any of `exts` unless `force`: an
+/// exploratory run never silently replaces committed results.
 fn refuse_existing(prefix: &std::path::Path, exts: &[&str], force: bool) -> Result<()> {
     check_prefix(prefix)?;
     if force {

@@ -45,31 +45,35 @@ pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
     let rules = super::load(&a.system.engine.rules.rule_files)?;
     let s = sample_with(&opts, &rules)?;
     let r = &s.report;
-    let rods = match (&opts.rods, r.gamma) {
-        (Rods::Read { path, .. }, _) => {
-            format!("{}", path.file_name().unwrap_or_default().to_string_lossy())
-        }
-        (Rods::Generated(_), Some(g)) => format!("gamma {g}"),
-        (Rods::Generated(_), None) => format!(
-            "mean length {:.3}, mean radius {:.4}",
-            r.mean_length, r.mean_radius
-        ),
-    };
-    let density = match &opts.rods {
-        Rods::Generated(e) => e.density.to_string(),
-        Rods::Read { .. } => format!("{:.4}", r.density),
-    };
     let method = if opts.truth {
         "exact truth".to_string()
     } else {
         format!("rules {}", opts.rules)
     };
-    let title = format!(
-        "{rods}, box {}, density {density} ({} rods), seed {}, {method}",
-        s.system.domain.describe(),
-        s.system.len(),
-        opts.seed,
-    );
+    let n = s.system.len();
+    let domain = s.system.domain.describe();
+    let title = match (&opts.rods, r.gamma) {
+        // Rods from a file: the file names them; no seed or density drew them.
+        (Rods::Read { path, .. }, _) => format!(
+            "{}: {n} rods, box {domain}, {method}",
+            path.file_name().unwrap_or_default().to_string_lossy()
+        ),
+        (Rods::Generated(e), gamma) => {
+            let rods = gamma.map_or_else(
+                || {
+                    format!(
+                        "mean length {:.3}, mean radius {:.4}",
+                        r.mean_length, r.mean_radius
+                    )
+                },
+                |g| format!("gamma {g}"),
+            );
+            format!(
+                "{rods}, box {domain}, density {} ({n} rods), seed {}, {method}",
+                e.density, opts.seed
+            )
+        }
+    };
     let bodies = s.reported_bodies(opts.criterion);
     let groups = match &s.truth {
         Some(t) => Groups::true_clusters(t, opts.criterion),

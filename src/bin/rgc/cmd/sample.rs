@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::graph::{graphml, io as graphio};
 use rgc::sample::sample_with;
-use rgc::{Error, Result, output};
+use rgc::{Result, output};
 
 use crate::args::{MemoryArgs, SystemArgs};
 
@@ -24,7 +24,7 @@ pub struct SampleArgs {
     /// Write the rods and contacts as GraphML (rod centres, axes, lengths and radii; each contact's point, axis parameters and periodic image) to this file.
     #[arg(long)]
     save_graphml: Option<PathBuf>,
-    /// Write the rods as VTK PolyData (.vtp: line cells with their radius; per rod the body of the reported run, -1 if free, whether it spans, the degree, and with --truth the true rigid cluster and whether it spans) to this file.
+    /// Write the rods as VTK PolyData (.vtp, binary: line cells with their radius, the box outline as a second piece and the box as field data; per rod the body of the reported run, -1 if free, whether it spans, the degree, and with --truth the true rigid cluster and whether it spans) to this file.
     #[arg(long)]
     save_vtk: Option<PathBuf>,
     /// Write the bodies of the reported run (rods, class, whether each spans) as JSON to this file.
@@ -45,26 +45,13 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     if let Some(path) = &a.save_vtk {
         rgc::vtk::check_extension(path)?;
     }
-    let outputs = [
+    super::check_outputs(&[
         ("--save-rods", &a.save_rods),
         ("--save-contacts", &a.save_contacts),
         ("--save-bodies", &a.save_bodies),
         ("--save-graphml", &a.save_graphml),
         ("--save-vtk", &a.save_vtk),
-    ];
-    let given: Vec<(&str, &PathBuf)> = outputs
-        .iter()
-        .filter_map(|(flag, p)| Some((*flag, p.as_ref()?)))
-        .collect();
-    for (i, (flag, path)) in given.iter().enumerate() {
-        output::check_file(path)?;
-        if let Some((other, _)) = given[..i].iter().find(|(_, p)| p == path) {
-            return Err(Error::Parameter(format!(
-                "{other} and {flag} both write {}: one would overwrite the other",
-                path.display()
-            )));
-        }
-    }
+    ])?;
     let rules = super::load(&a.system.engine.rules.rule_files)?;
     let s = sample_with(&opts, &rules)?;
     if let Some(path) = &a.save_rods {

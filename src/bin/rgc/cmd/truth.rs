@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use serde::Serialize;
 
 use crate::args::{MemoryArgs, RodsArgs};
 
@@ -12,7 +13,7 @@ use rgc::graph::io as graphio;
 use rgc::sample::Rods;
 use rgc::spanning::Criterion;
 use rgc::truth::{self, Decision, Topology, Truth, TruthOptions};
-use rgc::{Error, Result};
+use rgc::{Error, Result, output};
 
 #[derive(Args)]
 pub struct TruthArgs {
@@ -36,6 +37,53 @@ pub struct TruthArgs {
     /// Print JSON (every cluster's rods) instead of a summary.
     #[arg(long)]
     json: bool,
+    /// Write the rods as VTK PolyData (.vtp: line cells with their radius and the box outline; per rod its degree, its true rigid cluster, -1 if none, and whether that cluster spans) to this file (rod systems only).
+    #[arg(long)]
+    save_vtk: Option<PathBuf>,
+    /// Write the true rigid clusters (rods, whether each spans, the ids of rods read with ids) as JSON to this file.
+    #[arg(long)]
+    save_clusters: Option<PathBuf>,
+}
+
+/// The file `--save-clusters` writes: largest cluster first, as in truth's
+/// answer; a rod where clusters meet is in each.
+#[derive(Serialize)]
+struct SavedClusters {
+    method: Decision,
+    /// The spanning criterion, for a rod system.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    criterion: Option<Criterion>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    spanning: Option<bool>,
+    clusters: Vec<SavedCluster>,
+}
+
+#[derive(Serialize)]
+struct SavedCluster {
+    rods: Vec<u32>,
+    /// Whether it spans under the criterion (rod systems only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    spans: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ids: Option<Vec<u64>>,
+}
+
+/// The outputs given, checked before the work: writable, no two the same
+/// file, and a VTK file only for rods.
+fn check_outputs(a: &TruthArgs) -> Result<()> {
+    if let Some(path) = &a.save_vtk {
+        if !a.rods.given() {
+            return Err(Error::Parameter(
+                "--save-vtk draws rods: it needs a rod system (--rods FILE or generated rods), not a graph"
+                    .into(),
+            ));
+        }
+        rgc::vtk::check_extension(path)?;
+    }
+    super::check_outputs(&[
+        ("--save-vtk", &a.save_vtk),
+        ("--save-clusters", &a.save_clusters),
+    ])
 }
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
@@ -50,9 +98,12 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
                 .into(),
         ));
     }
+    check_outputs(&a)?;
     // Rods read from a file: their ids, if it numbers them, and what reading did.
     let mut ids = None;
     let mut read = String::new();
+    // A rod system, with its contact graph, for --save-vtk.
+    let mut drawn = None;
     let t = match (&a.graph6, &a.edges) {
         (Some(s), _) => finite(&graphio::parse_graph6(s)?, opts),
         (_, Some(path)) => finite(&graphio::read_edge_list(path)?, opts),
@@ -78,7 +129,9 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
             };
             let contacts = contacts::detect(&system);
             let graph = ContactGraph::from_contacts(system.len(), &contacts);
-            truth::of_system(&system, &contacts, &graph, a.criterion, opts)
+            let t = truth::of_system(&system, &contacts, &graph, a.criterion, opts);
+            drawn = Some((system, graph));
+            t
         }
     };
     if t.refused.is_some() {
@@ -86,6 +139,33 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
             "truth refused this system: {} (raise it with --memory-limit)",
             t.reason.as_deref().unwrap_or_default()
         )));
+    }
+    if let (Some(path), Some((system, graph))) = (&a.save_vtk, &drawn) {
+        let mut fields = vec![rgc::vtk::degree_field(graph)];
+        fields.extend(rgc::vtk::truth_fields(&t, system.len(), a.criterion));
+        fields.extend(ids.as_deref().map(rgc::vtk::id_field));
+        rgc::vtk::save(system, &fields, path)?;
+    }
+    if let Some(path) = &a.save_clusters {
+        let criterion = t.criterion;
+        let saved = SavedClusters {
+            method: t.method,
+            criterion,
+            spanning: t.spanning,
+            clusters: t
+                .clusters
+                .iter()
+                .map(|c| SavedCluster {
+                    rods: c.rods.clone(),
+                    spans: criterion.map(|k| c.spans.is_some_and(|s| s.under(k))),
+                    ids: ids
+                        .as_ref()
+                        .map(|ids| c.rods.iter().map(|&r| ids[r as usize]).collect()),
+                })
+                .collect(),
+        };
+        let text = serde_json::to_string_pretty(&saved).expect("clusters serialize");
+        output::write_atomic(path, text + "\n")?;
     }
     if a.json {
         let Some(ids) = ids else {
