@@ -8,7 +8,7 @@ use petgraph::unionfind::UnionFind;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
-use crate::contacts::Contact;
+use crate::contacts::{Contact, Offset};
 use crate::graph::ContactGraph;
 use crate::rods::{Periodic, RodSystem};
 
@@ -68,7 +68,7 @@ pub struct SpanChecker {
     /// Position of each member rod in the `rods` slice being tested.
     slot: FxHashMap<u32, u32>,
     /// Unwrapped image offset of each member, once reached.
-    offset: Vec<Option<[i32; 3]>>,
+    offset: Vec<Option<Offset>>,
     /// Faces test: each member's faces and whether it is reached yet.
     members: Vec<Member>,
     stack: Vec<u32>,
@@ -81,7 +81,7 @@ struct Member {
     low: [bool; 3],
     high: [bool; 3],
     /// Image of the box holding the stored center (`center = wrapped + image * L`).
-    image: [i32; 3],
+    image: Offset,
     reached: bool,
 }
 
@@ -252,7 +252,7 @@ fn walls(system: &RodSystem) -> [bool; 3] {
 }
 
 /// Image offset of the other rod of `contact`, reached from `rod` at offset `here`.
-fn step(here: [i32; 3], rod: u32, contact: &Contact) -> [i32; 3] {
+fn step(here: Offset, rod: u32, contact: &Contact) -> Offset {
     // `contact.shift` is the image of rods[1] relative to rods[0].
     let sign = if contact.rods[0] == rod { 1 } else { -1 };
     std::array::from_fn(|d| here[d] + sign * contact.shift[d])
@@ -318,7 +318,7 @@ fn for_each_cluster(
     );
     let n = graph.n_nodes();
     let mut checker = SpanChecker::new();
-    let mut offset: Vec<Option<[i32; 3]>> = vec![None; n];
+    let mut offset: Vec<Option<Offset>> = vec![None; n];
     let mut members = Vec::new();
     for root in 0..n as u32 {
         if offset[root as usize].is_some() {
@@ -375,7 +375,7 @@ pub struct Sweep {
     /// Wrap: union-find parents and each rod's offset from its parent (by
     /// hand: petgraph's `UnionFind` keeps no data along the path).
     parent: Vec<u32>,
-    offset: Vec<[i32; 3]>,
+    offset: Vec<Offset>,
     size: Vec<u32>,
     /// Faces: per axis, the clusters, and per root which faces its cluster reaches.
     axis_sets: [UnionFind<u32>; 3],
@@ -467,7 +467,7 @@ impl Sweep {
     }
 
     /// Root of `x` and the offset of `x` from it, compressing the path.
-    fn find_wrap(&mut self, x: u32) -> (u32, [i32; 3]) {
+    fn find_wrap(&mut self, x: u32) -> (u32, Offset) {
         let p = self.parent[x as usize];
         if p == x {
             return (x, [0; 3]);
@@ -479,17 +479,17 @@ impl Sweep {
         (root, *o)
     }
 
-    fn join_wrap(&mut self, a: u32, b: u32, shift: [i32; 3]) {
+    fn join_wrap(&mut self, a: u32, b: u32, shift: Offset) {
         let (ra, oa) = self.find_wrap(a);
         let (rb, ob) = self.find_wrap(b);
         // Through this contact, b's image sits at a's offset plus `shift`.
-        let want: [i32; 3] = std::array::from_fn(|d| oa[d] + shift[d]);
+        let want: Offset = std::array::from_fn(|d| oa[d] + shift[d]);
         if ra == rb {
             self.spans |= want != ob;
             return;
         }
         // Offset of rb from ra, so that b lands at `want`.
-        let rb_from_ra: [i32; 3] = std::array::from_fn(|d| want[d] - ob[d]);
+        let rb_from_ra: Offset = std::array::from_fn(|d| want[d] - ob[d]);
         let (child, root, off) = if self.size[ra as usize] >= self.size[rb as usize] {
             (rb, ra, rb_from_ra)
         } else {

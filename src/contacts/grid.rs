@@ -5,7 +5,7 @@
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::pair::{Contact, FILTER_SLACK, Geometry, Placed, detect_all_pairs};
+use super::pair::{Contact, FILTER_SLACK, Geometry, Offset, Placed, detect_all_pairs};
 use crate::rods::RodSystem;
 
 /// Target side of a cover cell, in rod lengths. A rod covers about
@@ -222,7 +222,7 @@ fn group(n_cells: usize, pairs: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
 
 /// The image offset `(i, j, k)` in boxes of an image code, two bits per axis
 /// holding `i + 1`, `j + 1` and `k + 1`.
-fn image_of(code: u32) -> [i32; 3] {
+fn image_of(code: u32) -> Offset {
     let code = code as i32;
     [(code >> 4) - 1, (code >> 2 & 3) - 1, (code & 3) - 1]
 }

@@ -7,5 +7,5 @@ mod pair;
 mod segment;
 
 pub use grid::detect;
-pub use pair::{Contact, detect_all_pairs};
+pub use pair::{Contact, Offset, detect_all_pairs};
 pub use segment::{Closest, closest_points};

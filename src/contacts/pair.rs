@@ -26,8 +26,12 @@ pub struct Contact {
     pub point: Vector3<f64>,
     /// Periodic image of `rods[1]` that touches `rods[0]`: its center is
     /// shifted by `shift[k] * L_k` along each axis (0 along walls).
-    pub shift: [i32; 3],
+    pub shift: Offset,
 }
+
+/// A periodic image, in box sides along each axis: where a contact is made
+/// (here), and what truth's topology reads per edge.
+pub type Offset = [i32; 3];
 
 /// The box as the detectors see it.
 #[derive(Clone, Copy)]
@@ -39,7 +43,7 @@ pub(super) struct Space {
 impl Space {
     /// A center wrapped into the primary box along periodic axes, and which
     /// image of the box the stored center lies in (`center = wrapped + image * L`).
-    pub(super) fn wrap_center(&self, center: &Vector3<f64>) -> (Vector3<f64>, [i32; 3]) {
+    pub(super) fn wrap_center(&self, center: &Vector3<f64>) -> (Vector3<f64>, Offset) {
         let mut out = *center;
         let mut image = [0i32; 3];
         for k in 0..3 {
@@ -73,7 +77,7 @@ impl Space {
 
     /// The image of a (wrapped) center shifted by `shift` boxes. Both
     /// detectors build it with this one expression so that they agree to the last bit.
-    pub(super) fn image(&self, center: &Vector3<f64>, shift: [i32; 3]) -> Vector3<f64> {
+    pub(super) fn image(&self, center: &Vector3<f64>, shift: Offset) -> Vector3<f64> {
         let l = self.sides;
         center
             + Vector3::new(
@@ -90,7 +94,7 @@ impl Space {
 pub(super) struct Placed {
     pub(super) center: Vector3<f64>,
     pub(super) axis: Vector3<f64>,
-    pub(super) image: [i32; 3],
+    pub(super) image: Offset,
     pub(super) half: f64,
     pub(super) radius: f64,
 }
@@ -141,7 +145,7 @@ impl Geometry {
         a: &Placed,
         hi: u32,
         b: &Placed,
-        shift: [i32; 3],
+        shift: Offset,
     ) -> Option<Contact> {
         let p = a.center;
         let q = self.space.image(&b.center, shift);

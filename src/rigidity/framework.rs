@@ -9,8 +9,8 @@
 //! degrees of freedom are `3 P - rank - 6` (5 when every point is on one line).
 
 use super::construction::{Realization, exact, invert_all, normalized};
-use crate::math::vec3::{Line, Plane};
 use super::incidence::Incidence;
+use crate::math::vec3::{Line, Plane};
 use crate::math::vec3::{V3, add, cross, dot, parallel, same_point, scale, size, sub};
 use crate::math::{Matrix, Scalar};
 use crate::pattern::NodeKind;

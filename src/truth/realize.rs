@@ -173,7 +173,10 @@ pub fn build<F: Field>(
                     Failure::Degenerate(format!("rod {x}: two planes without a common line"))
                 })?;
                 let (h1, h2) = (dot(p1.normal(), p1.q), dot(p2.normal(), p2.q));
-                let p = add(scale(cross(p2.normal(), d), h1), scale(cross(d, p1.normal()), h2));
+                let p = add(
+                    scale(cross(p2.normal(), d), h1),
+                    scale(cross(d, p1.normal()), h2),
+                );
                 Line {
                     p: scale(p, inv),
                     d,

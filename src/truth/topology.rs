@@ -1,12 +1,10 @@
 //! The topology of a system: its contact graph and, in a periodic box, the
 //! image at which each contact is made. Every step of truth reads it.
 
+pub use crate::contacts::Offset;
 use crate::graph::ContactGraph;
 use crate::rods::{Domain, Periodic};
 use crate::{Error, Result};
-
-/// An image offset in units of the box side.
-pub type Offset = [i32; 3];
 
 /// The contacts of a system, and for a periodic box the image of each.
 #[derive(Clone, Copy, Debug)]

@@ -1,5 +1,6 @@
 //! The integration tests: one binary, one module per concern.
 
+mod audits;
 mod bench;
 mod bench_truth;
 mod charts;
@@ -30,6 +31,7 @@ mod spanning;
 mod stability;
 mod stamp;
 mod stdin;
+mod studies;
 mod threshold;
 mod truth;
 mod truth_contract;
