@@ -43,6 +43,7 @@ pub mod rods;
 
 pub mod contacts;
 pub mod graph;
+pub mod network;
 
 pub mod body;
 pub mod spanning;

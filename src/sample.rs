@@ -7,14 +7,15 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::body::BodyClass;
-use crate::contacts::{self, Contact};
+use crate::contacts::Contact;
 use crate::engine::{self, Compression, MotifCounts, RuleSet, certify};
 use crate::graph::{self, ContactGraph, ContactStats};
+use crate::network::{Network, View};
 use crate::rods::ensemble::{Ensemble, Orientation};
 use crate::rods::file::Loaded;
 use crate::rods::{Periodic, Rod, RodParams, RodSystem, pair_excluded_volume};
 use crate::spanning::{self, Criterion, SpanChecker};
-use crate::truth::{self, Decision, Topology, Truth, TruthOptions};
+use crate::truth::{self, Decision, Truth, TruthOptions};
 use crate::usage::{MemoryBudget, size};
 use crate::{Error, Result};
 
@@ -291,30 +292,35 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
         Rods::Generated(e) => e.generate(opts.seed)?,
         Rods::Read { loaded, .. } => loaded.system.clone(),
     };
-    let contacts = contacts::detect(&system);
-    let graph = ContactGraph::from_contacts(system.len(), &contacts);
+    let network = Network::detect(system);
+    let view = network.view();
+    let View {
+        system,
+        contacts,
+        graph,
+        ..
+    } = view;
     let seconds_contacts = start.elapsed().as_secs_f64();
     // The statistics and contact spanning take the second core while the
     // (single-threaded) compression runs.
     let measure = || {
-        let stats = graph::stats(&graph);
-        let spanning = spanning::contact_spanning(&system, &contacts, &graph, opts.criterion);
+        let stats = graph::stats(graph);
+        let spanning = spanning::contact_spanning(system, contacts, graph, opts.criterion);
         (stats, spanning)
     };
     let compress = || {
         let t = Instant::now();
         let runs: Vec<Compression> = if opts.rules == RuleSet::Certified {
             // Certified against the truth of this box, not of the bare graph.
-            let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-            let topo = Topology::of_domain(&graph, &shifts, &system.domain);
+            let topo = view.topology();
             engine::Engine::with_rules(RuleSet::Sound, extra)
-                .runs(&graph, opts.seed, opts.runs)
+                .runs(graph, opts.seed, opts.runs)
                 .into_iter()
                 .enumerate()
                 .map(|(k, run)| certify::certify(&topo, run, engine::run_seed(opts.seed, k as u64)))
                 .collect()
         } else {
-            engine::Engine::with_rules(opts.rules, extra).runs(&graph, opts.seed, opts.runs)
+            engine::Engine::with_rules(opts.rules, extra).runs(graph, opts.seed, opts.runs)
         };
         (runs, t.elapsed().as_secs_f64())
     };
@@ -331,7 +337,7 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
         .map(|run| {
             run.bodies
                 .iter()
-                .any(|b| checker.spans(&system, &contacts, &graph, &b.rods, opts.criterion))
+                .any(|b| checker.spans(system, contacts, graph, &b.rods, opts.criterion))
         })
         .collect();
     let reported_run = spans.iter().position(|&s| s).unwrap_or_else(|| {
@@ -340,15 +346,9 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
             .unwrap_or(0)
     });
     let reported = runs.get(reported_run);
-    let truth = opts.truth.then(|| {
-        truth::of_system(
-            &system,
-            &contacts,
-            &graph,
-            opts.criterion,
-            TruthOptions::seeded(opts.seed),
-        )
-    });
+    let truth = opts
+        .truth
+        .then(|| truth::of_system(view, opts.criterion, TruthOptions::seeded(opts.seed)));
     let truth_report = truth.as_ref().map(|t| TruthReport {
         method: t.method,
         spanning: t.spanning,
@@ -413,6 +413,12 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
         seconds_contacts,
         seconds_compression,
     };
+    let Network {
+        system,
+        contacts,
+        graph,
+        ..
+    } = network;
     Ok(Sample {
         system,
         ids: opts.rods.ids().map(<[u64]>::to_vec),

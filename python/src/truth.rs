@@ -4,7 +4,6 @@ use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use rgc::graph::ContactGraph;
 use rgc::rods::RodSystem;
 use rgc::spanning::Criterion;
 use rgc::truth::{Decision, Truth, TruthOptions};
@@ -69,20 +68,19 @@ impl PyTruth {
     }
 }
 
-/// Contacts, graph and truth of `system`: the library's whole work for `truth`.
+/// Contacts and truth of `system`: the library's whole work for `truth`.
 pub(crate) fn of_rods(
     system: &RodSystem,
     criterion: Criterion,
     seed: u64,
     memory_limit: Option<u64>,
 ) -> Truth {
-    let contacts = rgc::contacts::detect(system);
-    let graph = ContactGraph::from_contacts(system.len(), &contacts);
+    let network = rgc::network::Network::detect(system.clone());
     let opts = TruthOptions {
         memory_limit,
         ..TruthOptions::seeded(seed)
     };
-    rgc::truth::of_system(system, &contacts, &graph, criterion, opts)
+    rgc::truth::of_system(network.view(), criterion, opts)
 }
 
 /// The exact generic rigidity of `rods` (the same answer as `rgc truth`

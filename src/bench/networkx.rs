@@ -41,7 +41,7 @@ pub struct Networkx {
 }
 
 /// networkx's first RGC step, timed inside Python (reading the graph and
-/// importing networkx are not counted): the edge list is argv[1].
+/// importing networkx are not counted): the edge list is `argv[1]`.
 pub const NETWORKX_STEP: &str = r#"
 import sys, time
 import networkx as nx

@@ -10,8 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::growth::Growth;
 use super::measure::one_thread;
-use crate::contacts;
-use crate::graph::ContactGraph;
+use crate::network::Network;
 use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::Criterion;
@@ -116,20 +115,12 @@ pub fn measure_truth(density: f64, l: usize, seed: u64) -> crate::Result<TruthRo
 pub fn measure_truth_at(gamma: f64, density: f64, l: usize, seed: u64) -> crate::Result<TruthRow> {
     let params = RodParams::new(gamma, l as f64, density)?;
     Ok(one_thread(|| {
-        let system = RodSystem::generate(params, seed);
-        let found = contacts::detect(&system);
-        let graph = ContactGraph::from_contacts(system.len(), &found);
+        let network = Network::detect(RodSystem::generate(params, seed));
         let peak_reset = reset_peak_rss();
         let before = peak_rss_mib();
         let cpu_before = thread_cpu_seconds();
         let start = Instant::now();
-        let t = truth::of_system(
-            &system,
-            &found,
-            &graph,
-            Criterion::Wrap,
-            TruthOptions::seeded(seed),
-        );
+        let t = truth::of_system(network.view(), Criterion::Wrap, TruthOptions::seeded(seed));
         let seconds = start.elapsed().as_secs_f64();
         let cpu_seconds = thread_cpu_seconds().zip(cpu_before).map(|(b, a)| b - a);
         let peak_mib = peak_rss_mib();

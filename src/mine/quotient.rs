@@ -128,9 +128,9 @@ impl<'a> Probe<'a> {
             self.local[r as usize] = u32::MAX;
         }
         let sub = ContactGraph::new(rods.len(), edges).expect("an induced subgraph is simple");
-        let topo = Topology {
-            graph: &sub,
-            shifts: self.topo.shifts.map(|_| &shifts[..]),
+        let topo = match self.topo.shifts {
+            Some(_) => Topology::periodic(&sub, &shifts).expect("one shift per induced contact"),
+            None => Topology::finite(&sub),
         };
         let t = truth::truth(&topo, self.opts);
         self.calls += 1;

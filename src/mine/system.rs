@@ -7,13 +7,12 @@ use std::time::Instant;
 
 use super::search::{Counts, Mined, MinimalSet, Search, mine};
 use crate::Result;
-use crate::contacts;
 use crate::engine::{Engine, RuleSet};
-use crate::graph::ContactGraph;
+use crate::graph::{ContactGraph, Topology};
+use crate::network::Network;
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{Criterion, SpanChecker};
-use crate::truth::Offset;
-use crate::truth::{self, Topology, TruthOptions};
+use crate::truth::{self, TruthOptions};
 
 /// Mines a rods-only contact graph as a finite framework: the `sound`
 /// compression of run 0 of `seed`, and truth without a box.
@@ -46,25 +45,25 @@ pub fn mine_system(
     search: &Search,
 ) -> Result<(SystemReport, Vec<MinimalSet>)> {
     let start = Instant::now();
-    let system = RodSystem::generate(RodParams::new(gamma, box_len, density)?, seed);
-    let found = contacts::detect(&system);
-    let graph = ContactGraph::from_contacts(system.len(), &found);
-    let run = Engine::base(RuleSet::Sound).runs(&graph, seed, 1).remove(0);
-    let t = truth::of_system(
-        &system,
-        &found,
-        &graph,
-        Criterion::Wrap,
-        TruthOptions::seeded(seed),
-    );
-    let shifts: Vec<Offset> = found.iter().map(|c| c.shift).collect();
-    let topo = Topology::periodic(&graph, &shifts)?;
+    let network = Network::detect(RodSystem::generate(
+        RodParams::new(gamma, box_len, density)?,
+        seed,
+    ));
+    let Network {
+        system,
+        contacts: found,
+        graph,
+        ..
+    } = &network;
+    let run = Engine::base(RuleSet::Sound).runs(graph, seed, 1).remove(0);
+    let t = truth::of_system(network.view(), Criterion::Wrap, TruthOptions::seeded(seed));
+    let topo = network.topology();
     let mined = mine(&topo, &run, &t, seed, search);
     let mut checker = SpanChecker::new();
     let sound_spans = run
         .bodies
         .iter()
-        .any(|b| checker.spans(&system, &found, &graph, &b.rods, Criterion::Wrap));
+        .any(|b| checker.spans(system, found, graph, &b.rods, Criterion::Wrap));
     Ok((
         SystemReport {
             density,

@@ -34,15 +34,13 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::report::Summary;
-use crate::contacts;
-use crate::graph::ContactGraph;
 use crate::math::stats;
+use crate::network::Network;
 use crate::output::{self, cell};
 use crate::progress::Progress;
 use crate::rods::{self, RodParams, RodSystem};
 use crate::stamp::{self as envelope, Stamp};
-use crate::truth::{Offset, planes};
-use crate::truth::{Topology, prune};
+use crate::truth::{Topology, planes, prune};
 use crate::{Error, Result};
 
 /// The format tag of `forced-planes.json`.
@@ -236,11 +234,12 @@ pub struct SystemPlanes {
 /// contains three box directions "which image of the plane" has no answer
 /// left anyway.
 pub fn measure(gamma: f64, box_len: f64, density: f64, seed: u64) -> Result<SystemPlanes> {
-    let system = RodSystem::generate(RodParams::new(gamma, box_len, density)?, seed);
-    let found = contacts::detect(&system);
-    let graph = ContactGraph::from_contacts(system.len(), &found);
-    let core = prune::two_core(&graph);
-    let shifts: Vec<Offset> = found.iter().map(|c| c.shift).collect();
+    let network = Network::detect(RodSystem::generate(
+        RodParams::new(gamma, box_len, density)?,
+        seed,
+    ));
+    let graph = &network.graph;
+    let core = prune::two_core(graph);
     let heavy: Vec<bool> = (0..graph.n_nodes() as u32)
         .map(|r| {
             core.active[r as usize]
@@ -252,15 +251,14 @@ pub fn measure(gamma: f64, box_len: f64, density: f64, seed: u64) -> Result<Syst
                     >= 3
         })
         .collect();
-    let (found_planes, stopped_at) =
-        match planes::forced(&Topology::periodic(&graph, &shifts)?, &core.active) {
-            Ok(p) => (p, None),
-            Err(u) => (
-                planes::forced(&Topology::finite(&graph), &core.active)
-                    .expect("without images no class meets a box direction"),
-                Some(u.rods),
-            ),
-        };
+    let (found_planes, stopped_at) = match planes::forced(&network.topology(), &core.active) {
+        Ok(p) => (p, None),
+        Err(u) => (
+            planes::forced(&Topology::finite(graph), &core.active)
+                .expect("without images no class meets a box direction"),
+            Some(u.rods),
+        ),
+    };
     // Classes come largest first.
     let largest = found_planes
         .classes

@@ -22,7 +22,7 @@ use rustc_hash::FxHashMap;
 
 use super::matrix::{Parts, WIDTH};
 use super::realize::Realization;
-use super::topology::Topology;
+use crate::graph::Topology;
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};
 use crate::math::{Field, Scalar};
 

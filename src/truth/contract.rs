@@ -19,7 +19,8 @@ use std::collections::VecDeque;
 
 use super::matrix::{Parts, WIDTH};
 use super::realize::Realization;
-use super::topology::{Offset, Topology};
+use crate::contacts::Offset;
+use crate::graph::Topology;
 use crate::math::Field;
 use crate::math::sparse::SparseRow;
 use crate::math::vec3::cross;

@@ -8,12 +8,10 @@ use std::time::Instant;
 
 use super::answer::{Decision, Spans, Truth, TruthOptions};
 use super::planes::Planes;
-use super::topology::{Offset, Topology};
 use super::{clusters, contract, fallback, matrix, order, planes, prune, realize};
-use crate::contacts::Contact;
-use crate::graph::ContactGraph;
+use crate::graph::Topology;
 use crate::math::{Field, Q1, Q2, sparse};
-use crate::rods::RodSystem;
+use crate::network::View;
 use crate::spanning::{Criterion, SpanChecker};
 
 /// Random kernel vectors drawn for the clusters: a relation that holds on
@@ -267,20 +265,17 @@ impl Twin<'_> {
     }
 }
 
-/// The truth of a rod system (`graph` built from
-/// `contacts`), with the spanning of every cluster under both criteria and
-/// whether one spans under `criterion`.
-pub fn of_system(
-    system: &RodSystem,
-    contacts: &[Contact],
-    graph: &ContactGraph,
-    criterion: Criterion,
-    opts: TruthOptions,
-) -> Truth {
+/// The truth of a rod system with its contacts, with the spanning of every
+/// cluster under both criteria and whether one spans under `criterion`.
+pub fn of_system(network: View, criterion: Criterion, opts: TruthOptions) -> Truth {
     let start = Instant::now();
-    let shifts: Vec<Offset> = contacts.iter().map(|c| c.shift).collect();
-    let topo = Topology::of_domain(graph, &shifts, &system.domain);
-    let mut t = truth(&topo, opts);
+    let View {
+        system,
+        contacts,
+        graph,
+        ..
+    } = network;
+    let mut t = truth(&network.topology(), opts);
     let mut checker = SpanChecker::new();
     for c in &mut t.clusters {
         let mut spans = |k| checker.spans(system, contacts, graph, &c.rods, k);

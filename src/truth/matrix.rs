@@ -17,7 +17,8 @@
 
 use super::planes::Planes;
 use super::realize::Realization;
-use super::topology::{Offset, Topology};
+use crate::contacts::Offset;
+use crate::graph::Topology;
 use crate::math::Scalar;
 use crate::math::sparse::SparseRow;
 use crate::math::vec3::{V3, add, cross, dot, scale, sub};

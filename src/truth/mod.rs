@@ -5,7 +5,7 @@
 //! outside it) nor complete. Truth decides the rigidity of the whole system
 //! on one stated realization family: planes only where the contacts force
 //! them, distinct contact points, everything else in general position.
-//! [`decide`] runs the steps, each in its module, on a [`topology`] (the
+//! [`decide`] runs the steps, each in its module, on a [`Topology`] (the
 //! contacts and their images) and gives an [`answer`]:
 //!
 //! * [`prune`] — the 2-core: a rod held by one contact turns about it, so
@@ -39,8 +39,8 @@ pub mod planes;
 pub mod projection;
 pub mod prune;
 pub mod realize;
-pub mod topology;
 
+pub use crate::contacts::Offset;
+pub use crate::graph::Topology;
 pub use answer::{Cluster, Decision, Spans, Truth, TruthOptions};
 pub use decide::{of_system, truth, truth_in_floats};
-pub use topology::{Offset, Topology};

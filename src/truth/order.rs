@@ -18,7 +18,7 @@
 //! lines greedily finds a construction order whenever one exists.
 
 use super::planes::Planes;
-use super::topology::Topology;
+use crate::graph::Topology;
 
 /// The rods no construction order reaches: every one of them is held by
 /// more placed lines than a rational step can satisfy.

@@ -16,7 +16,8 @@
 
 use rustc_hash::FxHashMap;
 
-use super::topology::{Offset, Topology};
+use crate::contacts::Offset;
+use crate::graph::Topology;
 
 /// One forced plane class.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -27,7 +27,8 @@ use rand::{Rng, RngExt};
 
 use super::planes::Planes;
 use super::realize::{Realization, lattice};
-use super::topology::{Offset, Topology};
+use crate::contacts::Offset;
+use crate::graph::Topology;
 use crate::math::marquardt::{self, Residual, Residuals};
 use crate::math::vec3::{Line, V3, add, cross, dot, scale, sub};
 

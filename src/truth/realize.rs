@@ -11,7 +11,8 @@ use rand::Rng;
 
 use super::order::preplaced;
 use super::planes::Planes;
-use super::topology::{Offset, Topology};
+use crate::contacts::Offset;
+use crate::graph::Topology;
 use crate::math::vec3::{Line, Plane, V3, add, cross, dot, is_null, scale, sub};
 use crate::math::{Field, Fp, Scalar};
 

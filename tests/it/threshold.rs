@@ -678,10 +678,9 @@ fn truth_records_keep_the_largest_cluster_below_and_at_the_critical_number() {
     assert!(below < at, "{below} -> {at}");
     assert!(r.steps.iter().all(|s| s.largest.is_some()));
     seq.reach(n).unwrap();
+    let graph = seq.graph(n);
     let t = rgc::truth::of_system(
-        &seq.system,
-        seq.contacts_of(n),
-        &seq.graph(n),
+        seq.view(n, &graph),
         Criterion::Wrap,
         rgc::truth::TruthOptions::seeded(rgc::engine::run_seed(4, n as u64)),
     );

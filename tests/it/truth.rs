@@ -1,6 +1,7 @@
 //! Truth on whole graphs against the exact motif verdict and the engine.
 
 use rgc::graph::io::read_graph6_file;
+use rgc::network::Network;
 use rgc::pattern::Pattern;
 use rgc::rigidity::check_exact;
 use rgc::truth::{Decision, Topology, TruthOptions, truth};
@@ -79,23 +80,11 @@ fn truth_and_certified_reject_every_false_compression_up_to_8_rods() {
 }
 
 /// A generated periodic system: its rods, contacts and contact graph.
-pub fn system(
-    gamma: f64,
-    box_len: f64,
-    rho: f64,
-    seed: u64,
-) -> (
-    rgc::rods::RodSystem,
-    Vec<rgc::contacts::Contact>,
-    rgc::graph::ContactGraph,
-) {
-    let system = rgc::rods::RodSystem::generate(
+pub fn system(gamma: f64, box_len: f64, rho: f64, seed: u64) -> Network {
+    Network::detect(rgc::rods::RodSystem::generate(
         rgc::rods::RodParams::new(gamma, box_len, rho).unwrap(),
         seed,
-    );
-    let contacts = rgc::contacts::detect(&system);
-    let graph = rgc::graph::ContactGraph::from_contacts(system.len(), &contacts);
-    (system, contacts, graph)
+    ))
 }
 
 /// On whole systems around the threshold: the twin realizations agree,
@@ -107,14 +96,9 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
     use rgc::engine::{Engine, RuleSet};
     use rgc::spanning::{Criterion, cluster_spans};
     for (rho, seed) in [(32.0, 1), (36.0, 2), (40.0, 3), (44.0, 4)] {
-        let (sys, contacts, graph) = system(23.0, 3.0, rho, seed);
-        let t = rgc::truth::of_system(
-            &sys,
-            &contacts,
-            &graph,
-            Criterion::Wrap,
-            TruthOptions::default(),
-        );
+        let net = system(23.0, 3.0, rho, seed);
+        let (sys, contacts, graph) = (&net.system, &net.contacts, &net.graph);
+        let t = rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default());
         assert_eq!(t.method, Decision::Exact);
         assert_eq!(t.twins_agree, Some(true), "rho {rho}");
         let mut of_rod = vec![Vec::new(); graph.n_nodes()];
@@ -129,14 +113,14 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
                 .any(|k| rods.iter().all(|r| of_rod[*r as usize].contains(k)))
         };
         let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-        let topo = Topology::periodic(&graph, &shifts).unwrap();
+        let topo = Topology::periodic(graph, &shifts).unwrap();
         for rules in [RuleSet::Certified, RuleSet::Sound, RuleSet::Paper] {
             let engine = Engine::base(if rules == RuleSet::Certified {
                 RuleSet::Sound
             } else {
                 rules
             });
-            for (k, run) in engine.runs(&graph, seed, 3).into_iter().enumerate() {
+            for (k, run) in engine.runs(graph, seed, 3).into_iter().enumerate() {
                 let run = if rules == RuleSet::Certified {
                     rgc::engine::certify::certify(&topo, run, rgc::engine::run_seed(seed, k as u64))
                 } else {
@@ -153,7 +137,7 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
                     && run
                         .bodies
                         .iter()
-                        .any(|b| cluster_spans(&sys, &contacts, &graph, &b.rods, Criterion::Wrap))
+                        .any(|b| cluster_spans(sys, contacts, graph, &b.rods, Criterion::Wrap))
                 {
                     assert_eq!(
                         t.spanning,
@@ -179,13 +163,12 @@ fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
     use rgc::spanning::{Criterion, cluster_spans};
     let (mut certified_spans, mut sound_refuted) = (0, 0);
     for (rho, seed) in [(32.0, 1), (36.0, 2), (40.0, 3), (44.0, 4)] {
-        let (sys, contacts, graph) = system(23.0, 2.2, rho, seed);
+        let net = system(23.0, 2.2, rho, seed);
+        let (sys, contacts, graph) = (&net.system, &net.contacts, &net.graph);
         let shifts: Vec<_> = contacts.iter().map(|c| c.shift).collect();
-        let topo = Topology::periodic(&graph, &shifts).unwrap();
+        let topo = Topology::periodic(graph, &shifts).unwrap();
         let exact = rgc::truth::of_system(
-            &sys,
-            &contacts,
-            &graph,
+            net.view(),
             Criterion::Wrap,
             TruthOptions::seeded(1000 + seed),
         );
@@ -217,7 +200,7 @@ fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
                 .any(|k| rods.iter().all(|r| of_rod[*r as usize].contains(k)))
         };
         for (k, run) in Engine::base(RuleSet::Sound)
-            .runs(&graph, seed, 3)
+            .runs(graph, seed, 3)
             .into_iter()
             .enumerate()
         {
@@ -237,7 +220,7 @@ fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
             if run
                 .bodies
                 .iter()
-                .any(|b| cluster_spans(&sys, &contacts, &graph, &b.rods, Criterion::Wrap))
+                .any(|b| cluster_spans(sys, contacts, graph, &b.rods, Criterion::Wrap))
             {
                 certified_spans += 1;
                 assert_eq!(
@@ -262,20 +245,14 @@ fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
 #[test]
 fn truth_is_the_same_for_one_and_two_threads() {
     use rgc::spanning::Criterion;
-    let (sys, contacts, graph) = system(23.0, 3.0, 38.0, 5);
+    let net = system(23.0, 3.0, 38.0, 5);
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
         let mut t = pool.install(|| {
-            rgc::truth::of_system(
-                &sys,
-                &contacts,
-                &graph,
-                Criterion::Wrap,
-                TruthOptions::default(),
-            )
+            rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default())
         });
         t.seconds = 0.0;
         t
@@ -381,9 +358,7 @@ impl Prefix {
         let contacts = seq.contacts_of(n);
         let shifts = contacts.iter().map(|c| c.shift).collect();
         let truth = rgc::truth::of_system(
-            &seq.system,
-            contacts,
-            &graph,
+            seq.view(n, &graph),
             rgc::spanning::Criterion::Wrap,
             TruthOptions::default(),
         );
@@ -431,13 +406,9 @@ fn a_closed_box_frees_the_rotations_a_periodic_one_fixes() {
     for (periodic, trivial) in [(Periodic::None, 6), (Periodic::Xy, 3), (Periodic::Xyz, 3)] {
         let mut e = Ensemble::paper(RodParams::new(23.0, 3.0, 38.0).unwrap());
         e.domain = Domain::new([3.0; 3], periodic).unwrap();
-        let system = e.generate(2).unwrap();
-        let contacts = rgc::contacts::detect(&system);
-        let graph = rgc::graph::ContactGraph::from_contacts(system.len(), &contacts);
+        let net = Network::detect(e.generate(2).unwrap());
         let t = rgc::truth::of_system(
-            &system,
-            &contacts,
-            &graph,
+            net.view(),
             rgc::spanning::Criterion::Wrap,
             TruthOptions::default(),
         );
@@ -462,14 +433,8 @@ fn truth_of_generated_systems_is_what_the_earlier_elimination_found() {
         ((98.0, 3.0, 170.0, 1), (16718, 3922, 198, 2028, true)),
     ];
     for ((gamma, box_len, rho, seed), expected) in cases {
-        let (system, contacts, graph) = system(gamma, box_len, rho, seed);
-        let t = rgc::truth::of_system(
-            &system,
-            &contacts,
-            &graph,
-            Criterion::Wrap,
-            TruthOptions::default(),
-        );
+        let net = system(gamma, box_len, rho, seed);
+        let t = rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default());
         assert_eq!(t.method, Decision::Exact);
         assert_eq!(t.twins_agree, Some(true));
         let got = (

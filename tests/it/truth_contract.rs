@@ -20,21 +20,15 @@ struct Case {
 }
 
 fn case(gamma: f64, box_len: f64, rho: f64, seed: u64) -> Case {
-    let (system, contacts, graph) = crate::truth::system(gamma, box_len, rho, seed);
-    let t = rgc::truth::of_system(
-        &system,
-        &contacts,
-        &graph,
-        Criterion::Wrap,
-        TruthOptions::default(),
-    );
+    let net = crate::truth::system(gamma, box_len, rho, seed);
+    let t = rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default());
     assert_eq!(t.twins_agree, Some(true));
     assert_eq!(t.spanning, Some(true), "a spanning cluster crosses the box");
     Case {
-        shifts: contacts.iter().map(|c| c.shift).collect(),
+        shifts: net.shifts,
         clusters: t.clusters.into_iter().map(|c| c.rods).collect(),
         dof: t.dof.unwrap(),
-        graph,
+        graph: net.graph,
     }
 }
 

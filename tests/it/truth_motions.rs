@@ -158,10 +158,14 @@ fn translations_of_a_slab_are_in_the_kernel_and_rotations_are_not() {
 #[test]
 fn a_rotation_breaks_a_periodic_system_with_a_wrapping_cluster() {
     let (system, contacts, graph, shifts) = generated(3.0, 44.0, Periodic::Xyz, 4);
+    let view = rgc::network::View {
+        system: &system,
+        contacts: &contacts,
+        graph: &graph,
+        shifts: &shifts,
+    };
     let t = rgc::truth::of_system(
-        &system,
-        &contacts,
-        &graph,
+        view,
         rgc::spanning::Criterion::Wrap,
         TruthOptions::default(),
     );

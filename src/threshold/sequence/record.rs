@@ -71,7 +71,7 @@ impl Record {
         }
     }
 
-    /// Checks that the record is one [`nested`] or [`fixed`] could have
+    /// Checks that the record is one [`super::protocol::nested`] or [`super::protocol::fixed`] could have
     /// written for a study of `kind`, `protocol` and `runs` runs per system,
     /// so that an edited or damaged line cannot move a threshold: the rigid
     /// critical number is where its steps' bisection ends and not below the

@@ -4,8 +4,9 @@
 //! union-find sweep) and its contact numbers.
 
 use crate::Result;
-use crate::contacts::{self, Contact};
+use crate::contacts::{self, Contact, Offset};
 use crate::graph::{self, ContactGraph};
+use crate::network::View;
 use crate::rods::{RodParams, RodSystem};
 use crate::spanning::{self, Criterion};
 use crate::threshold::fss::ContactPoint;
@@ -16,6 +17,8 @@ use crate::threshold::fss::ContactPoint;
 pub struct Sequence {
     pub system: RodSystem,
     pub contacts: Vec<Contact>,
+    /// Each contact's image, in the order of `contacts`.
+    shifts: Vec<Offset>,
     /// `ends[n]`: how many contacts the first `n` rods have among themselves.
     ends: Vec<usize>,
     pub(super) params: RodParams,
@@ -37,9 +40,11 @@ impl Sequence {
         for n in 1..ends.len() {
             ends[n] += ends[n - 1];
         }
+        let shifts = contacts.iter().map(|c| c.shift).collect();
         Ok(Sequence {
             system,
             contacts,
+            shifts,
             ends,
             params,
             seed,
@@ -73,6 +78,18 @@ impl Sequence {
     /// The contact graph of the first `n` rods.
     pub fn graph(&self, n: usize) -> ContactGraph {
         ContactGraph::from_contacts(n, self.contacts_of(n))
+    }
+
+    /// The first `n` rods with their contacts, `graph` being theirs
+    /// ([`Sequence::graph`]).
+    pub fn view<'a>(&'a self, n: usize, graph: &'a ContactGraph) -> View<'a> {
+        debug_assert_eq!(graph.n_nodes(), n, "the graph of the first n rods");
+        View {
+            system: &self.system,
+            contacts: self.contacts_of(n),
+            graph,
+            shifts: &self.shifts[..self.ends[n]],
+        }
     }
 
     /// Rods at which the sequence first spans by contacts, generating more

@@ -76,13 +76,8 @@ pub(super) fn truth_of(setup: &Setup, seq: &Sequence, n: usize) -> truth::Truth 
         memory_limit: setup.memory_limit,
         ..TruthOptions::seeded(run_seed(seq.seed, n as u64))
     };
-    truth::of_system(
-        &seq.system,
-        seq.contacts_of(n),
-        &seq.graph(n),
-        setup.criterion,
-        opts,
-    )
+    let graph = seq.graph(n);
+    truth::of_system(seq.view(n, &graph), setup.criterion, opts)
 }
 
 /// Whether a rigid cluster of the exact truth of the first `n` rods spans,

@@ -7,9 +7,9 @@ use serde::Serialize;
 
 use crate::args::{MemoryArgs, RodsArgs};
 
-use rgc::contacts;
 use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
+use rgc::network::Network;
 use rgc::sample::Rods;
 use rgc::spanning::Criterion;
 use rgc::truth::{self, Decision, Topology, Truth, TruthOptions};
@@ -102,7 +102,7 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     // Rods read from a file: their ids, if it numbers them, and what reading did.
     let mut ids = None;
     let mut read = String::new();
-    // A rod system, with its contact graph, for --save-vtk.
+    // A rod system with its contacts, for --save-vtk.
     let mut drawn = None;
     let t = match (&a.graph6, &a.edges) {
         (Some(s), _) => finite(&graphio::parse_graph6(s)?, opts),
@@ -127,10 +127,9 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
                     loaded.system
                 }
             };
-            let contacts = contacts::detect(&system);
-            let graph = ContactGraph::from_contacts(system.len(), &contacts);
-            let t = truth::of_system(&system, &contacts, &graph, a.criterion, opts);
-            drawn = Some((system, graph));
+            let network = Network::detect(system);
+            let t = truth::of_system(network.view(), a.criterion, opts);
+            drawn = Some(network);
             t
         }
     };
@@ -140,7 +139,7 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
             t.reason.as_deref().unwrap_or_default()
         )));
     }
-    if let (Some(path), Some((system, graph))) = (&a.save_vtk, &drawn) {
+    if let (Some(path), Some(Network { system, graph, .. })) = (&a.save_vtk, &drawn) {
         let mut fields = vec![rgc::vtk::degree_field(graph)];
         fields.extend(rgc::vtk::truth_fields(&t, system.len(), a.criterion));
         fields.extend(ids.as_deref().map(rgc::vtk::id_field));

@@ -1,8 +1,8 @@
 //! The topology of a system: its contact graph and, in a periodic box, the
 //! image at which each contact is made. Every step of truth reads it.
 
-pub use crate::contacts::Offset;
-use crate::graph::ContactGraph;
+use super::adjacency::ContactGraph;
+use crate::contacts::Offset;
 use crate::rods::{Domain, Periodic};
 use crate::{Error, Result};
 
