@@ -128,3 +128,47 @@ pub struct MonotoneReport {
     pub stamp: Stamp<Nothing>,
     pub scans: Vec<Scan>,
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::threshold::variants::{csv, markdown};
+
+    /// The committed comparisons (`variants`' tables of an experiment), written again from their JSON, are the
+    /// committed Markdown and CSV byte for byte.
+    #[test]
+    fn committed_tables_are_written_unchanged() {
+        for name in ["compare-base-extended", "speed-accuracy"] {
+            let path = |ext: &str| {
+                Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("results/{name}.{ext}"))
+            };
+            let read = |ext: &str| std::fs::read_to_string(path(ext)).unwrap();
+            let file: Stamp<Experiment> = serde_json::from_str(&read("json")).unwrap();
+            let outcomes = &file.made.variants;
+            let md = read("md");
+            let title = md.lines().next().unwrap().strip_prefix("# ").unwrap();
+            assert_eq!(markdown(title, &file.command, outcomes), md, "{name}.md");
+            assert_eq!(csv(outcomes), read("csv"), "{name}.csv");
+        }
+    }
+
+    #[test]
+    fn labels_with_commas_are_quoted() {
+        let json = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("results/compare-base-extended.json"),
+        )
+        .unwrap();
+        let file: Stamp<Experiment> = serde_json::from_str(&json).unwrap();
+        let mut outcomes = file.made.variants;
+        outcomes[0].label = "K=1, \"base\"".into();
+        let text = csv(&outcomes);
+        let row = text.lines().nth(1).unwrap();
+        assert!(
+            row.starts_with("\"k=1, \"\"base\"\"\",rules,paper,"),
+            "{row}"
+        );
+        assert_eq!(row.matches(',').count(), 25, "{row}");
+    }
+}

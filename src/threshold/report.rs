@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::fss::{self, BoxAlone, BoxData, Fss, FssOptions, Observation, Protocol, pi_curve};
 use super::sequence::{Kind, Record};
-use super::study::StudySpec;
+use super::study::spec::StudySpec;
 use crate::math::stats::mean_sd;
 use crate::output::{self, cell};
 use crate::rods::excluded_volume;

@@ -189,6 +189,18 @@ fn module_code(text: &str) -> String {
         .join("\n")
 }
 
+/// The code whose paths a module uses: [`module_code`], and its test module,
+/// where one `super` less names the same module (a test that reaches back up
+/// closes a cycle as surely as the code it tests).
+fn uses_code(text: &str) -> String {
+    let tests = text.split_once("#[cfg(test)]").map_or("", |(_, t)| t);
+    let tests = tests
+        .replace("super::super::", "\u{0}")
+        .replace("super::", "self::")
+        .replace('\u{0}', "super::");
+    format!("{}\n{}", module_code(text), module_code(&tests))
+}
+
 /// The modules each module uses: `crate::`, `super::` and `self::` paths,
 /// and paths through its own children, each to the deepest module it names.
 fn module_graph() -> Vec<(Vec<String>, BTreeSet<Vec<String>>)> {
@@ -196,7 +208,7 @@ fn module_graph() -> Vec<(Vec<String>, BTreeSet<Vec<String>>)> {
     let known: BTreeSet<Vec<String>> = all.iter().map(|(m, _)| m.clone()).collect();
     all.iter()
         .map(|(m, file)| {
-            let code = module_code(&std::fs::read_to_string(file).unwrap());
+            let code = uses_code(&std::fs::read_to_string(file).unwrap());
             let mut uses = BTreeSet::new();
             for p in paths(&code) {
                 let (mut base, rest) = match p[0].as_str() {
@@ -291,6 +303,19 @@ fn the_module_scanner_resolves_relative_paths_and_groups() {
         "pub mod a;\n// use crate::b;\nuse crate::c;\n#[cfg(test)]\nmod tests { use super::*; }",
     );
     assert_eq!(code.trim(), "use crate::c;");
+    // The test module's uses count, `super` there being the module itself
+    // (whose glob is no use of another module).
+    let code = uses_code(
+        "use crate::c;\n#[cfg(test)]\nmod tests { use super::*; use super::super::d::E; use crate::f; }",
+    );
+    assert_eq!(
+        paths(&code),
+        [
+            vec!["crate", "c"],
+            vec!["super", "d", "E"],
+            vec!["crate", "f"],
+        ]
+    );
 }
 
 /// The statements of a folder's module file that are not declarations or

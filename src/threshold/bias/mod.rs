@@ -4,6 +4,7 @@
 
 pub mod design;
 pub mod measure;
+pub mod outcome;
 pub mod scan;
 pub mod table;
 
@@ -11,6 +12,7 @@ pub mod table;
 mod fixtures;
 
 pub use design::{check_design, truth_design};
-pub use measure::{BoxBias, VariantBias, measure};
+pub use measure::measure;
+pub use outcome::{BoxBias, VariantBias};
 pub use scan::{Scan, scan, scan_csv, scan_summary};
 pub use table::{csv, markdown};

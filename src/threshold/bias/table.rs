@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use super::measure::VariantBias;
+use super::outcome::VariantBias;
 use crate::engine::RuleSet;
 use crate::output::{self, cell};
 use crate::threshold::fss::Estimate;

@@ -12,7 +12,7 @@
 //! `run` (the pilot grid and the loop over sequences, [`run`]).
 
 mod run;
-mod spec;
+pub mod spec;
 mod store;
 
 pub use run::{PILOT, RunOptions, RunReport, run};
