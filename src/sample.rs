@@ -350,11 +350,11 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
         .truth
         .then(|| truth::of_system(view, opts.criterion, TruthOptions::seeded(opts.seed)));
     let truth_report = truth.as_ref().map(|t| TruthReport {
-        method: t.method,
+        method: t.outcome.decision(),
         spanning: t.spanning,
         largest_cluster_rods: t.clusters.first().map_or(0, |c| c.rods.len()),
         clusters: t.clusters.len(),
-        dof: t.dof,
+        dof: t.outcome.dof(),
         seconds: t.seconds,
     });
     let n = system.len().max(1) as f64;

@@ -108,14 +108,14 @@ pub fn truth(
     Ok(PyTruth {
         cluster_idx,
         clusters: t.clusters.iter().map(|c| c.rods.clone()).collect(),
-        dof: t.dof,
+        dof: t.outcome.dof(),
         spanning: t.spanning,
-        method: match t.method {
+        method: match t.outcome.decision() {
             Decision::Exact => "exact",
             Decision::Float => "float",
             Decision::Undecided => "undecided",
         },
-        reason: t.reason.clone(),
+        reason: t.outcome.reason().map(str::to_string),
         report: serde_json::to_string(&t).map_err(crate::value_error)?,
     })
 }

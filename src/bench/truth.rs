@@ -134,7 +134,7 @@ pub fn measure_truth_at(gamma: f64, density: f64, l: usize, seed: u64) -> crate:
             parts: t.parts,
             columns: t.columns,
             rows: t.rows,
-            rank: t.rank,
+            rank: t.outcome.rank(),
             decided: t.decided(),
             largest_front: t.largest_front,
             seconds,

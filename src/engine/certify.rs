@@ -37,7 +37,7 @@ pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression 
     let t = truth::truth(topo, opts);
     let mut bodies: Vec<Body> = Vec::with_capacity(run.bodies.len());
     let mut refuted = 0;
-    if t.method == truth::Decision::Exact {
+    if t.outcome.decision() == truth::Decision::Exact {
         let mut clusters_of: FxHashMap<u32, Vec<u32>> = FxHashMap::default();
         for (k, c) in t.clusters.iter().enumerate() {
             for &r in &c.rods {

@@ -45,7 +45,7 @@ pub struct TruthOptions {
     /// fallback proves nothing from one realization and always ranks twins.
     pub twins: bool,
     /// Stop an elimination before a dense front that would take it past
-    /// this many bytes; the answer is then undecided ([`Truth::refused`]).
+    /// this many bytes; the answer is then undecided ([`Outcome::Undecided`]).
     pub memory_limit: Option<u64>,
 }
 
@@ -70,14 +70,164 @@ impl Default for TruthOptions {
     }
 }
 
+/// How a truth was decided, with what each way of deciding knows.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "Flat", try_from = "Flat")]
+pub enum Outcome {
+    /// Exact F_p rank at an exact realization, and whether its twin gave
+    /// the same rank (`None` without twins; where they differ the larger
+    /// rank is the one kept).
+    Exact {
+        rank: usize,
+        dof: usize,
+        twins_agree: Option<bool>,
+    },
+    /// Float rank at twin float realizations that agree, where no exact
+    /// construction order exists: the smaller singular-value gap of the
+    /// twins (the smallest value counted over the largest one not), and why
+    /// it is in floats.
+    Float {
+        rank: usize,
+        dof: usize,
+        gap: f64,
+        reason: String,
+    },
+    /// Nothing is claimed, for the reason given; `refused` holds the front
+    /// that would have passed the memory limit where that is the reason.
+    Undecided {
+        reason: String,
+        refused: Option<sparse::Refused>,
+    },
+}
+
+impl Outcome {
+    pub fn decision(&self) -> Decision {
+        match self {
+            Outcome::Exact { .. } => Decision::Exact,
+            Outcome::Float { .. } => Decision::Float,
+            Outcome::Undecided { .. } => Decision::Undecided,
+        }
+    }
+
+    /// The rank of the rigidity matrix, if decided.
+    pub fn rank(&self) -> Option<usize> {
+        match *self {
+            Outcome::Exact { rank, .. } | Outcome::Float { rank, .. } => Some(rank),
+            Outcome::Undecided { .. } => None,
+        }
+    }
+
+    /// Internal degrees of freedom of the whole system, if decided.
+    pub fn dof(&self) -> Option<usize> {
+        match *self {
+            Outcome::Exact { dof, .. } | Outcome::Float { dof, .. } => Some(dof),
+            Outcome::Undecided { .. } => None,
+        }
+    }
+
+    /// Why it is undecided, or why in floats.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Outcome::Exact { .. } => None,
+            Outcome::Float { reason, .. } | Outcome::Undecided { reason, .. } => Some(reason),
+        }
+    }
+
+    /// The front that would have passed the memory limit, if that stopped it.
+    pub fn refused(&self) -> Option<sparse::Refused> {
+        match *self {
+            Outcome::Undecided { refused, .. } => refused,
+            _ => None,
+        }
+    }
+}
+
+/// An [`Outcome`] as files carry it: flat keys beside the rest of
+/// [`Truth`], `rank`, `dof` and `twins_agree` always present.
+#[derive(Clone, Serialize, Deserialize)]
+struct Flat {
+    method: Decision,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    reason: Option<String>,
+    rank: Option<usize>,
+    dof: Option<usize>,
+    twins_agree: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    gap: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    refused: Option<sparse::Refused>,
+}
+
+impl From<Outcome> for Flat {
+    fn from(o: Outcome) -> Flat {
+        let (method, rank, dof) = (o.decision(), o.rank(), o.dof());
+        let mut flat = Flat {
+            method,
+            reason: None,
+            rank,
+            dof,
+            twins_agree: None,
+            gap: None,
+            refused: None,
+        };
+        match o {
+            Outcome::Exact { twins_agree, .. } => flat.twins_agree = twins_agree,
+            Outcome::Float { gap, reason, .. } => {
+                (flat.twins_agree, flat.gap, flat.reason) = (Some(true), Some(gap), Some(reason));
+            }
+            Outcome::Undecided { reason, refused } => {
+                (flat.reason, flat.refused) = (Some(reason), refused)
+            }
+        }
+        flat
+    }
+}
+
+impl TryFrom<Flat> for Outcome {
+    type Error = String;
+
+    fn try_from(f: Flat) -> std::result::Result<Outcome, String> {
+        let decided = |rank: Option<usize>, dof: Option<usize>| {
+            rank.zip(dof)
+                .ok_or_else(|| format!("a {} truth needs its rank and dof", f.method))
+        };
+        let reason = || {
+            f.reason
+                .clone()
+                .ok_or_else(|| format!("a {} truth needs its reason", f.method))
+        };
+        Ok(match f.method {
+            Decision::Exact => {
+                let (rank, dof) = decided(f.rank, f.dof)?;
+                Outcome::Exact {
+                    rank,
+                    dof,
+                    twins_agree: f.twins_agree,
+                }
+            }
+            Decision::Float => {
+                let (rank, dof) = decided(f.rank, f.dof)?;
+                let gap = f.gap.ok_or("a float truth needs its gap")?;
+                Outcome::Float {
+                    rank,
+                    dof,
+                    gap,
+                    reason: reason()?,
+                }
+            }
+            Decision::Undecided => Outcome::Undecided {
+                reason: reason()?,
+                refused: f.refused,
+            },
+        })
+    }
+}
+
 /// The rigidity of a whole system.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Truth {
-    pub method: Decision,
-    /// Why the answer is undecided, if it is; for a float answer, why it
-    /// is in floats.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reason: Option<String>,
+    #[serde(flatten)]
+    pub outcome: Outcome,
     pub n_rods: usize,
     pub n_contacts: usize,
     /// Rods and contacts of the 2-core, the part that can be rigid.
@@ -88,31 +238,18 @@ pub struct Truth {
     pub plane_classes: usize,
     pub largest_plane_class: usize,
     /// Rigid parts of the matrix (classes and the other core rods), its
-    /// columns, rows and rank.
+    /// columns and rows.
     pub parts: usize,
     pub columns: usize,
     pub rows: usize,
-    pub rank: Option<usize>,
     /// Rigid motions not counted as deformations.
     pub trivial_motions: usize,
-    /// Internal degrees of freedom of the whole system.
-    pub dof: Option<usize>,
-    /// Whether the twin realizations gave the same rank (`None` without twins).
-    pub twins_agree: Option<bool>,
-    /// Float answers only: the smaller singular-value gap of the twins (the
-    /// smallest value counted over the largest one not).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gap: Option<f64>,
     /// Rigid clusters of two or more rods, largest first.
     pub clusters: Vec<Cluster>,
     /// The largest dense front of the elimination, rows times columns: what
     /// the cost of truth grows with.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub largest_front: Option<(usize, usize)>,
-    /// Set when the elimination stopped for the memory limit, with the
-    /// front that would have passed it (the answer is then undecided).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub refused: Option<sparse::Refused>,
     /// For a generated system: whether a rigid cluster spans under the
     /// criterion asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -150,12 +287,14 @@ impl Spans {
 }
 
 impl Truth {
-    /// Nothing decided yet about the system `graph`, whose rigid motions
-    /// that are no deformation number `trivial_motions`.
-    pub(super) fn undecided(graph: &ContactGraph, trivial_motions: usize) -> Truth {
+    /// The system `graph`, whose rigid motions that are no deformation
+    /// number `trivial_motions`, before anything is decided about it.
+    pub(super) fn unranked(graph: &ContactGraph, trivial_motions: usize) -> Truth {
         Truth {
-            method: Decision::Undecided,
-            reason: None,
+            outcome: Outcome::Undecided {
+                reason: "not ranked".to_string(),
+                refused: None,
+            },
             n_rods: graph.n_nodes(),
             n_contacts: graph.n_edges(),
             core_rods: 0,
@@ -165,14 +304,9 @@ impl Truth {
             parts: 0,
             columns: 0,
             rows: 0,
-            rank: None,
             trivial_motions,
-            dof: None,
-            twins_agree: None,
-            gap: None,
             clusters: Vec::new(),
             largest_front: None,
-            refused: None,
             criterion: None,
             spanning: None,
             seconds: 0.0,
@@ -185,48 +319,57 @@ impl Truth {
     }
 
     pub fn decided(&self) -> bool {
-        self.method != Decision::Undecided
+        self.outcome.decision() != Decision::Undecided
+    }
+
+    /// Leaves the answer undecided for `reason`.
+    pub(super) fn undecide(&mut self, reason: String) {
+        self.outcome = Outcome::Undecided {
+            reason,
+            refused: None,
+        };
     }
 
     /// Records an elimination stopped for the memory limit: undecided,
     /// with the front that would pass it.
     pub(super) fn refuse(&mut self, e: sparse::Refused, limit: Option<u64>) {
         let limit = limit.expect("a refusal needs a limit");
-        self.reason = Some(format!(
+        let reason = format!(
             "its elimination reached a dense front of {} x {} that would take it to about {}, over the memory limit of {}",
             e.front.0,
             e.front.1,
             gib(e.bytes),
             gib(limit)
-        ));
-        self.refused = Some(e);
+        );
+        self.outcome = Outcome::Undecided {
+            reason,
+            refused: Some(e),
+        };
     }
 
-    /// Records a decided rank of the matrix, the degrees of freedom it
-    /// leaves (its kernel, plus the `pruned` motions of what the 2-core
-    /// removed, less the trivial motions) and the rigid clusters.
+    /// Records a decided rank of the matrix and the rigid clusters, with
+    /// the outcome `decided` makes of the rank and the degrees of freedom
+    /// it leaves (its kernel, plus the `pruned` motions of what the 2-core
+    /// removed, less the trivial motions).
     /// Fewer motions than the trivial ones would mean a wrong matrix (the
     /// trivial motions lie in its kernel): the answer is then undecided,
     /// with the reason, never a clamped DOF.
     pub(super) fn decide(
         &mut self,
-        method: Decision,
         rank: usize,
         pruned: usize,
         clusters: Vec<Vec<u32>>,
+        decided: impl FnOnce(usize, usize) -> Outcome,
     ) {
-        self.rank = Some(rank);
         let motions = self.columns - rank + pruned;
         let Some(dof) = motions.checked_sub(self.trivial_motions) else {
-            self.method = Decision::Undecided;
-            self.reason = Some(format!(
+            self.undecide(format!(
                 "{motions} motions, fewer than the {} trivial ones: the rigidity matrix is wrong",
                 self.trivial_motions
             ));
             return;
         };
-        self.method = method;
-        self.dof = Some(dof);
+        self.outcome = decided(rank, dof);
         self.clusters = clusters
             .into_iter()
             .map(|rods| Cluster { rods, spans: None })
@@ -243,25 +386,80 @@ fn gib(bytes: u64) -> String {
 mod tests {
     use super::*;
 
+    fn exact(rank: usize, dof: usize) -> Outcome {
+        Outcome::Exact {
+            rank,
+            dof,
+            twins_agree: Some(true),
+        }
+    }
+
     #[test]
     fn fewer_motions_than_the_trivial_ones_are_undecided_not_clamped() {
         let graph = ContactGraph::new(2, vec![[0, 1]]).unwrap();
-        let mut t = Truth::undecided(&graph, 6);
+        let mut t = Truth::unranked(&graph, 6);
         t.columns = 12;
-        t.decide(Decision::Exact, 9, 0, Vec::new());
-        assert_eq!((t.method, t.dof), (Decision::Undecided, None));
+        t.decide(9, 0, Vec::new(), exact);
+        assert_eq!(
+            (t.outcome.decision(), t.outcome.dof()),
+            (Decision::Undecided, None)
+        );
         assert!(
-            t.reason
+            t.outcome
+                .reason()
                 .unwrap()
                 .contains("3 motions, fewer than the 6 trivial ones")
         );
-        let mut t = Truth::undecided(&graph, 6);
+        let mut t = Truth::unranked(&graph, 6);
         t.columns = 12;
-        t.decide(Decision::Exact, 5, 1, vec![vec![0, 1]]);
-        assert_eq!(
-            (t.method, t.dof, t.rank),
-            (Decision::Exact, Some(2), Some(5))
-        );
+        t.decide(5, 1, vec![vec![0, 1]], exact);
+        assert_eq!(t.outcome, exact(5, 2));
         assert_eq!(t.largest_cluster(), 2);
+    }
+
+    #[test]
+    fn every_outcome_keeps_its_flat_keys_and_reads_back() {
+        let graph = ContactGraph::new(2, vec![[0, 1]]).unwrap();
+        let refused = sparse::Refused {
+            front: (40, 50),
+            bytes: 1 << 31,
+        };
+        let outcomes = [
+            exact(5, 2),
+            Outcome::Float {
+                rank: 4,
+                dof: 3,
+                gap: 2.5e7,
+                reason: "asked for floats; decided in floats".into(),
+            },
+            Outcome::Undecided {
+                reason: "too large".into(),
+                refused: Some(refused),
+            },
+        ];
+        for outcome in outcomes {
+            let mut t = Truth::unranked(&graph, 6);
+            t.outcome = outcome.clone();
+            let v = serde_json::to_value(&t).unwrap();
+            assert_eq!(v["method"], outcome.decision().to_string());
+            assert_eq!(v["rank"].as_u64(), outcome.rank().map(|r| r as u64));
+            assert_eq!(v["dof"].as_u64(), outcome.dof().map(|d| d as u64));
+            assert_eq!(v["reason"].as_str(), outcome.reason());
+            assert_eq!(v["n_rods"], 2);
+            assert_eq!(serde_json::from_value::<Truth>(v).unwrap(), t);
+        }
+    }
+
+    #[test]
+    fn a_decided_outcome_without_its_rank_is_refused_by_name() {
+        let e = serde_json::from_str::<Outcome>(
+            r#"{"method":"float","rank":3,"dof":null,"twins_agree":true,"gap":1e7,"reason":"x"}"#,
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("a float truth needs its rank and dof"),
+            "{e}"
+        );
     }
 }

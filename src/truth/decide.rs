@@ -6,7 +6,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
-use super::answer::{Decision, Spans, Truth, TruthOptions};
+use super::answer::{Outcome, Spans, Truth, TruthOptions};
 use super::planes::Planes;
 use super::{clusters, contract, fallback, matrix, order, planes, prune, realize};
 use crate::graph::Topology;
@@ -35,7 +35,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     let start = Instant::now();
     let graph = topo.graph;
     let core = prune::two_core(graph);
-    let mut out = Truth::undecided(graph, topo.trivial_motions());
+    let mut out = Truth::unranked(graph, topo.trivial_motions());
     out.core_rods = core.rods();
     out.core_contacts = core.contacts(graph);
     let finish = |mut out: Truth| {
@@ -49,7 +49,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             // without images runs to the end and sizes the whole class.
             out.largest_plane_class = planes::forced(&Topology::finite(graph), &core.active)
                 .map_or(u.rods, |p| p.largest());
-            out.reason = Some(format!(
+            out.undecide(format!(
                 "a forced plane class of {} rods would contain three independent box directions: \
                  the line model has no realization in this box",
                 u.rods
@@ -78,13 +78,18 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             });
             match fallback::decide(topo, &planes, &core.active, &parts, opts) {
                 Ok(f) => {
-                    out.reason = Some(format!("{why}; decided in floats"));
                     out.rows = f.rows;
-                    out.twins_agree = Some(true);
-                    out.gap = Some(f.gap);
-                    out.decide(Decision::Float, f.rank, core.pruned_motions(), f.clusters);
+                    let reason = format!("{why}; decided in floats");
+                    out.decide(f.rank, core.pruned_motions(), f.clusters, |rank, dof| {
+                        Outcome::Float {
+                            rank,
+                            dof,
+                            gap: f.gap,
+                            reason,
+                        }
+                    });
                 }
-                Err(w) => out.reason = Some(format!("{why}; in floats undecided: {w}")),
+                Err(w) => out.undecide(format!("{why}; in floats undecided: {w}")),
             }
             return finish(out);
         }
@@ -119,7 +124,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     out.largest_front = Some(first.elim.largest_front);
     let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
     if !opts.twins {
-        out.decide(Decision::Exact, first.elim.rank, pruned, clusters);
+        out.decide(first.elim.rank, pruned, clusters, exact(None));
         return finish(out);
     }
     // The twin, in the other prime, checks the kernel's dimension with the
@@ -144,8 +149,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     );
     match checked {
         Ok(c) if kernel(c.rank, contraction.count) == kernel(first.elim.rank, parts.count) => {
-            out.twins_agree = Some(true);
-            out.decide(Decision::Exact, first.elim.rank, pruned, clusters);
+            out.decide(first.elim.rank, pruned, clusters, exact(Some(true)));
             return finish(out);
         }
         Ok(_) => {}
@@ -162,20 +166,29 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             return finish(out);
         }
     };
-    out.twins_agree = Some(whole.rank == first.elim.rank);
+    let agree = exact(Some(whole.rank == first.elim.rank));
     if whole.rank > first.elim.rank {
         match twin.eliminate(&rows, Some(&mut draws)) {
             Ok(elim) => {
                 out.largest_front = Some(elim.largest_front);
                 let clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
-                out.decide(Decision::Exact, elim.rank, pruned, clusters);
+                out.decide(elim.rank, pruned, clusters, agree);
             }
             Err(e) => out.refuse(e, opts.memory_limit),
         }
     } else {
-        out.decide(Decision::Exact, first.elim.rank, pruned, clusters);
+        out.decide(first.elim.rank, pruned, clusters, agree);
     }
     finish(out)
+}
+
+/// An exact outcome, with whether the twins agreed (`None` without twins).
+fn exact(twins_agree: Option<bool>) -> impl FnOnce(usize, usize) -> Outcome {
+    move |rank, dof| Outcome::Exact {
+        rank,
+        dof,
+        twins_agree,
+    }
 }
 
 /// What every realization of one system shares.
@@ -202,7 +215,7 @@ enum Stop {
 fn stopped(out: &mut Truth, stop: Stop, limit: Option<u64>) {
     match stop {
         Stop::Memory(e) => out.refuse(e, limit),
-        Stop::Degenerate(why) => out.reason = Some(why),
+        Stop::Degenerate(why) => out.undecide(why),
     }
 }
 

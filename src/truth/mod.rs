@@ -42,5 +42,5 @@ pub mod realize;
 
 pub use crate::contacts::Offset;
 pub use crate::graph::Topology;
-pub use answer::{Cluster, Decision, Spans, Truth, TruthOptions};
+pub use answer::{Cluster, Decision, Outcome, Spans, Truth, TruthOptions};
 pub use decide::{of_system, truth, truth_in_floats};

@@ -5,7 +5,7 @@ use rgc::graph::ContactGraph;
 use rgc::graph::io::read_graph6_file;
 use rgc::pattern::Pattern;
 use rgc::rigidity::check_exact;
-use rgc::truth::{Decision, Topology, Truth, TruthOptions, truth, truth_in_floats};
+use rgc::truth::{Decision, Outcome, Topology, Truth, TruthOptions, truth, truth_in_floats};
 use std::path::Path;
 
 /// K_{m,n}: rods `0..m` each touch rods `m..m + n`.
@@ -35,15 +35,14 @@ fn rods(t: &Truth) -> Vec<Vec<u32>> {
 /// general position, built exactly or by numerical projection).
 fn float_and_motif(g: &ContactGraph) -> (Truth, rgc::rigidity::ComponentReport) {
     let t = truth(&Topology::finite(g), TruthOptions::default());
-    assert_eq!(t.method, Decision::Float, "{:?}", t.reason);
+    let Outcome::Float { gap, reason, .. } = &t.outcome else {
+        panic!("decided in floats: {:?}", t.outcome)
+    };
     assert!(
-        t.reason
-            .as_deref()
-            .unwrap()
-            .contains("no rational construction order")
+        reason.contains("no rational construction order"),
+        "{reason}"
     );
-    assert_eq!(t.twins_agree, Some(true));
-    assert!(t.gap.unwrap() >= rgc::truth::fallback::MIN_GAP);
+    assert!(*gap >= rgc::truth::fallback::MIN_GAP);
     let v = check_exact(&Pattern::from_graph(g).unwrap(), 1).unwrap();
     let forced = v
         .components
@@ -66,8 +65,8 @@ fn complete_bipartite_grids_flex_once_as_the_motif_check_says() {
         let (t, forced) = float_and_motif(&complete_bipartite(m, n));
         assert_eq!(forced.built, "lines in general position");
         assert!(!forced.projected);
-        assert_eq!(t.dof, Some(1), "K_{{{m},{n}}}");
-        assert_eq!(t.dof, Some(forced.dof), "K_{{{m},{n}}}");
+        assert_eq!(t.outcome.dof(), Some(1), "K_{{{m},{n}}}");
+        assert_eq!(t.outcome.dof(), Some(forced.dof), "K_{{{m},{n}}}");
         assert!(t.clusters.is_empty(), "K_{{{m},{n}}}: {:?}", rods(&t));
     }
 }
@@ -80,7 +79,7 @@ fn the_4_cube_is_rigid_as_the_motif_projection_says() {
     let (t, forced) = float_and_motif(&cube(4));
     assert!(forced.projected, "{forced:?}");
     assert_eq!(forced.dof, 0);
-    assert_eq!(t.dof, Some(0));
+    assert_eq!(t.outcome.dof(), Some(0));
     assert_eq!(rods(&t), vec![(0..16).collect::<Vec<u32>>()]);
 
     // The same cube in a fixed periodic box, each rod at some image (a
@@ -95,9 +94,14 @@ fn the_4_cube_is_rigid_as_the_motif_projection_says() {
         .collect();
     let topo = Topology::periodic(&g, &shifts).unwrap();
     let p = truth(&topo, TruthOptions::default());
-    assert_eq!(p.method, Decision::Float, "{:?}", p.reason);
+    assert_eq!(
+        p.outcome.decision(),
+        Decision::Float,
+        "{:?}",
+        p.outcome.reason()
+    );
     assert_eq!(p.trivial_motions, 3);
-    assert_eq!(p.dof, Some(3));
+    assert_eq!(p.outcome.dof(), Some(3));
     assert_eq!(rods(&p), rods(&t));
 }
 
@@ -112,12 +116,17 @@ fn float_clusters_keep_a_hinge_apart_and_a_second_shared_rod_locks_it() {
         edges.extend(cube(4).edges().iter().map(|e| e.map(second)));
         let g = ContactGraph::new(n, edges).unwrap();
         let t = truth(&Topology::finite(&g), TruthOptions::default());
-        assert_eq!(t.method, Decision::Float, "{:?}", t.reason);
+        assert_eq!(
+            t.outcome.decision(),
+            Decision::Float,
+            "{:?}",
+            t.outcome.reason()
+        );
         t
     };
     // The second cube's rod 0 is the first cube's rod 15.
     let t = two_cubes(&|v| 15 + v, 31);
-    assert_eq!(t.dof, Some(1));
+    assert_eq!(t.outcome.dof(), Some(1));
     assert_eq!(
         rods(&t),
         vec![(0..16).collect::<Vec<u32>>(), (15..31).collect()]
@@ -132,7 +141,7 @@ fn float_clusters_keep_a_hinge_apart_and_a_second_shared_rod_locks_it() {
         },
         30,
     );
-    assert_eq!(t.dof, Some(0));
+    assert_eq!(t.outcome.dof(), Some(0));
     assert_eq!(rods(&t), vec![(0..30).collect::<Vec<u32>>()]);
 }
 
@@ -155,9 +164,14 @@ fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
         let exact = truth(&topo, TruthOptions::default());
         let float = truth_in_floats(&topo, TruthOptions::default());
         let g6 = rgc::graph::io::to_graph6(g);
-        assert_eq!(exact.method, Decision::Exact, "{g6}");
-        assert_eq!(float.method, Decision::Float, "{g6}: {:?}", float.reason);
-        assert_eq!(float.dof, exact.dof, "{g6}");
+        assert_eq!(exact.outcome.decision(), Decision::Exact, "{g6}");
+        assert_eq!(
+            float.outcome.decision(),
+            Decision::Float,
+            "{g6}: {:?}",
+            float.outcome.reason()
+        );
+        assert_eq!(float.outcome.dof(), exact.outcome.dof(), "{g6}");
         assert_eq!(float.clusters, exact.clusters, "{g6}");
     }
 
@@ -178,10 +192,15 @@ fn the_float_path_agrees_with_the_exact_one_where_both_exist() {
         assert_eq!(most, Some(wraps));
         let exact = truth(&topo, TruthOptions::default());
         let float = truth_in_floats(&topo, TruthOptions::default());
-        assert_eq!(exact.method, Decision::Exact);
-        assert_eq!(float.method, Decision::Float, "{:?}", float.reason);
+        assert_eq!(exact.outcome.decision(), Decision::Exact);
+        assert_eq!(
+            float.outcome.decision(),
+            Decision::Float,
+            "{:?}",
+            float.outcome.reason()
+        );
         assert_eq!(float.columns, columns);
-        assert_eq!(float.dof, exact.dof);
+        assert_eq!(float.outcome.dof(), exact.outcome.dof());
         assert_eq!(float.clusters, exact.clusters);
     }
 }
@@ -198,11 +217,18 @@ fn the_float_fallback_is_deterministic_in_its_seed() {
         t
     };
     let one = run(7);
-    assert_eq!(one.method, Decision::Float);
+    assert_eq!(one.outcome.decision(), Decision::Float);
     assert_eq!(one, run(7));
     let other = run(8);
-    assert_ne!(one.gap, other.gap, "another seed, other realizations");
-    assert_eq!((other.dof, other.rank), (one.dof, one.rank));
+    let gap = |t: &Truth| match t.outcome {
+        Outcome::Float { gap, .. } => gap,
+        _ => panic!("decided in floats: {:?}", t.outcome),
+    };
+    assert_ne!(gap(&one), gap(&other), "another seed, other realizations");
+    assert_eq!(
+        (other.outcome.dof(), other.outcome.rank()),
+        (one.outcome.dof(), one.outcome.rank())
+    );
 }
 
 /// What the fallback does not decide it says: a stuck core beyond the
@@ -210,10 +236,10 @@ fn the_float_fallback_is_deterministic_in_its_seed() {
 #[test]
 fn the_fallback_refuses_more_columns_than_it_ranks_densely() {
     let t = truth(&Topology::finite(&cube(8)), TruthOptions::default());
-    assert_eq!(t.method, Decision::Undecided);
+    assert_eq!(t.outcome.decision(), Decision::Undecided);
     assert_eq!(t.columns, 1536);
-    assert_eq!((t.dof, t.rank), (None, None));
-    let why = t.reason.unwrap();
+    assert_eq!((t.outcome.dof(), t.outcome.rank()), (None, None));
+    let why = t.outcome.reason().unwrap();
     assert!(why.contains("no rational construction order"), "{why}");
     assert!(why.contains("1500"), "{why}");
 }
@@ -226,7 +252,10 @@ fn certification_does_not_trust_a_float_answer() {
     use rgc::engine::{Engine, RuleSet};
     let g = rgc::graph::io::parse_graph6("G?~vf_").unwrap();
     let t = truth(&Topology::finite(&g), TruthOptions::default());
-    assert_eq!((t.method, t.dof), (Decision::Float, Some(1)));
+    assert_eq!(
+        (t.outcome.decision(), t.outcome.dof()),
+        (Decision::Float, Some(1))
+    );
     let sound = Engine::base(RuleSet::Sound);
     let certified = Engine::base(RuleSet::Certified);
     let seed = (0..64)

@@ -67,7 +67,7 @@ fn clusters_of(
         None => Topology::finite(&sub),
     };
     let t = truth(&topo, TruthOptions::default());
-    assert!(t.decided(), "{:?}", t.reason);
+    assert!(t.decided(), "{:?}", t.outcome.reason());
     t.clusters
         .iter()
         .map(|c| c.rods.iter().map(|&k| rods[k as usize]).collect())

@@ -4,8 +4,23 @@ use rgc::graph::io::read_graph6_file;
 use rgc::network::Network;
 use rgc::pattern::Pattern;
 use rgc::rigidity::check_exact;
-use rgc::truth::{Decision, Topology, TruthOptions, truth};
+use rgc::truth::{Decision, Outcome, Topology, Truth, TruthOptions, truth};
 use std::path::Path;
+
+/// Asserts an exact answer whose twin realizations gave the same rank.
+pub fn assert_exact_twins(t: &Truth, what: impl std::fmt::Display) {
+    assert!(
+        matches!(
+            t.outcome,
+            Outcome::Exact {
+                twins_agree: Some(true),
+                ..
+            }
+        ),
+        "{what}: {:?}",
+        t.outcome
+    );
+}
 
 /// On every rods-only candidate with up to 7 rods, truth is rigid exactly
 /// where the motif verdict is rigid on every component; and its DOF is
@@ -20,12 +35,11 @@ fn truth_agrees_with_check_on_every_candidate_up_to_7_rods() {
             let t = truth(&Topology::finite(&g), TruthOptions::default());
             let v = check_exact(&Pattern::from_graph(&g).unwrap(), 1).unwrap();
             let g6 = rgc::graph::io::to_graph6(&g);
-            assert_eq!(t.method, Decision::Exact, "{g6}: {:?}", t.reason);
-            assert_eq!(t.twins_agree, Some(true), "{g6}");
-            let rigid = t.dof == Some(0);
+            assert_exact_twins(&t, &g6);
+            let rigid = t.outcome.dof() == Some(0);
             assert_eq!(rigid, v.class == "rigid", "{g6}: truth {t:?} check {v:?}");
             assert_eq!(
-                t.dof,
+                t.outcome.dof(),
                 Some(v.components[0].dof),
                 "{g6}: forced family {:?}",
                 v.components[0]
@@ -62,11 +76,11 @@ fn truth_and_certified_reject_every_false_compression_up_to_8_rods() {
                 let t = truth(&Topology::finite(g), TruthOptions::default());
                 let v = check_exact(&p, 1).unwrap();
                 let g6 = rgc::graph::io::to_graph6(g);
-                assert_eq!(t.dof == Some(0), v.class == "rigid", "{g6}");
+                assert_eq!(t.outcome.dof() == Some(0), v.class == "rigid", "{g6}");
                 if v.class == "rigid" || !sound.compresses(&p, 128).unwrap() {
                     return None;
                 }
-                assert_ne!(t.dof, Some(0), "{g6}: truth must be flexible");
+                assert_ne!(t.outcome.dof(), Some(0), "{g6}: truth must be flexible");
                 assert!(
                     !certified.compresses(&p, 64).unwrap(),
                     "{g6}: certified compressed a flexible graph"
@@ -99,8 +113,7 @@ fn whole_systems_twins_agree_and_certified_bodies_lie_in_true_clusters() {
         let net = system(23.0, 3.0, rho, seed);
         let (sys, contacts, graph) = (&net.system, &net.contacts, &net.graph);
         let t = rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default());
-        assert_eq!(t.method, Decision::Exact);
-        assert_eq!(t.twins_agree, Some(true), "rho {rho}");
+        assert_exact_twins(&t, format!("rho {rho}"));
         let mut of_rod = vec![Vec::new(); graph.n_nodes()];
         for (k, c) in t.clusters.iter().enumerate() {
             for &r in &c.rods {
@@ -173,14 +186,18 @@ fn certified_bodies_are_rigid_by_decisions_independent_of_certification() {
             TruthOptions::seeded(1000 + seed),
         );
         let floats = rgc::truth::truth_in_floats(&topo, TruthOptions::seeded(2000 + seed));
-        assert_eq!(exact.method, Decision::Exact);
+        assert_eq!(exact.outcome.decision(), Decision::Exact);
         assert_eq!(
-            floats.method,
+            floats.outcome.decision(),
             Decision::Float,
             "rho {rho}: {:?}",
-            floats.reason
+            floats.outcome.reason()
         );
-        assert_eq!(floats.dof, exact.dof, "rho {rho}: the float path's DOF");
+        assert_eq!(
+            floats.outcome.dof(),
+            exact.outcome.dof(),
+            "rho {rho}: the float path's DOF"
+        );
         let member = |clusters: &[rgc::truth::Cluster]| {
             let mut of_rod = vec![Vec::new(); graph.n_nodes()];
             for (k, c) in clusters.iter().enumerate() {
@@ -413,7 +430,11 @@ fn a_closed_box_frees_the_rotations_a_periodic_one_fixes() {
             TruthOptions::default(),
         );
         assert_eq!(t.trivial_motions, trivial, "{periodic:?}");
-        assert!(t.dof.is_some(), "{periodic:?}: {:?}", t.reason);
+        assert!(
+            t.outcome.dof().is_some(),
+            "{periodic:?}: {:?}",
+            t.outcome.reason()
+        );
     }
 }
 
@@ -435,11 +456,10 @@ fn truth_of_generated_systems_is_what_the_earlier_elimination_found() {
     for ((gamma, box_len, rho, seed), expected) in cases {
         let net = system(gamma, box_len, rho, seed);
         let t = rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default());
-        assert_eq!(t.method, Decision::Exact);
-        assert_eq!(t.twins_agree, Some(true));
+        assert_exact_twins(&t, "the system");
         let got = (
-            t.rank.unwrap(),
-            t.dof.unwrap(),
+            t.outcome.rank().unwrap(),
+            t.outcome.dof().unwrap(),
             t.clusters.len(),
             t.largest_cluster(),
             t.spanning.unwrap(),

@@ -22,12 +22,12 @@ struct Case {
 fn case(gamma: f64, box_len: f64, rho: f64, seed: u64) -> Case {
     let net = crate::truth::system(gamma, box_len, rho, seed);
     let t = rgc::truth::of_system(net.view(), Criterion::Wrap, TruthOptions::default());
-    assert_eq!(t.twins_agree, Some(true));
+    crate::truth::assert_exact_twins(&t, "the system");
     assert_eq!(t.spanning, Some(true), "a spanning cluster crosses the box");
     Case {
         shifts: net.shifts,
         clusters: t.clusters.into_iter().map(|c| c.rods).collect(),
-        dof: t.dof.unwrap(),
+        dof: t.outcome.dof().unwrap(),
         graph: net.graph,
     }
 }

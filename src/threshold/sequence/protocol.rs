@@ -25,7 +25,7 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
         while let Some(n) = search.next() {
             seq.reach(n)?;
             let t = truth_of(setup, seq, n);
-            if t.refused.is_some() {
+            if t.outcome.refused().is_some() {
                 // Over the memory limit is no verdict on the sequence: the
                 // study stops, and a rerun with more memory resumes it.
                 return Err(refusal(seq, n, t));

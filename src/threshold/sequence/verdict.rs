@@ -91,21 +91,21 @@ pub(super) fn refusal(seq: &Sequence, n: usize, t: truth::Truth) -> Error {
     Error::Memory(format!(
         "truth of the first {n} rods of the sequence seeded {}: {} (raise it with --memory-limit)",
         seq.seed,
-        t.reason.unwrap_or_default()
+        t.outcome.reason().unwrap_or_default()
     ))
 }
 
 /// [`truth_spanning`], where an undecided truth is an error rather than a guess.
 pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
     let t = truth_of(setup, seq, n);
-    if t.refused.is_some() {
+    if t.outcome.refused().is_some() {
         return Err(refusal(seq, n, t));
     }
     t.spanning.ok_or_else(|| {
         Error::Analysis(format!(
             "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
             seq.seed,
-            t.reason.unwrap_or_default()
+            t.outcome.reason().unwrap_or_default()
         ))
     })
 }

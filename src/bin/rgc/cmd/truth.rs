@@ -12,7 +12,7 @@ use rgc::graph::io as graphio;
 use rgc::network::Network;
 use rgc::sample::Rods;
 use rgc::spanning::Criterion;
-use rgc::truth::{self, Decision, Topology, Truth, TruthOptions};
+use rgc::truth::{self, Decision, Outcome, Topology, Truth, TruthOptions};
 use rgc::{Error, Result, output};
 
 #[derive(Args)]
@@ -133,10 +133,10 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
             t
         }
     };
-    if t.refused.is_some() {
+    if t.outcome.refused().is_some() {
         return Err(Error::Memory(format!(
             "truth refused this system: {} (raise it with --memory-limit)",
-            t.reason.as_deref().unwrap_or_default()
+            t.outcome.reason().unwrap_or_default()
         )));
     }
     if let (Some(path), Some(Network { system, graph, .. })) = (&a.save_vtk, &drawn) {
@@ -148,7 +148,7 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     if let Some(path) = &a.save_clusters {
         let criterion = t.criterion;
         let saved = SavedClusters {
-            method: t.method,
+            method: t.outcome.decision(),
             criterion,
             spanning: t.spanning,
             clusters: t
@@ -214,14 +214,14 @@ fn summary(t: &Truth, out: &mut String) {
         t.parts,
         t.columns,
         t.rows,
-        opt(t.rank),
+        opt(t.outcome.rank()),
         t.largest_front
             .map_or(String::new(), |(r, c)| format!(", largest front {r} x {c}"))
     );
     say!(
         out,
         "dof {} (trivial motions not counted: {}{})",
-        opt(t.dof),
+        opt(t.outcome.dof()),
         t.trivial_motions,
         if t.trivial_motions == 3 {
             ", translations of the fixed periodic box"
@@ -249,18 +249,19 @@ fn summary(t: &Truth, out: &mut String) {
     if let (Some(c), Some(s)) = (t.criterion, t.spanning) {
         say!(out, "spanning ({c}): {s}");
     }
-    let reason = t.reason.as_deref().unwrap_or_default();
-    match t.method {
-        Decision::Undecided => say!(out, "method: undecided: {reason}"),
-        Decision::Float => say!(
+    match &t.outcome {
+        Outcome::Undecided { reason, .. } => say!(out, "method: undecided: {reason}"),
+        Outcome::Float { gap, reason, .. } => say!(
             out,
-            "method: float, twins agree: true, singular-value gap {:.1e} ({reason})",
-            t.gap.unwrap_or(f64::NAN)
+            "method: float, twins agree: true, singular-value gap {gap:.1e} ({reason})"
         ),
-        Decision::Exact => say!(
+        Outcome::Exact { twins_agree, .. } => say!(
             out,
             "method: exact, twins agree: {}",
-            t.twins_agree == Some(true)
+            match twins_agree {
+                Some(agree) => agree.to_string(),
+                None => "not ranked (no twin)".to_string(),
+            }
         ),
     }
     say!(out, "seconds: {:.3}", t.seconds);
