@@ -792,7 +792,8 @@ fn cores_are_cut_at_the_walls() {
     assert!((l - 0.625).abs() < 1e-12, "{l}");
 }
 
-/// The command line reports the cut rods and saves their cut parts.
+/// The command line reports the cut rods (`sample` and `truth` say so
+/// before their report) and saves their cut parts.
 #[test]
 fn cli_reports_and_saves_cut_rods() {
     let dir = scratch("rodfiles-cli-cut");
@@ -828,6 +829,14 @@ fn cli_reports_and_saves_cut_rods() {
     assert_eq!(report["cut"], 2);
     assert_eq!(report["n_rods"], 3);
     assert_eq!(report["periodic"], "none");
+    for cmd in ["sample", "truth"] {
+        let out = rgc(&[cmd, "--rods", &rods, "--box", "4", "--periodic", "none"]);
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            text.starts_with("2 rods cut at the walls of the box\n3 rods,"),
+            "{cmd}: {text}"
+        );
+    }
     let loaded: Loaded = file::read(&saved, &ReadOptions::default()).unwrap();
     assert_eq!(loaded.cut, 0);
     let lengths: Vec<f64> = loaded.system.rods.iter().map(|r| r.length).collect();

@@ -24,5 +24,5 @@ mod write;
 pub use columns::{Columns, KEYS, Source};
 pub use format::{FIELDS, Format};
 pub use lammps::Frame;
-pub use read::{Loaded, ReadOptions, STDIN, parse, read};
+pub use read::{Loaded, ReadOptions, STDIN, parse, placement, read};
 pub use write::{save, to_string};

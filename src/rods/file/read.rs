@@ -61,6 +61,23 @@ pub struct Loaded {
     pub ids: Option<Vec<u64>>,
 }
 
+/// What placing a file's rods in the box did to them, one line each for a
+/// report: the rods `cut` at a wall and the centres `wrapped` into the box.
+pub fn placement(cut: usize, wrapped: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    if cut > 0 {
+        let rods = if cut == 1 { "rod" } else { "rods" };
+        lines.push(format!("{cut} {rods} cut at the walls of the box"));
+    }
+    if wrapped > 0 {
+        let centres = if wrapped == 1 { "centre" } else { "centres" };
+        lines.push(format!(
+            "{wrapped} rod {centres} wrapped into the box along periodic axes"
+        ));
+    }
+    lines
+}
+
 /// The path that stands for standard input.
 pub const STDIN: &str = "-";
 
@@ -250,4 +267,22 @@ fn box_of(path: &Path, opts: &ReadOptions, file: FileBox) -> Result<(Domain, Vec
         )));
     }
     Ok((Domain::new(sides, periodic)?, Vector3::from(origin)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::placement;
+
+    #[test]
+    fn placement_says_only_what_happened_in_words_that_agree() {
+        assert!(placement(0, 0).is_empty());
+        assert_eq!(placement(1, 0), ["1 rod cut at the walls of the box"]);
+        assert_eq!(
+            placement(3, 1),
+            [
+                "3 rods cut at the walls of the box",
+                "1 rod centre wrapped into the box along periodic axes"
+            ]
+        );
+    }
 }

@@ -75,15 +75,8 @@ pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     if a.json {
         return super::print_json(r, out);
     }
-    if r.cut > 0 {
-        say!(out, "{} rods cut at the walls of the box", r.cut);
-    }
-    if r.wrapped > 0 {
-        say!(
-            out,
-            "{} rod centres wrapped into the box along periodic axes",
-            r.wrapped
-        );
+    for line in rgc::rods::file::placement(r.cut, r.wrapped) {
+        say!(out, "{line}");
     }
     let expected = r
         .c0_expected

@@ -113,15 +113,8 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
             let system = match rods {
                 Rods::Generated(e) => e.generate(a.seed)?,
                 Rods::Read { loaded, .. } => {
-                    if loaded.cut > 0 {
-                        say!(read, "{} rods cut at the walls of the box", loaded.cut);
-                    }
-                    if loaded.wrapped > 0 {
-                        say!(
-                            read,
-                            "{} rod centres wrapped into the box along periodic axes",
-                            loaded.wrapped
-                        );
+                    for line in rgc::rods::file::placement(loaded.cut, loaded.wrapped) {
+                        say!(read, "{line}");
                     }
                     ids = loaded.ids;
                     loaded.system
