@@ -18,7 +18,6 @@ fn threshold_args<'a>(out: &'a str, changes: &[(&'a str, &'a str)]) -> Vec<&'a s
         ("--sequences", "40"),
         ("--runs", "2"),
         ("--bootstrap", "40"),
-        ("--out", out),
     ];
     for &(flag, value) in changes {
         match options.iter_mut().find(|o| o.0 == flag) {
@@ -26,8 +25,13 @@ fn threshold_args<'a>(out: &'a str, changes: &[(&'a str, &'a str)]) -> Vec<&'a s
             None => options.push((flag, value)),
         }
     }
-    let mut args = vec!["threshold", "--quiet"];
-    args.extend(options.into_iter().flat_map(|(f, v)| [f, v]));
+    threshold(out, &options)
+}
+
+/// `rgc threshold --quiet --out OUT` with these options.
+fn threshold<'a>(out: &'a str, options: &[(&'a str, &'a str)]) -> Vec<&'a str> {
+    let mut args = vec!["threshold", "--quiet", "--out", out];
+    args.extend(options.iter().flat_map(|&(f, v)| [f, v]));
     args
 }
 
@@ -587,28 +591,16 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     use rand::{RngExt, SeedableRng};
     let base = crate::scratch("cli-kill-98");
     let at = |d: &str| base.join(d);
-    let args = |out: &std::path::Path, extra: &[&str]| -> Vec<String> {
-        let mut a: Vec<String> = [
-            "threshold",
-            "--quiet",
-            "--gamma",
-            "98",
-            "--boxes",
-            "2.1,2.3,2.5",
-            "--sequences",
-            "16",
-            "--bootstrap",
-            "30",
-            "--out",
-        ]
-        .map(String::from)
-        .to_vec();
-        a.push(out.to_str().unwrap().into());
-        a.extend(extra.iter().map(|s| s.to_string()));
-        a
-    };
-    let run = |a: &[String]| {
-        let out = rgc(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let study = [
+        ("--gamma", "98"),
+        ("--boxes", "2.1,2.3,2.5"),
+        ("--sequences", "16"),
+        ("--bootstrap", "30"),
+    ];
+    let shard = |k| [&study[..], &[("--shard", k)]].concat();
+    let path = |d: &std::path::Path| d.to_str().unwrap().to_string();
+    let run = |a: &[&str]| {
+        let out = rgc(a);
         assert!(
             out.status.success(),
             "{}",
@@ -617,7 +609,7 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     };
     let summary = |d: &std::path::Path| std::fs::read_to_string(d.join("summary.json")).unwrap();
     let whole = at("whole");
-    run(&args(&whole, &[]));
+    run(&threshold(&path(&whole), &study));
     // The study's peak memory goes beside its times (Linux reports it).
     let timing: Value =
         serde_json::from_str(&std::fs::read_to_string(whole.join("timing.json")).unwrap()).unwrap();
@@ -644,12 +636,7 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     let mut done = 0;
     for _ in 0..3 {
         let target = done + rng.random_range(1..=10);
-        let a = args(&killed, &[]);
-        let now = kill_after(
-            &a.iter().map(String::as_str).collect::<Vec<_>>(),
-            &killed,
-            target,
-        );
+        let now = kill_after(&threshold(&path(&killed), &study), &killed, target);
         assert!(
             now >= target && now < 48,
             "{now} records after a kill aiming at {target}"
@@ -657,17 +644,14 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
         done = now;
     }
     assert!(!killed.join("summary.json").exists());
-    run(&args(&killed, &[]));
+    run(&threshold(&path(&killed), &study));
     assert_eq!(summary(&whole), summary(&killed));
 
     let shards = at("shards");
-    run(&args(&shards, &["--shard", "0/2"]));
-    let a = args(&shards, &["--shard", "1/2"]);
-    let now = kill_after(
-        &a.iter().map(String::as_str).collect::<Vec<_>>(),
-        &shards,
-        20,
-    );
+    let shards_path = path(&shards);
+    run(&threshold(&shards_path, &shard("0/2")));
+    let a = threshold(&shards_path, &shard("1/2"));
+    let now = kill_after(&a, &shards, 20);
     // Shard 0 holds 24 records; shard 1 is killed before its own 24.
     assert!(now < 48, "{now}");
     run(&a);
@@ -696,22 +680,16 @@ fn a_truth_study_stops_at_the_memory_limit_and_keeps_no_false_record() {
     let out = dir.join("study");
     let out = out.to_str().unwrap();
     fails(
-        &[
-            "threshold",
-            "--kind",
-            "truth",
-            "--gamma",
-            "23",
-            "--boxes",
-            "3,4,5",
-            "--sequences",
-            "5",
-            "--memory-limit",
-            "20K",
-            "--quiet",
-            "--out",
+        &threshold(
             out,
-        ],
+            &[
+                ("--kind", "truth"),
+                ("--gamma", "23"),
+                ("--boxes", "3,4,5"),
+                ("--sequences", "5"),
+                ("--memory-limit", "20K"),
+            ],
+        ),
         "over the memory limit: truth of the first",
     );
     let records = std::fs::read_to_string(dir.join("study/records.jsonl")).unwrap_or_default();
@@ -726,22 +704,16 @@ fn a_truth_study_stops_at_the_memory_limit_and_keeps_no_false_record() {
 /// A small truth study (gamma 23, boxes 3, 4, 5, six sequences each, seed
 /// 3: about 4 s) written to `dir`; returns what it printed.
 fn small_truth_study(dir: &std::path::Path) -> String {
-    let out = rgc(&[
-        "threshold",
-        "--kind",
-        "truth",
-        "--gamma",
-        "23",
-        "--boxes",
-        "3,4,5",
-        "--sequences",
-        "6",
-        "--seed",
-        "3",
-        "--quiet",
-        "--out",
+    let out = rgc(&threshold(
         dir.to_str().unwrap(),
-    ]);
+        &[
+            ("--kind", "truth"),
+            ("--gamma", "23"),
+            ("--boxes", "3,4,5"),
+            ("--sequences", "6"),
+            ("--seed", "3"),
+        ],
+    ));
     assert!(
         out.status.success(),
         "{}",
