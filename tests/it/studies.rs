@@ -223,8 +223,9 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
     assert!(md.contains("| contact | 20 | 5 |"), "{md}");
     // Contact percolation sits far below Maxwell's count.
     assert_eq!(md.matches(" | -").count(), 8, "{md}");
-    // Another kind goes beside, with its own fit, not into the first's.
-    let out = rgc(&[
+    // Another kind goes beside, with its own fit, not into the first's; the
+    // files of the first run are replaced only when asked.
+    let beside = [
         "aspect-ratios",
         &dirs[0],
         &dirs[1],
@@ -232,7 +233,13 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
         &dirs[2],
         "--out",
         stem.to_str().unwrap(),
-    ]);
+    ];
+    let exists = format!(
+        "{} exists; choose another --out, or --force",
+        stem.with_extension("csv").display()
+    );
+    fails(&beside, &exists);
+    let out = rgc(&[&beside[..], &["--force"]].concat());
     assert!(
         out.status.success(),
         "{}",
@@ -259,6 +266,7 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
             &dirs[2],
             "--out",
             stem.to_str().unwrap(),
+            "--force",
         ],
         "is a Rigid study",
     );

@@ -21,6 +21,9 @@ pub struct AspectArgs {
     /// Output path without extension: `.csv`, `.json` (the rows and both fits, with intervals), `.svg` and `.png` are written, and `-contacts.csv` and `-contacts.md` (c0, c1, c2 at each threshold against Maxwell's 10/3).
     #[arg(long, default_value = "results/threshold-vs-vex")]
     out: PathBuf,
+    /// Replace those files if they exist.
+    #[arg(long)]
+    force: bool,
 }
 
 fn name(kind: Kind) -> &'static str {
@@ -33,6 +36,17 @@ fn name(kind: Kind) -> &'static str {
 
 pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
     output::check_file(&a.out)?;
+    let with = |ext: &str| PathBuf::from(format!("{}.{ext}", a.out.display()));
+    let contacts = |ext: &str| PathBuf::from(format!("{}-contacts.{ext}", a.out.display()));
+    let files = [
+        with("csv"),
+        with("json"),
+        with("svg"),
+        with("png"),
+        contacts("csv"),
+        contacts("md"),
+    ];
+    super::refuse_files(&files, a.force)?;
     let mut all = vec![aspect::read(&a.studies)?];
     if !a.beside.is_empty() {
         all.push(aspect::read(&a.beside)?);
@@ -77,12 +91,6 @@ pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
             );
         }
     }
-    let with = |ext: &str| a.out.with_extension(ext);
-    let stem = a
-        .out
-        .file_name()
-        .map_or("".into(), |n| n.to_string_lossy().into_owned());
-    let contacts = |ext: &str| a.out.with_file_name(format!("{stem}-contacts.{ext}"));
     aspect::write_csv(
         &with("csv"),
         &all.iter().flat_map(|r| r.rows.clone()).collect::<Vec<_>>(),
@@ -111,14 +119,6 @@ pub fn run(a: AspectArgs, out: &mut String) -> Result<()> {
         })
         .collect();
     plot::threshold_vs_vex(&series, &title, &with("svg"), &with("png"))?;
-    let files = [
-        with("csv"),
-        with("json"),
-        with("svg"),
-        with("png"),
-        contacts("csv"),
-        contacts("md"),
-    ];
     let shown: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     say!(out, "Files: {}", shown.join(", "));
     Ok(())

@@ -72,19 +72,22 @@ fn check_prefix(prefix: &std::path::Path) -> Result<()> {
 /// exploratory run never silently replaces committed results.
 fn refuse_existing(prefix: &std::path::Path, exts: &[&str], force: bool) -> Result<()> {
     check_prefix(prefix)?;
-    if force {
-        return Ok(());
+    let paths: Vec<std::path::PathBuf> = exts
+        .iter()
+        .map(|ext| format!("{}.{ext}", prefix.display()).into())
+        .collect();
+    refuse_files(&paths, force)
+}
+
+/// Refuses to replace any of `paths` that exists, unless `force`.
+fn refuse_files(paths: &[std::path::PathBuf], force: bool) -> Result<()> {
+    match paths.iter().find(|p| !force && p.exists()) {
+        Some(path) => Err(rgc::Error::Parameter(format!(
+            "{} exists; choose another --out, or --force to replace it",
+            path.display()
+        ))),
+        None => Ok(()),
     }
-    for ext in exts {
-        let path = std::path::PathBuf::from(format!("{}.{ext}", prefix.display()));
-        if path.exists() {
-            return Err(rgc::Error::Parameter(format!(
-                "{} exists; choose another --out, or --force to replace it",
-                path.display()
-            )));
-        }
-    }
-    Ok(())
 }
 
 fn print_json(value: &impl Serialize, out: &mut String) -> Result<()> {
