@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 
 use rgc::rods::RodSystem;
 use rgc::spanning::Criterion;
-use rgc::truth::{Decision, Truth, TruthOptions};
+use rgc::truth::{Truth, TruthOptions};
 
 use crate::compress::criterion;
 use crate::system::PyRods;
@@ -24,7 +24,7 @@ pub struct PyTruth {
     spanning: Option<bool>,
     /// 'exact', 'float' or 'undecided'.
     #[pyo3(get)]
-    method: &'static str,
+    method: String,
     /// Why truth is undecided (or how a float answer was reached).
     #[pyo3(get)]
     reason: Option<String>,
@@ -110,11 +110,7 @@ pub fn truth(
         clusters: t.clusters.iter().map(|c| c.rods.clone()).collect(),
         dof: t.outcome.dof(),
         spanning: t.spanning,
-        method: match t.outcome.decision() {
-            Decision::Exact => "exact",
-            Decision::Float => "float",
-            Decision::Undecided => "undecided",
-        },
+        method: t.outcome.decision().to_string(),
         reason: t.outcome.reason().map(str::to_string),
         report: serde_json::to_string(&t).map_err(crate::value_error)?,
     })
