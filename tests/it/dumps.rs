@@ -11,7 +11,7 @@ use rgc::rods::file::{self, Columns, Format, Frame, Loaded, ReadOptions};
 use rgc::rods::rotate;
 use serde_json::Value;
 
-use crate::cli::rgc;
+use crate::cli::{json, rgc};
 use crate::scratch;
 
 /// One snapshot of `rows` (`id type x y z mux muy muz` each) at `step`, in a
@@ -100,17 +100,13 @@ fn a_snapshot_is_picked_by_its_index() {
         "{err}"
     );
     for (frame, rods) in [("0", 2), ("1", 3), ("last", 3)] {
-        let out = rgc(&[
-            &["sample", "--rods", &path, "--json", "--frame", frame][..],
-            &map,
-        ]
-        .concat());
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        let report = json(
+            &[
+                &["sample", "--rods", &path, "--json", "--frame", frame][..],
+                &map,
+            ]
+            .concat(),
         );
-        let report: Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(report["n_rods"], rods, "--frame {frame}");
     }
 }
@@ -159,7 +155,7 @@ fn atoms_are_picked_by_type() {
     let dir = scratch("dumps-types");
     let path = dir.join("matrix.dump");
     std::fs::write(&path, &dump).unwrap();
-    let out = rgc(&[
+    let report = json(&[
         "sample",
         "--rods",
         path.to_str().unwrap(),
@@ -169,12 +165,6 @@ fn atoms_are_picked_by_type() {
         "1,3",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["n_rods"], 3);
 }
 

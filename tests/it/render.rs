@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 use serde_json::Value;
 
-use crate::cli::rgc;
+use crate::cli::{rgc, stdout_of};
 use rgc::plot::rods::{Groups, HIGHLIGHT, SIZE, View, pixel_of, rods_pixels};
 use rgc::rods::{Domain, Periodic, Rod, RodSystem};
 
@@ -195,7 +195,7 @@ fn render_of_a_rods_file_titles_it_and_draws_walls_apart_from_periodic_faces() {
     ];
     for (periodic, walls, dashed, line) in boxes {
         let prefix = dir.join(periodic);
-        let out = rgc(&[
+        stdout_of(&[
             "render",
             "--rods",
             csv.to_str().unwrap(),
@@ -206,11 +206,6 @@ fn render_of_a_rods_file_titles_it_and_draws_walls_apart_from_periodic_faces() {
             "--out",
             prefix.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let svg = std::fs::read_to_string(prefix.with_extension("svg")).unwrap();
         assert!(
             svg.contains("three.csv: 3 rods, box 4, rules sound"),
@@ -279,12 +274,7 @@ fn render_truth_highlights_truths_cluster() {
             &["--out", prefix.to_str().unwrap()],
         ]
         .concat();
-        let out = rgc(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        stdout_of(&args);
         std::fs::read_to_string(prefix.with_extension("svg")).unwrap()
     };
     let (with, without) = (render(&["--truth"], "truth"), render(&[], "bodies"));

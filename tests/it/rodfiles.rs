@@ -10,7 +10,7 @@ use rgc::rods::file::{self, Columns, Format, Loaded, ReadOptions, Source};
 use rgc::rods::{Domain, Periodic, Rod, RodSystem};
 use serde_json::Value;
 
-use crate::cli::rgc;
+use crate::cli::{json, rgc, stdout_of};
 use crate::scratch;
 
 const FORMATS: [Format; 3] = [Format::Csv, Format::Json, Format::Lammps];
@@ -893,7 +893,7 @@ fn lammps_columns_map_and_the_box_moves_to_the_origin() {
 
     let dir = scratch("rodfiles-lammps-columns");
     let dump = write(&dir, "o.lammpstrj", MAPPED_DUMP);
-    let out = rgc(&[
+    let report = json(&[
         "sample",
         "--rods",
         &dump,
@@ -901,12 +901,6 @@ fn lammps_columns_map_and_the_box_moves_to_the_origin() {
         MAPPING,
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["n_rods"], 3);
     assert_eq!(report["periodic"], "xy");
     assert_eq!(report["box"], serde_json::json!([4.0, 5.0, 4.0]));
@@ -1141,13 +1135,7 @@ fn cli_origin_wraps_counts_and_saves() {
         dir.join("b2.json").display().to_string(),
     );
     let args = ["sample", "--rods", &csv, "--box", "4", "--origin", "-2"];
-    let out = rgc(&[&args[..], &["--save-rods", &saved, "--save-bodies", &b1]].concat());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = stdout_of(&[&args[..], &["--save-rods", &saved, "--save-bodies", &b1]].concat());
     assert!(
         text.starts_with("2 rod centres wrapped into the box along periodic axes\n4 rods,"),
         "{text}"

@@ -40,13 +40,7 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
     let base = crate::scratch("cli-threshold-kill");
     let (whole, killed) = (base.join("whole"), base.join("killed"));
     let (w, k) = (whole.to_str().unwrap(), killed.to_str().unwrap());
-    let out = rgc(&threshold_args(w, &[]));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = stdout_of(&threshold_args(w, &[]));
     assert!(
         text.contains("120 sequences run in") && text.contains("(0 found done)"),
         "{text}"
@@ -91,13 +85,7 @@ fn threshold_killed_mid_run_resumes_to_the_uninterrupted_results() {
 
     // The same command resumes: it finds the records of before the kill and
     // runs only the rest.
-    let out = rgc(&threshold_args(k, &[]));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = stdout_of(&threshold_args(k, &[]));
     assert!(
         text.contains(&format!("{} sequences run in", 120 - before))
             && text.contains(&format!("({before} found done)")),
@@ -169,12 +157,7 @@ fn aspect_ratios_chart_thresholds_of_finished_studies() {
             dir,
             &[("--gamma", gamma), ("--kind", kind), ("--boxes", "3,4,5")],
         );
-        let out = rgc(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        stdout_of(&args);
     }
     let stem = base.join("vex");
     let out = rgc(&[
@@ -608,12 +591,7 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     let shard = |k| [&study[..], &[("--shard", k)]].concat();
     let path = |d: &std::path::Path| d.to_str().unwrap().to_string();
     let run = |a: &[&str]| {
-        let out = rgc(a);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        stdout_of(a);
     };
     let summary = |d: &std::path::Path| std::fs::read_to_string(d.join("summary.json")).unwrap();
     let whole = at("whole");
@@ -664,7 +642,7 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     assert!(now < 48, "{now}");
     run(&a);
     let merged = at("merged");
-    let out = rgc(&[
+    stdout_of(&[
         "merge",
         shards.to_str().unwrap(),
         "--bootstrap",
@@ -672,11 +650,6 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
         "--out",
         merged.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert_eq!(summary(&whole), summary(&merged));
     std::fs::remove_dir_all(&base).unwrap();
 }
@@ -712,7 +685,7 @@ fn a_truth_study_stops_at_the_memory_limit_and_keeps_no_false_record() {
 /// A small truth study (gamma 23, boxes 3, 4, 5, six sequences each, seed
 /// 3: about 4 s) written to `dir`; returns what it printed.
 fn small_truth_study(dir: &std::path::Path) -> String {
-    let out = rgc(&threshold(
+    stdout_of(&threshold(
         dir.to_str().unwrap(),
         &[
             ("--kind", "truth"),
@@ -721,13 +694,7 @@ fn small_truth_study(dir: &std::path::Path) -> String {
             ("--sequences", "6"),
             ("--seed", "3"),
         ],
-    ));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    ))
 }
 
 #[test]

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::cli::rgc;
+use crate::cli::{json, rgc, stdout_of};
 use rgc::sample::{SampleOptions, sample};
 use rgc::spanning::Criterion;
 
@@ -279,7 +279,7 @@ fn per_rod(n: usize, clusters: &[(Vec<u64>, bool)]) -> (Vec<i64>, Vec<i64>) {
 fn a_sample_vtk_file_reads_back_to_the_librarys_rods_bodies_and_clusters() {
     let dir = crate::scratch("vtk-sample");
     let (vtp, bodies) = (dir.join("s.vtp"), dir.join("b.json"));
-    let out = rgc(&[
+    stdout_of(&[
         "sample",
         "--gamma",
         "10",
@@ -299,11 +299,6 @@ fn a_sample_vtk_file_reads_back_to_the_librarys_rods_bodies_and_clusters() {
         "--save-bodies",
         bodies.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let s = sample(&SampleOptions {
         rods: rgc::rods::RodParams::new(10.0, 4.0, 12.0).unwrap().into(),
         seed: 9,
@@ -363,7 +358,7 @@ fn a_sample_vtk_file_reads_back_to_the_librarys_rods_bodies_and_clusters() {
 fn vtk_carries_each_rods_size_its_box_and_its_true_rigid_cluster() {
     let dir = crate::scratch("vtk-truth");
     let (vtk, rods) = (dir.join("s.vtp"), dir.join("s.csv"));
-    let out = rgc(&[
+    let report = json(&[
         "sample",
         "--box",
         "4,4,3",
@@ -382,12 +377,6 @@ fn vtk_carries_each_rods_size_its_box_and_its_true_rigid_cluster() {
         rods.to_str().unwrap(),
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
     let truth = &report["truth"];
     assert_eq!(truth["method"], "exact");
     let system = rgc::rods::file::read(
@@ -460,13 +449,7 @@ fn truth_writes_its_clusters_as_json_and_vtk() {
     std::fs::write(&csv, with_ids).unwrap();
     let run = |extra: &[&str]| {
         let args = [&["truth", "--rods", csv.as_str(), "--box", "3"][..], extra].concat();
-        let out = rgc(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice::<Value>(&out.stdout).unwrap()
+        crate::cli::json(&args)
     };
     let printed = run(&["--save-vtk", &vtp, "--save-clusters", &json, "--json"]);
     let saved: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
@@ -568,18 +551,13 @@ fn truth_outputs_are_checked_before_the_work() {
     );
     // A triangle of rods is one rigid cluster of a finite framework: no spans.
     let json = dir.join("c.json");
-    let out = rgc(&[
+    stdout_of(&[
         "truth",
         "--graph6",
         "Bw",
         "--save-clusters",
         json.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let saved: Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     assert_eq!(
         saved,
