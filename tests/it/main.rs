@@ -35,6 +35,7 @@ mod studies;
 mod threshold;
 mod truth;
 mod truth_contract;
+mod truth_draws;
 mod truth_motions;
 mod vtk;
 
