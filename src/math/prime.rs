@@ -235,7 +235,7 @@ impl Field for Fr {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Q1;
+    use crate::math::field::Q1;
     use proptest::prelude::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
