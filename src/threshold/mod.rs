@@ -15,3 +15,4 @@ pub mod sequence;
 pub mod study;
 pub mod transition;
 pub mod variants;
+pub mod workspace;
