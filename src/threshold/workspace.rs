@@ -185,7 +185,7 @@ pub fn read_slice(dir: &Path, value_file: &str, pointers: &Pointers) -> Result<S
     };
     let shard = match get("shard") {
         Some(Value::String(s)) => {
-            Shard::parse(&s).map_err(|e| at(format!("{}: {e}", pointers.of("shard"))))?
+            Shard::parse(&s).map_err(|e| at(format!("{}: {}", pointers.of("shard"), reason(e))))?
         }
         Some(v) => return Err(field("shard", v, "\"i/n\", e.g. \"0/4\"")),
         None => Shard::WHOLE,
@@ -193,17 +193,21 @@ pub fn read_slice(dir: &Path, value_file: &str, pointers: &Pointers) -> Result<S
     if spec.runs > 1000 {
         return Err(at(format!("runs {} is over 1000", spec.runs)));
     }
-    spec.validate_for_analysis().map_err(|e| {
-        at(e.to_string()
-            .trim_start_matches("invalid parameter: ")
-            .to_string())
-    })?;
+    spec.validate_for_analysis().map_err(|e| at(reason(e)))?;
     Ok(Slice {
         spec,
         rule_files,
         shard,
         parameters,
     })
+}
+
+/// A parameter error's message without its kind, to follow the value's path.
+fn reason(e: Error) -> String {
+    match e {
+        Error::Parameter(m) => m,
+        e => e.to_string(),
+    }
 }
 
 /// What `slice.json` says: the slice, its record file, and the parameters

@@ -37,6 +37,7 @@ mod truth;
 mod truth_contract;
 mod truth_motions;
 mod vtk;
+mod workspaces;
 
 use std::path::PathBuf;
 
