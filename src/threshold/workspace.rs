@@ -6,16 +6,15 @@
 //! merging writes `merged.json` into every directory of the study once the
 //! merged study, named by its spec, is complete.
 
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::engine::RuleSet;
 use crate::output;
 use crate::spanning::Criterion;
-use crate::threshold::fss::Protocol;
-use crate::threshold::sequence::{Kind, Record};
+use crate::threshold::sequence::Record;
 use crate::threshold::study::{self, Shard, StudySpec};
 use crate::threshold::variants;
 use crate::{Error, Result};
@@ -125,69 +124,31 @@ pub fn read_slice(dir: &Path, value_file: &str, pointers: &Pointers) -> Result<S
             PARAMETERS.join(", ")
         )));
     }
-    let get = |name: &str| parameters.get(name).cloned();
-    let field = |name: &str, v: Value, want: &str| -> Error {
-        at(format!(
-            "{} ({name}): expected {want}, got {v}",
-            pointers.of(name)
-        ))
+    let param = |name: &'static str| Param {
+        found: &parameters,
+        name,
+        pointers,
+        path: &path,
     };
-    fn take<T: for<'de> Deserialize<'de>>(v: &Value) -> Option<T> {
-        serde_json::from_value(v.clone()).ok()
-    }
-    let required =
-        |name: &str| get(name).ok_or_else(|| at(format!("no {name} (at {})", pointers.of(name))));
-    let number = |name: &str, v: Value| take::<f64>(&v).ok_or_else(|| field(name, v, "a number"));
-    let count =
-        |name: &str, v: Value| take::<u64>(&v).ok_or_else(|| field(name, v, "a whole number"));
-    let named = |name: &str, v: Value, options: &str| field(name, v, &format!("one of {options}"));
-    let gamma = number("gamma", required("gamma")?)?;
-    let boxes_value = required("boxes")?;
-    let boxes: Vec<f64> = take(&boxes_value).ok_or_else(|| {
-        field(
-            "boxes",
-            boxes_value,
-            "an array of box sides, e.g. [3, 3.5, 4]",
-        )
-    })?;
-    let sequences = count("sequences", required("sequences")?)?;
-    let mut spec = StudySpec::new(gamma, boxes, sequences, Criterion::Wrap, 1);
-    if let Some(v) = get("kind") {
-        spec.kind = take::<Kind>(&v)
-            .ok_or_else(|| named("kind", v, "\"contact\", \"rigid\", \"truth\""))?;
-    }
-    if let Some(v) = get("rules") {
-        spec.rules = take::<RuleSet>(&v)
-            .ok_or_else(|| named("rules", v, "\"sound\", \"paper\", \"certified\""))?;
-    }
-    if let Some(v) = get("runs") {
-        spec.runs = count("runs", v)? as usize;
-    }
-    if let Some(v) = get("protocol") {
-        spec.method =
-            take::<Protocol>(&v).ok_or_else(|| named("protocol", v, "\"nested\", \"fixed\""))?;
-    }
-    if let Some(v) = get("grid_points") {
-        spec.grid_points = count("grid_points", v)? as usize;
-    }
-    if let Some(v) = get("criterion") {
-        spec.criterion =
-            take::<Criterion>(&v).ok_or_else(|| named("criterion", v, "\"wrap\", \"faces\""))?;
-    }
-    if let Some(v) = get("seed") {
-        spec.seed = count("seed", v)?;
-    }
-    let rule_files = match get("rule_files") {
-        Some(v) => {
-            take::<Vec<PathBuf>>(&v).ok_or_else(|| field("rule_files", v, "an array of paths"))?
-        }
-        None => Vec::new(),
-    };
-    let shard = match get("shard") {
-        Some(Value::String(s)) => {
+    let mut spec = StudySpec::new(
+        param("gamma").required()?,
+        param("boxes").required()?,
+        param("sequences").required()?,
+        Criterion::Wrap,
+        1,
+    );
+    spec.kind = param("kind").get()?.unwrap_or(spec.kind);
+    spec.rules = param("rules").get()?.unwrap_or(spec.rules);
+    spec.runs = param("runs").get()?.unwrap_or(spec.runs);
+    spec.method = param("protocol").get()?.unwrap_or(spec.method);
+    spec.grid_points = param("grid_points").get()?.unwrap_or(spec.grid_points);
+    spec.criterion = param("criterion").get()?.unwrap_or(spec.criterion);
+    spec.seed = param("seed").get()?.unwrap_or(spec.seed);
+    let rule_files: Vec<PathBuf> = param("rule_files").get()?.unwrap_or_default();
+    let shard = match param("shard").get::<String>()? {
+        Some(s) => {
             Shard::parse(&s).map_err(|e| at(format!("{}: {}", pointers.of("shard"), reason(e))))?
         }
-        Some(v) => return Err(field("shard", v, "\"i/n\", e.g. \"0/4\"")),
         None => Shard::WHOLE,
     };
     if spec.runs > 1000 {
@@ -200,6 +161,46 @@ pub fn read_slice(dir: &Path, value_file: &str, pointers: &Pointers) -> Result<S
         shard,
         parameters,
     })
+}
+
+/// One parameter of a value, read by its pointer.
+struct Param<'a> {
+    found: &'a BTreeMap<String, Value>,
+    name: &'static str,
+    pointers: &'a Pointers,
+    path: &'a Path,
+}
+
+impl Param<'_> {
+    /// The parameter as a `T` (serde's message where it is not one), if
+    /// the value gives it.
+    fn get<T: DeserializeOwned>(&self) -> Result<Option<T>> {
+        self.found
+            .get(self.name)
+            .map(|v| {
+                serde_json::from_value(v.clone()).map_err(|e| {
+                    Error::Parameter(format!(
+                        "{}: {} ({}): {e}",
+                        self.path.display(),
+                        self.pointers.of(self.name),
+                        self.name
+                    ))
+                })
+            })
+            .transpose()
+    }
+
+    /// The parameter as a `T`, which the value must give.
+    fn required<T: DeserializeOwned>(&self) -> Result<T> {
+        self.get()?.ok_or_else(|| {
+            Error::Parameter(format!(
+                "{}: no {} (at {})",
+                self.path.display(),
+                self.name,
+                self.pointers.of(self.name)
+            ))
+        })
+    }
 }
 
 /// A parameter error's message without its kind, to follow the value's path.

@@ -308,11 +308,11 @@ fn workspace_slices_refuse_bad_values_and_read_signac_statepoints() {
         ),
         (
             r#"{"gamma": 10, "boxes": "3,3.5,4", "sequences": 40}"#,
-            r#"/boxes (boxes): expected an array of box sides, e.g. [3, 3.5, 4], got "3,3.5,4""#,
+            r#"/boxes (boxes): invalid type: string "3,3.5,4", expected a sequence"#,
         ),
         (
             r#"{"gamma": 10, "boxes": [3, 3.5, 4], "sequences": 40, "kind": "rigd"}"#,
-            r#"/kind (kind): expected one of "contact", "rigid", "truth", got "rigd""#,
+            "/kind (kind): unknown variant `rigd`, expected one of `contact`, `rigid`, `truth`",
         ),
         (
             &format!(r#"{{{study}, "shard": "3/3"}}"#),
@@ -320,7 +320,7 @@ fn workspace_slices_refuse_bad_values_and_read_signac_statepoints() {
         ),
         (
             &format!(r#"{{{study}, "shard": 1}}"#),
-            r#"/shard (shard): expected "i/n", e.g. "0/4", got 1"#,
+            "/shard (shard): invalid type: integer `1`, expected a string",
         ),
         (
             r#"{"gamma": 10, "boxes": [3, 4, 4], "sequences": 40}"#,
