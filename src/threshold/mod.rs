@@ -1,7 +1,8 @@
 //! Percolation thresholds (MODEL §8, §9): Monte Carlo rod sequences and
 //! their critical numbers of rods, checkpointed studies, finite-size scaling
 //! to `L -> inf`, variants of the engine compared on shared sequences and
-//! against the exact truth, and thresholds across aspect ratios.
+//! against the exact truth, thresholds across aspect ratios, and studies
+//! run from a row or signac workspace.
 
 pub mod aspect;
 pub mod bias;
@@ -16,3 +17,4 @@ pub mod study;
 pub mod transition;
 pub mod twins;
 pub mod variants;
+pub mod workspace;

@@ -38,6 +38,7 @@ mod truth_contract;
 mod truth_draws;
 mod truth_motions;
 mod vtk;
+mod workspaces;
 
 use std::path::PathBuf;
 

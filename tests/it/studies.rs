@@ -539,7 +539,7 @@ fn stability_reproduces_the_committed_study() {
 
 /// Spawns `args` and SIGKILLs it once the record files of `dir` hold
 /// `target` complete lines; returns how many they hold after the kill.
-fn kill_after(args: &[&str], dir: &std::path::Path, target: usize) -> usize {
+pub fn kill_after(args: &[&str], dir: &std::path::Path, target: usize) -> usize {
     let lines = || -> usize {
         std::fs::read_dir(dir).map_or(0, |entries| {
             entries

@@ -55,6 +55,8 @@ enum Command {
     Threshold(cmd::threshold::ThresholdArgs),
     /// Combine the shards of a threshold study and analyse it.
     Merge(cmd::merge::MergeArgs),
+    /// A threshold study from a row or signac workspace: one directory's slice, or the merge of one study's directories.
+    Workspace(cmd::workspace::WorkspaceArgs),
     /// Finished studies of the same sequences compared sequence by sequence: mean shift of the critical density per box.
     Paired(cmd::paired::PairedArgs),
     /// The order of the rigidity transition from truth studies: the jump of the largest true cluster at the critical rod per box, and its share of the rods above the threshold.
@@ -168,6 +170,7 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Stability(a) => cmd::stability::run(a, out),
         Command::Threshold(a) => cmd::threshold::run(a, out),
         Command::Merge(a) => cmd::merge::run(a, out),
+        Command::Workspace(a) => cmd::workspace::run(a, out),
         Command::Paired(a) => cmd::paired::run(a, out),
         Command::Transition(a) => cmd::transition::run(a, out),
         Command::Twins(a) => cmd::twins::run(a, out),

@@ -48,7 +48,8 @@ impl Shard {
         k % self.count == self.index
     }
 
-    pub(super) fn file_name(&self) -> String {
+    /// The shard's record file: `records.jsonl` for a whole study.
+    pub fn file_name(&self) -> String {
         if *self == Shard::WHOLE {
             "records.jsonl".into()
         } else {

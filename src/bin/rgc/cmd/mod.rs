@@ -36,6 +36,7 @@ pub mod tradeoff;
 pub mod transition;
 pub mod twins;
 pub mod truth;
+pub mod workspace;
 
 /// The output files given, as (flag, path), checked before the work: each
 /// writable, and no two the same file.
