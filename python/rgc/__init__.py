@@ -3,8 +3,11 @@
 Rods go in as numpy arrays (or are generated), and results come out as
 numpy arrays: contacts as (M, 2) pairs with their points and image
 offsets, 3D-RGC bodies and exact rigid clusters as per-rod labels of shape
-(N,). The work runs in Rust with the interpreter released; the answers are
-those of the ``rgc`` command line for the same seed.
+(N,). The work runs in Rust with the interpreter released, and Ctrl-C
+stops a long call at once; the answers are those of the ``rgc`` command
+line for the same seed. Bad input raises ValueError, work too large for
+the memory available MemoryError, an undecided truth UndecidedError.
+Boxes, rods, contacts and results pickle.
 """
 
 from __future__ import annotations
@@ -76,12 +79,13 @@ def _real(a: Any, name: str) -> np.ndarray:
 
 
 def _points(a: Any, name: str, cols: int) -> np.ndarray:
-    """An (N, cols) array of real numbers as contiguous float64 (float32
-    from OVITO or gsd and lists too), or a ValueError naming the shape."""
+    """An (N, cols) array of real numbers as float64 (float32 from OVITO
+    or gsd and lists too; float64 views as they are, not copied), or a
+    ValueError naming the shape."""
     arr = _real(a, name)
     if arr.ndim != 2 or arr.shape[1] != cols:
         raise ValueError(f"{name} must have shape (N, {cols}), got {arr.shape}")
-    return np.ascontiguousarray(arr, dtype=np.float64)
+    return arr.astype(np.float64, copy=False)
 
 
 def _per_rod(a: Any, name: str) -> Tuple[Optional[float], Optional[np.ndarray]]:
@@ -96,7 +100,7 @@ def _per_rod(a: Any, name: str) -> Tuple[Optional[float], Optional[np.ndarray]]:
         return float(arr), None
     if arr.ndim != 1:
         raise ValueError(f"{name} must be a number or an array of shape (N,), got shape {arr.shape}")
-    return None, np.ascontiguousarray(arr, dtype=np.float64)
+    return None, arr.astype(np.float64, copy=False)
 
 
 def from_arrays(

@@ -49,9 +49,23 @@ class Rods:
         (N, 4), (w, x, y, z) rotating ``axis``; lengths and radii are numbers (numpy scalars
         too) or (N,) arrays, of any real dtype. ValueError for complex or text input, wrong
         shapes and refused rods; MemoryError before allocating rods too many for memory."""
+    @staticmethod
+    def _from_arrays(
+        box: Box,
+        centres: Float64Array,
+        directions: Optional[Float64Array],
+        quaternions: Optional[Float64Array],
+        length: Optional[float],
+        lengths: Optional[Float64Array],
+        radius: Optional[float],
+        radii: Optional[Float64Array],
+        axis: Tuple[float, float, float],
+    ) -> "Rods":
+        """``from_arrays`` after the Python layer's conversion: float64 arrays, each size a number or an array."""
     def __len__(self) -> int: ...
     @property
-    def box(self) -> Box: ...
+    def box(self) -> Box:
+        """The box the rods were given in (centred if it was)."""
     @property
     def centres(self) -> Float64Array:
         """Centres in the box's frame ([-L/2, L/2) along periodic axes if centred), shape (N, 3)."""

@@ -4,7 +4,7 @@ use pyo3::prelude::*;
 use rgc::graph::io::parse_graph6;
 use rgc::pattern::Pattern;
 
-use crate::error;
+use crate::{error, interrupt};
 
 /// The exact rigidity verdict of the rods-only contact pattern given as
 /// graph6 text (the same as `rgc check --graph6`), as JSON text: `rigid`,
@@ -15,8 +15,6 @@ use crate::error;
 pub fn check_graph6(py: Python<'_>, graph6: &str, seed: u64) -> PyResult<String> {
     let g = parse_graph6(graph6.trim()).map_err(error)?;
     let p = Pattern::from_graph(&g).map_err(error)?;
-    let v = py
-        .detach(|| rgc::rigidity::check_exact(&p, seed))
-        .map_err(error)?;
+    let v = interrupt::run(py, move || rgc::rigidity::check_exact(&p, seed))?.map_err(error)?;
     serde_json::to_string(&v).map_err(crate::value_error)
 }

@@ -140,7 +140,10 @@ pub(crate) fn options(
 /// (the same runs as `rgc sample` with that seed), rules 'sound', 'paper'
 /// or 'certified', spanning under 'wrap' or 'faces'.
 #[pyfunction]
-#[pyo3(signature = (rods, rules="sound", runs=None, seed=1, criterion="wrap"))]
+#[pyo3(
+    signature = (rods, rules="sound", runs=None, seed=1, criterion="wrap"),
+    text_signature = "(rods, rules='sound', runs=1, seed=1, criterion='wrap')"
+)]
 pub fn compress(
     py: Python<'_>,
     rods: &PyRods,

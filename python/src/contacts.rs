@@ -6,8 +6,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use rgc::contacts::Contact;
 
-use crate::system::{PyBox, PyRods};
 use crate::interrupt;
+use crate::system::{PyBox, PyRods};
 
 /// The contacts of a rod system, one row each, with the box its rods were
 /// given in (whose frame the points come out in).

@@ -16,8 +16,8 @@ use rgc::usage::{available_memory, size};
 use crate::{error, interrupt, value_error};
 
 /// Peak bytes per rod of building a system (rods, the checked copy, the
-/// index that finds rods given twice), measured with room to spare:
-/// checked before anything is allocated.
+/// index that finds rods given twice): 303 measured for 2 million rods,
+/// with room to spare. Checked before anything is allocated.
 const BUILD_BYTES_PER_ROD: u64 = 400;
 
 /// A box `[0, L_x) x [0, L_y) x [0, L_z)` and its periodic axes, or, as

@@ -46,6 +46,10 @@ def test_float32_and_lists_are_taken_as_float64():
     assert np.array_equal(exact.centres, lists.centres)
     single = rgc.Rods.from_arrays(b, centres.astype(np.float32), directions=d.astype(np.float32), lengths=1.0, radii=0.05)
     assert np.allclose(single.centres, centres, atol=1e-5)
+    # Strided views (columns of a wider table, reversed rows) are read as they lie.
+    table = np.column_stack([centres, d])[::-1]
+    view = rgc.Rods.from_arrays(b, table[:, :3], directions=table[:, 3:], lengths=np.ones(40)[::2], radii=0.05)
+    assert np.array_equal(view.centres, centres[::-1]) and np.allclose(view.directions, d[::-1], atol=1e-15)
 
 
 def test_quaternions_and_centred_boxes_give_the_same_contacts():
