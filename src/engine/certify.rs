@@ -31,7 +31,7 @@ pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression 
     // One realization proves what it finds rigid, and certification only
     // needs that.
     let opts = TruthOptions {
-        twins: false,
+        realizations: 1,
         ..TruthOptions::seeded(seed)
     };
     let t = truth::truth(topo, opts);

@@ -440,7 +440,7 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn modulus() -> Modulus {
-        Modulus::new(Q1::MODULUS)
+        Modulus::new(Q1::modulus())
     }
 
     /// A random `rows x cols` matrix over Q1 of rank at most `r` (a product
@@ -496,7 +496,7 @@ mod tests {
             let k = Block { data: &mut a, rows, cols, modulus: modulus() }.echelon(0, 0, cols, &mut pivots);
             prop_assert_eq!(k, reference(&m, rows, cols));
             prop_assert_eq!(pivots.len(), k);
-            let half = (Q1::MODULUS / 2) as f64;
+            let half = (Q1::modulus() / 2) as f64;
             prop_assert!(a.iter().all(|x| x.abs() <= half && x.fract() == 0.0));
             for (t, &c) in pivots.iter().enumerate() {
                 prop_assert!(t == 0 || pivots[t - 1] < c);
@@ -550,7 +550,7 @@ mod tests {
     #[test]
     fn reduction_is_exact_at_the_extremes() {
         let md = modulus();
-        let q = Q1::MODULUS as i64;
+        let q = Q1::modulus() as i64;
         let half = q / 2;
         // The largest product a panel sums, 64 of them, and a residue on top.
         let big = (PANEL as i64) * half * half + half;

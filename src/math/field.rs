@@ -228,14 +228,16 @@ impl Scalar for f64 {
 /// An exact prime field: what realizations are built and matrices
 /// eliminated over.
 pub trait Field: Scalar + Eq + std::hash::Hash {
-    /// The prime.
-    const MODULUS: u64;
-    /// The residue, in `0..MODULUS`.
+    /// The prime (for [`super::prime::Fr`], the one in force on this thread).
+    fn modulus() -> u64;
+    /// The residue, in `0..modulus()`.
     fn residue(self) -> u64;
 }
 
 impl Field for Fp {
-    const MODULUS: u64 = P;
+    fn modulus() -> u64 {
+        P
+    }
     fn residue(self) -> u64 {
         self.0
     }
@@ -245,9 +247,9 @@ impl Field for Fp {
 /// over. Their residues and products are exact in f64, so the dense work
 /// of a whole-system elimination runs in floating-point matrix products
 /// ([`super::echelon`]), many times faster than 61-bit residues. The price
-/// is a larger chance of an unlucky draw (about `1/q` per coincidence
-/// against `1/p`), which two independent realizations in two different
-/// primes, [`Q1`] and [`Q2`], make negligible.
+/// is a larger chance of an unlucky draw than in F_p. Truth draws its
+/// primes at run time ([`super::prime::Fr`]); these two fixed ones serve
+/// the kernel's own tests and benchmarks.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
 pub struct Fq<const Q: u32>(u32);
 
@@ -345,7 +347,9 @@ impl<const Q: u32> Scalar for Fq<Q> {
 }
 
 impl<const Q: u32> Field for Fq<Q> {
-    const MODULUS: u64 = Q as u64;
+    fn modulus() -> u64 {
+        Q as u64
+    }
     fn residue(self) -> u64 {
         self.0 as u64
     }

@@ -8,9 +8,11 @@ pub mod field;
 pub mod float;
 pub mod marquardt;
 pub mod matrix;
+pub mod prime;
 pub mod sparse;
 pub mod stats;
 pub mod vec3;
 
 pub use field::{Field, Fp, Fq, P, Q1, Q2, Scalar};
+pub use prime::{Fr, with_prime};
 pub use matrix::{Matrix, rank_exact, rank_fp, reduce_fp};

@@ -93,7 +93,7 @@ impl<'a> Probe<'a> {
             topo,
             q,
             opts: TruthOptions {
-                twins: false,
+                realizations: 1,
                 ..TruthOptions::seeded(seed)
             },
             local: vec![u32::MAX; topo.graph.n_nodes()],

@@ -14,4 +14,5 @@ pub mod report;
 pub mod sequence;
 pub mod study;
 pub mod transition;
+pub mod twins;
 pub mod variants;

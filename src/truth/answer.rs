@@ -39,11 +39,18 @@ pub struct TruthOptions {
     /// Redraws of a realization that lands on a degenerate position (the
     /// float fallback draws [`super::fallback::DRAWS_PER_ATTEMPT`] times as many).
     pub attempts: usize,
-    /// Rank a second, independent realization too (the generic rank is the
-    /// larger). One realization already proves what it finds rigid; the twin
-    /// guards the flexible answers against an unlucky draw. The float
+    /// Independent realizations ranked, 1 to
+    /// [`super::decide::MAX_REALIZATIONS`], each in a prime of its own
+    /// drawn at random; the generic rank is the largest. One realization
+    /// already proves the rank it finds (a realization can only lose rank);
+    /// the others guard the flexible answers against an unlucky draw, each
+    /// by a check with the clusters found so far contracted. The float
     /// fallback proves nothing from one realization and always ranks twins.
-    pub twins: bool,
+    pub realizations: usize,
+    /// The realizations' primes instead of random ones (tests that force a
+    /// bad draw in a small prime).
+    #[doc(hidden)]
+    pub primes: Option<[u32; 3]>,
     /// Stop an elimination before a dense front that would take it past
     /// this many bytes; the answer is then undecided ([`Outcome::Undecided`]).
     pub memory_limit: Option<u64>,
@@ -64,7 +71,8 @@ impl Default for TruthOptions {
         TruthOptions {
             seed: 1,
             attempts: 8,
-            twins: true,
+            realizations: 2,
+            primes: None,
             memory_limit: None,
         }
     }
@@ -250,6 +258,10 @@ pub struct Truth {
     /// the cost of truth grows with.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub largest_front: Option<(usize, usize)>,
+    /// The prime of each exact realization ranked, in order (drawn at
+    /// random per evaluation, so that no system meets a fixed bad prime).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub primes: Vec<u32>,
     /// For a generated system: whether a rigid cluster spans under the
     /// criterion asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -307,6 +319,7 @@ impl Truth {
             trivial_motions,
             clusters: Vec::new(),
             largest_front: None,
+            primes: Vec::new(),
             criterion: None,
             spanning: None,
             seconds: 0.0,

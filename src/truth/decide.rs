@@ -10,7 +10,7 @@ use super::answer::{Outcome, Spans, Truth, TruthOptions};
 use super::planes::Planes;
 use super::{clusters, contract, fallback, matrix, order, planes, prune, realize};
 use crate::graph::Topology;
-use crate::math::{Field, Q1, Q2, sparse};
+use crate::math::{Field, Fr, prime, sparse, with_prime};
 use crate::network::View;
 use crate::spanning::{Criterion, SpanChecker};
 
@@ -94,92 +94,61 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             return finish(out);
         }
     };
-    // Each twin draws its realization from its own stream, and kernel
-    // vectors come from a third, so that nothing depends on how many draws
-    // came before.
-    let stream = |k| {
-        let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
-        rng.set_stream(k);
-        rng
-    };
-    let (mut rng1, mut rng2, mut draws) = (stream(0), stream(2), stream(1));
-    let twin = Twin {
-        topo,
-        planes: &planes,
-        active: &core.active,
-        order: &order,
-        parts: &parts,
-        attempts: opts.attempts.max(1),
-        memory_limit: opts.memory_limit,
-    };
+    let mut realizations = Realizations::new(opts);
+    let twin = Twin::new(topo, &planes, &core.active, &order, &parts, opts);
     let pruned = core.pruned_motions();
-    let first = match twin.rank::<Q1>(&mut rng1, Some(&mut draws)) {
+    let first = match realizations.first(&twin) {
         Ok(f) => f,
         Err(stop) => {
             stopped(&mut out, stop, opts.memory_limit);
             return finish(out);
         }
     };
-    out.rows = first.rows.len();
-    out.largest_front = Some(first.elim.largest_front);
-    let clusters = clusters::clusters(topo, &parts, &first.real, &first.elim.kernel);
-    if !opts.twins {
-        out.decide(first.elim.rank, pruned, clusters, exact(None));
+    out.rows = first.rows;
+    out.largest_front = Some(first.largest_front);
+    out.primes.push(first.prime);
+    if realizations.count() == 1 {
+        out.decide(first.rank, pruned, first.clusters, exact(None));
         return finish(out);
     }
-    // The twin, in the other prime, checks the kernel's dimension with the
-    // first twin's clusters contracted: that is all it needs to confirm
-    // (MODEL §10). Only where the two differ does it rank the whole matrix,
-    // and then the larger rank wins.
-    let contraction = contract::of_clusters(topo, &parts, &clusters);
-    let kernel = |rank: usize, count: usize| count * matrix::WIDTH - rank;
-    let second = match twin.realize::<Q2>(&mut rng2) {
-        Ok(s) => s,
-        Err(stop) => {
-            stopped(&mut out, stop, opts.memory_limit);
-            return finish(out);
-        }
-    };
-    let contracted = contraction.rows(&second.0, &second.1);
-    let checked = sparse::rank(
-        &contracted,
-        contraction.count,
-        matrix::WIDTH,
-        opts.memory_limit,
-    );
-    match checked {
-        Ok(c) if kernel(c.rank, contraction.count) == kernel(first.elim.rank, parts.count) => {
-            out.decide(first.elim.rank, pruned, clusters, exact(Some(true)));
-            return finish(out);
-        }
-        Ok(_) => {}
-        Err(e) => {
-            out.refuse(e, opts.memory_limit);
-            return finish(out);
-        }
-    }
-    let (real, rows) = second;
-    let whole = match twin.eliminate::<Q2>(&rows, None) {
-        Ok(w) => w,
-        Err(e) => {
-            out.refuse(e, opts.memory_limit);
-            return finish(out);
-        }
-    };
-    let agree = exact(Some(whole.rank == first.elim.rank));
-    if whole.rank > first.elim.rank {
-        match twin.eliminate(&rows, Some(&mut draws)) {
-            Ok(elim) => {
-                out.largest_front = Some(elim.largest_front);
-                let clusters = clusters::clusters(topo, &parts, &real, &elim.kernel);
-                out.decide(elim.rank, pruned, clusters, agree);
+    // Each later realization, in a prime of its own, checks the kernel's
+    // dimension with the best clusters so far contracted: that is all it
+    // needs to confirm (MODEL §10). Only where the two differ does it rank
+    // its whole matrix, and then the larger rank wins.
+    let (mut best, mut agree) = (first, true);
+    for k in 1..realizations.count() {
+        match realizations.check(k, &twin, &best) {
+            Ok(Check::Confirmed { prime }) => out.primes.push(prime),
+            Ok(Check::Whole { prime, rank, larger }) => {
+                out.primes.push(prime);
+                agree &= rank == best.rank;
+                if let Some(l) = larger {
+                    out.largest_front = Some(l.largest_front);
+                    best = l;
+                }
             }
-            Err(e) => out.refuse(e, opts.memory_limit),
+            Err(stop) => {
+                stopped(&mut out, stop, opts.memory_limit);
+                return finish(out);
+            }
         }
-    } else {
-        out.decide(first.elim.rank, pruned, clusters, agree);
     }
+    out.decide(best.rank, pruned, best.clusters, exact(Some(agree)));
     finish(out)
+}
+
+/// The whole rank of each of `opts.realizations` exact realizations of
+/// `topo`, with its prime, before any contraction: what the measurement of
+/// unlucky draws compares (`threshold::twins`). `None` where truth would
+/// not rank exactly: no realization of the line model in the box, no
+/// construction order, a degenerate draw every time, or the memory limit.
+pub fn realization_ranks(topo: &Topology, opts: TruthOptions) -> Option<Vec<(u32, usize)>> {
+    let core = prune::two_core(topo.graph);
+    let planes = planes::forced(topo, &core.active).ok()?;
+    let parts = matrix::parts(&planes, &core.active);
+    let order = order::order(topo, &planes, &core.active).ok()?;
+    let twin = Twin::new(topo, &planes, &core.active, &order, &parts, opts);
+    Realizations::new(opts).ranks(&twin).ok()
 }
 
 /// An exact outcome, with whether the twins agreed (`None` without twins).
@@ -188,6 +157,155 @@ fn exact(twins_agree: Option<bool>) -> impl FnOnce(usize, usize) -> Outcome {
         rank,
         dof,
         twins_agree,
+    }
+}
+
+/// The most realizations one evaluation ranks.
+pub const MAX_REALIZATIONS: usize = 3;
+
+/// The random streams of the realizations, the kernel vectors and the
+/// primes of one evaluation.
+const REALIZATION_STREAMS: [u64; MAX_REALIZATIONS] = [0, 2, 4];
+const KERNEL_STREAM: u64 = 1;
+const PRIME_STREAM: u64 = 3;
+
+/// One random stream of an evaluation seeded `seed`.
+fn stream(seed: u64, k: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(k);
+    rng
+}
+
+/// The realizations of one evaluation: each from its own random stream and
+/// in its own prime, so that nothing depends on how many draws came before.
+struct Realizations {
+    seed: u64,
+    primes: Vec<u32>,
+    /// Kernel vectors come from a stream of their own.
+    draws: ChaCha8Rng,
+}
+
+/// The best rank so far, with the clusters of its kernel.
+struct Best {
+    rank: usize,
+    prime: u32,
+    rows: usize,
+    largest_front: (usize, usize),
+    clusters: Vec<Vec<u32>>,
+}
+
+/// What a later realization found.
+enum Check {
+    /// Its contracted matrix has the kernel the best rank predicts.
+    Confirmed { prime: u32 },
+    /// It did not: its whole rank, and what it found if that is larger.
+    Whole {
+        prime: u32,
+        rank: usize,
+        larger: Option<Best>,
+    },
+}
+
+impl Realizations {
+    fn new(opts: TruthOptions) -> Self {
+        let count = opts.realizations.clamp(1, MAX_REALIZATIONS);
+        let primes = match opts.primes {
+            Some(fixed) => fixed[..count].to_vec(),
+            None => {
+                let mut rng = stream(opts.seed, PRIME_STREAM);
+                let mut primes: Vec<u32> = Vec::with_capacity(count);
+                while primes.len() < count {
+                    let q = prime::draw(&mut rng);
+                    if !primes.contains(&q) {
+                        primes.push(q);
+                    }
+                }
+                primes
+            }
+        };
+        Realizations {
+            seed: opts.seed,
+            primes,
+            draws: stream(opts.seed, KERNEL_STREAM),
+        }
+    }
+
+    fn count(&self) -> usize {
+        self.primes.len()
+    }
+
+    fn rng(&self, k: usize) -> ChaCha8Rng {
+        stream(self.seed, REALIZATION_STREAMS[k])
+    }
+
+    /// The first realization ranked whole, with its clusters.
+    fn first(&mut self, twin: &Twin) -> std::result::Result<Best, Stop> {
+        let (prime, mut rng, draws) = (self.primes[0], self.rng(0), &mut self.draws);
+        with_prime(prime, || {
+            let r = twin.rank::<Fr>(&mut rng, Some(draws))?;
+            Ok(Best {
+                rank: r.elim.rank,
+                prime,
+                rows: r.rows.len(),
+                largest_front: r.elim.largest_front,
+                clusters: clusters::clusters(twin.topo, twin.parts, &r.real, &r.elim.kernel),
+            })
+        })
+    }
+
+    /// Realization `k` checks `best`: its matrix with `best`'s clusters
+    /// contracted, and its whole matrix where the kernels differ.
+    fn check(&mut self, k: usize, twin: &Twin, best: &Best) -> std::result::Result<Check, Stop> {
+        let (prime, mut rng, draws) = (self.primes[k], self.rng(k), &mut self.draws);
+        let contraction = contract::of_clusters(twin.topo, twin.parts, &best.clusters);
+        let kernel = |rank: usize, count: usize| count * matrix::WIDTH - rank;
+        with_prime(prime, || {
+            let (real, rows) = twin.realize::<Fr>(&mut rng)?;
+            let contracted = contraction.rows(&real, &rows);
+            let checked = sparse::rank(
+                &contracted,
+                contraction.count,
+                matrix::WIDTH,
+                twin.memory_limit,
+            )
+            .map_err(Stop::Memory)?;
+            if kernel(checked.rank, contraction.count) == kernel(best.rank, twin.parts.count) {
+                return Ok(Check::Confirmed { prime });
+            }
+            let whole = twin.eliminate::<Fr>(&rows, None).map_err(Stop::Memory)?;
+            let larger = if whole.rank > best.rank {
+                let elim = twin.eliminate(&rows, Some(draws)).map_err(Stop::Memory)?;
+                Some(Best {
+                    rank: elim.rank,
+                    prime,
+                    rows: rows.len(),
+                    largest_front: elim.largest_front,
+                    clusters: clusters::clusters(twin.topo, twin.parts, &real, &elim.kernel),
+                })
+            } else {
+                None
+            };
+            Ok(Check::Whole {
+                prime,
+                rank: whole.rank,
+                larger,
+            })
+        })
+    }
+
+    /// The whole rank of every realization, each in its prime: what the
+    /// twins' measurement compares (no contraction, no clusters).
+    fn ranks(&self, twin: &Twin) -> std::result::Result<Vec<(u32, usize)>, Stop> {
+        (0..self.count())
+            .map(|k| {
+                let (prime, mut rng) = (self.primes[k], self.rng(k));
+                with_prime(prime, || {
+                    let (_, rows) = twin.realize::<Fr>(&mut rng)?;
+                    let e = twin.eliminate::<Fr>(&rows, None).map_err(Stop::Memory)?;
+                    Ok((prime, e.rank))
+                })
+            })
+            .collect()
     }
 }
 
@@ -226,7 +344,26 @@ struct Ranked<F> {
     elim: sparse::Elimination<F>,
 }
 
-impl Twin<'_> {
+impl<'a> Twin<'a> {
+    fn new(
+        topo: &'a Topology<'a>,
+        planes: &'a Planes,
+        active: &'a [bool],
+        order: &'a [u32],
+        parts: &'a matrix::Parts,
+        opts: TruthOptions,
+    ) -> Self {
+        Twin {
+            topo,
+            planes,
+            active,
+            order,
+            parts,
+            attempts: opts.attempts.max(1),
+            memory_limit: opts.memory_limit,
+        }
+    }
+
     /// Builds a realization over `F` (redrawn while it lands on a
     /// degenerate position) and its matrix; `Err` says why no realization
     /// could be built.

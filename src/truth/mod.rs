@@ -18,10 +18,15 @@
 //! * [`clusters`] — the rigid clusters those vectors imply;
 //! * [`contract`] — those clusters contracted, for the second twin's check.
 //!
-//! Two independent realizations (twins) are ranked; the generic rank is the
-//! larger (Schwartz–Zippel), and they agree except with probability about
-//! `1/p`. The second twin confirms the first's kernel dimension with the
-//! first's clusters contracted, and ranks the whole matrix only where the
+//! Two independent realizations (twins) are ranked, each in a prime drawn
+//! at random; the generic rank is the larger. A realization can only lose
+//! rank, so the rank found never exceeds the generic one: a system found
+//! rigid (no motion but the trivial ones) is rigid. A flexibility may be an
+//! unlucky draw, and no bound proven for whole systems makes that chance
+//! small, so the twins check each other and how often they disagree is
+//! measured (MODEL §10). The second twin confirms the first's kernel
+//! dimension with the first's clusters contracted, and ranks the whole
+//! matrix only where the
 //! two differ. Where no rational construction order exists, [`fallback`] decides
 //! in floats: twin realizations by numerical projection ([`projection`]),
 //! the same matrix ranked by its singular values where they show a clear
@@ -43,4 +48,4 @@ pub mod realize;
 pub use crate::contacts::Offset;
 pub use crate::graph::Topology;
 pub use answer::{Cluster, Decision, Outcome, Spans, Truth, TruthOptions};
-pub use decide::{of_system, truth, truth_in_floats};
+pub use decide::{MAX_REALIZATIONS, of_system, realization_ranks, truth, truth_in_floats};

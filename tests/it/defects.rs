@@ -823,7 +823,7 @@ fn plain_text_output_uses_the_command_line_names() {
         "faces",
     ];
     let out = text(&succeeds(&truth).stdout);
-    for needle in ["spanning (faces):", "method: exact, twins agree: true"] {
+    for needle in ["spanning (faces):", "method: exact in F_q for q = ", "realizations agree: true"] {
         assert!(out.contains(needle), "{needle:?} in {out}");
     }
     for debug in ["Wrap", "Faces", "Sound", "Exact"] {

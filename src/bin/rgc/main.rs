@@ -59,6 +59,8 @@ enum Command {
     Paired(cmd::paired::PairedArgs),
     /// The order of the rigidity transition from truth studies: the jump of the largest true cluster at the critical rod per box, and its share of the rods above the threshold.
     Transition(cmd::transition::TransitionArgs),
+    /// How often truth's exact realizations disagree: the evaluations of truth studies ranked again, every realization whole, each in a prime of its own.
+    Twins(cmd::twins::TwinsArgs),
     /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same sequences.
     Compare(cmd::compare::CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
@@ -66,6 +68,9 @@ enum Command {
     /// Every engine variant against the exact truth on the same sequences: paired bias per box, false spans, CPU time.
     Bias(cmd::bias::BiasArgs),
     /// The exact rigidity of a whole contact graph or generated rod system: DOF, rigid clusters, spanning.
+    ///
+    /// What is certain and what is not. The rank is taken at random exact realizations, each over a prime field F_q with q drawn at random below 2^24. A realization can only lose rank, never gain it, so the rank found never exceeds the generic rank: a system found rigid (DOF 0) is rigid for certain. A flexibility (DOF above 0), a rigid cluster and a spanning verdict rest on realizations that did not hit a special position: a second realization (twin) checks every answer, the larger rank wins, and `twins agree` says whether they differed. No proven bound makes that chance small for whole systems (the Schwartz-Zippel bound, degree over q, exceeds 1 there); `rgc twins` measures it on the evaluations of truth studies (results/truth-twins.md).
+    #[command(verbatim_doc_comment)]
     Truth(cmd::truth::TruthArgs),
     /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
     AspectRatios(cmd::aspect_ratios::AspectArgs),
@@ -165,6 +170,7 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Merge(a) => cmd::merge::run(a, out),
         Command::Paired(a) => cmd::paired::run(a, out),
         Command::Transition(a) => cmd::transition::run(a, out),
+        Command::Twins(a) => cmd::twins::run(a, out),
         Command::Compare(a) => cmd::compare::run(a, out),
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),

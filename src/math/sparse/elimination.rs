@@ -107,9 +107,9 @@ fn factorize<F: Field>(
     limit: Option<u64>,
 ) -> Result<(Elimination<F>, Vec<front::Factor>), Refused> {
     assert!(
-        F::MODULUS < MAX_MODULUS,
+        F::modulus() < MAX_MODULUS,
         "the dense kernel needs a prime below 2^24, not {}",
-        F::MODULUS
+        F::modulus()
     );
     let cols = groups * width;
     assert!(
@@ -117,7 +117,7 @@ fn factorize<F: Field>(
         "a row entry beyond the {cols} columns"
     );
     let mut quotient = Quotient::new(rows, groups, width);
-    let mut scratch = front::Scratch::new(Modulus::new(F::MODULUS), groups, width);
+    let mut scratch = front::Scratch::new(Modulus::new(F::modulus()), groups, width);
     let mut factors = Vec::new();
     let mut out = Elimination {
         rank: 0,

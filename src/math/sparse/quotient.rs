@@ -86,7 +86,7 @@ impl Quotient {
     /// The elements of the original rows: rows over the same groups form
     /// one element, in the order they first appear.
     pub fn new<F: Field>(rows: &[SparseRow<F>], groups: usize, width: usize) -> Quotient {
-        let modulus = Modulus::new(F::MODULUS);
+        let modulus = Modulus::new(F::modulus());
         let mut q = Quotient {
             elements: Vec::new(),
             adjacent: vec![Vec::new(); groups],

@@ -34,6 +34,7 @@ pub mod stability;
 pub mod threshold;
 pub mod tradeoff;
 pub mod transition;
+pub mod twins;
 pub mod truth;
 
 /// The output files given, as (flag, path), checked before the work: each

@@ -34,6 +34,9 @@ pub struct TruthArgs {
     /// Spanning criterion for a generated system.
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     criterion: Criterion,
+    /// Exact realizations ranked, each in a prime drawn at random below 2^24: 1 (no check of a flexibility), 2 (twins) or 3 (a third checks the twins, at the cost of one more contracted rank).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=3))]
+    realizations: u64,
     /// Print JSON (every cluster's rods) instead of a summary.
     #[arg(long)]
     json: bool,
@@ -89,6 +92,7 @@ fn check_outputs(a: &TruthArgs) -> Result<()> {
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     let opts = TruthOptions {
         memory_limit: a.memory.limit(),
+        realizations: a.realizations as usize,
         ..TruthOptions::seeded(a.seed)
     };
     let inputs = [a.graph6.is_some(), a.edges.is_some(), a.rods.given()];
@@ -250,10 +254,15 @@ fn summary(t: &Truth, out: &mut String) {
         ),
         Outcome::Exact { twins_agree, .. } => say!(
             out,
-            "method: exact, twins agree: {}",
+            "method: exact in F_q for q = {}, realizations agree: {}",
+            t.primes
+                .iter()
+                .map(u32::to_string)
+                .collect::<Vec<_>>()
+                .join(", "),
             match twins_agree {
                 Some(agree) => agree.to_string(),
-                None => "not ranked (no twin)".to_string(),
+                None => "not checked (one realization)".to_string(),
             }
         ),
     }
