@@ -11,8 +11,13 @@ use crate::{error, interrupt};
 /// `dof`, `class` ('rigid', 'flexible', 'component-dependent' or
 /// 'undecided') and the realization components.
 #[pyfunction]
-#[pyo3(signature = (graph6, seed=1))]
-pub fn check_graph6(py: Python<'_>, graph6: &str, seed: u64) -> PyResult<String> {
+#[pyo3(signature = (graph6, seed=None), text_signature = "(graph6, seed=1)")]
+pub fn check_graph6(
+    py: Python<'_>,
+    graph6: &str,
+    seed: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let seed = crate::seed(seed)?;
     let g = parse_graph6(graph6.trim()).map_err(error)?;
     let p = Pattern::from_graph(&g).map_err(error)?;
     let v = interrupt::run(py, move || rgc::rigidity::check_exact(&p, seed))?.map_err(error)?;

@@ -141,7 +141,7 @@ pub(crate) fn options(
 /// or 'certified', spanning under 'wrap' or 'faces'.
 #[pyfunction]
 #[pyo3(
-    signature = (rods, rules="sound", runs=None, seed=1, criterion="wrap"),
+    signature = (rods, rules="sound", runs=None, seed=None, criterion="wrap"),
     text_signature = "(rods, rules='sound', runs=1, seed=1, criterion='wrap')"
 )]
 pub fn compress(
@@ -149,9 +149,10 @@ pub fn compress(
     rods: &PyRods,
     rules: &str,
     runs: Option<&Bound<'_, PyAny>>,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
     criterion: &str,
 ) -> PyResult<PyCompression> {
+    let seed = crate::seed(seed)?;
     let runs = match runs {
         Some(r) => count(r, "runs", 1, MAX_RUNS)? as usize,
         None => 1,

@@ -55,6 +55,11 @@ pub(crate) fn count(obj: &Bound<'_, PyAny>, name: &str, lo: u64, hi: u64) -> PyR
     }
 }
 
+/// A seed (default 1) from 0 to 2^64 - 1, or a `ValueError` naming it.
+pub(crate) fn seed(obj: Option<&Bound<'_, PyAny>>) -> PyResult<u64> {
+    obj.map_or(Ok(1), |s| count(s, "seed", 0, u64::MAX))
+}
+
 #[pymodule]
 fn _rgc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<system::PyBox>()?;

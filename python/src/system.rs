@@ -467,7 +467,10 @@ fn dist(obj: &Bound<'_, PyAny>) -> PyResult<Dist> {
 /// `director`), reproducibly from `seed` (the same as `rgc sample --seed`;
 /// in a centred box the same rods shifted by `-L/2`).
 #[pyfunction]
-#[pyo3(signature = (r#box, density, gamma=None, radius=None, length=None, order=None, director=None, seed=1))]
+#[pyo3(
+    signature = (r#box, density, gamma=None, radius=None, length=None, order=None, director=None, seed=None),
+    text_signature = "(box, density, gamma=None, radius=None, length=None, order=None, director=None, seed=1)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn generate(
     py: Python<'_>,
@@ -478,8 +481,9 @@ pub fn generate(
     length: Option<&Bound<'_, PyAny>>,
     order: Option<f64>,
     director: Option<(f64, f64, f64)>,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyRods> {
+    let seed = crate::seed(seed)?;
     let length = match length {
         Some(l) => dist(l)?,
         None => Dist::Fixed { value: 1.0 },
@@ -514,8 +518,12 @@ pub fn generate(
         radius,
         orientation,
     };
+    // Too many rods for memory is a MemoryError, before the ensemble's own
+    // checks would call it a bad parameter.
+    if density.is_finite() && density > 0.0 {
+        check_build(ensemble.n_rods())?;
+    }
     ensemble.check().map_err(error)?;
-    check_build(ensemble.n_rods())?;
     let system = interrupt::run(py, move || ensemble.generate(seed))?.map_err(error)?;
     Ok(PyRods::new(system, 0, r#box.centred))
 }

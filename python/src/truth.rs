@@ -113,14 +113,18 @@ pub(crate) fn of_rods(
 /// whose elimination would pass it; an undecided answer comes back as it
 /// is here (`rgc.truth` raises `UndecidedError` for it unless asked not to).
 #[pyfunction]
-#[pyo3(signature = (rods, criterion="wrap", seed=1, memory_limit=None))]
+#[pyo3(
+    signature = (rods, criterion="wrap", seed=None, memory_limit=None),
+    text_signature = "(rods, criterion='wrap', seed=1, memory_limit=None)"
+)]
 pub fn truth(
     py: Python<'_>,
     rods: &PyRods,
     criterion: &str,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
     memory_limit: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyTruth> {
+    let seed = crate::seed(seed)?;
     let criterion = self::criterion(criterion)?;
     let memory_limit = match memory_limit {
         Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),

@@ -44,6 +44,26 @@ def test_runs_are_capped_as_on_the_command_line():
     assert rgc.compress(sys_, runs=np.int64(3)).report.count('"runs":3') == 1
 
 
+def test_seeds_are_checked_by_name():
+    sys_ = rgc.generate(rgc.Box(4.0), density=10, gamma=10, seed=2**64 - 1)
+    for call in (
+        lambda s: rgc.generate(rgc.Box(4.0), density=10, gamma=10, seed=s),
+        lambda s: rgc.compress(sys_, seed=s),
+        lambda s: rgc.truth(sys_, seed=s),
+        lambda s: rgc.check("E{Sw", seed=s),
+    ):
+        for seed in (-1, 2**64, 1.5):
+            with pytest.raises(ValueError, match=rf"seed must be an integer from 0 to 18446744073709551615, got {seed!r}"):
+                call(seed)
+
+
+def test_generating_more_rods_than_fit_is_a_memory_error():
+    with pytest.raises(MemoryError, match="1000000000 rods, more than the 50000000 that fit in memory"):
+        rgc.generate(rgc.Box(1000.0), density=1.0, gamma=23)
+    with pytest.raises(ValueError, match="density must be a positive finite number"):
+        rgc.generate(rgc.Box(4.0), density=float("inf"), gamma=23)
+
+
 def test_memory_limit_must_be_a_positive_number_of_bytes():
     sys_ = rgc.generate(rgc.Box(4.0), density=10, gamma=10, seed=1)
     for limit in (0, -1, -(10**20), 1.5e9, "4G"):
