@@ -3,7 +3,7 @@
 //!
 //! The library does the work; this crate only converts. Long work runs on a
 //! thread of its own while the calling thread waits with the interpreter
-//! released and answers Ctrl-C ([`interrupt`]); library errors are
+//! released and answers Ctrl-C (`interrupt`); library errors are
 //! `MemoryError`s where memory is the problem and `ValueError`s otherwise,
 //! with the library's one-line message; every array is typed (float64
 //! coordinates, int64 labels).
@@ -32,6 +32,11 @@ pub(crate) fn error(e: rgc::Error) -> PyErr {
         rgc::Error::Memory(_) => PyMemoryError::new_err(e.to_string()),
         _ => value_error(e),
     }
+}
+
+/// How Python writes `obj`, for a message.
+pub(crate) fn repr(obj: &Bound<'_, PyAny>) -> String {
+    obj.repr().map_or_else(|_| "?".into(), |r| r.to_string())
 }
 
 /// A count argument (`runs`, `memory_limit`) from `lo` to `hi`, or a

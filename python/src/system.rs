@@ -13,7 +13,7 @@ use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
 use rgc::rods::{Cut, Domain, MAX_RODS, Periodic, Rod, RodSystem, wrap};
 use rgc::usage::{available_memory, size};
 
-use crate::{error, interrupt, value_error};
+use crate::{error, interrupt, repr, value_error};
 
 /// Peak bytes per rod of building a system (rods, the checked copy, the
 /// index that finds rods given twice): 303 measured for 2 million rods,
@@ -56,17 +56,13 @@ fn sides(args: &Bound<'_, PyTuple>) -> PyResult<[f64; 3]> {
                 return Ok([l; 3]);
             }
             if a.is_instance_of::<pyo3::types::PyString>() {
-                return Err(bad(a.repr()?.to_string()));
+                return Err(bad(repr(&a)));
             }
-            a.extract()
-                .map_err(|_| bad(a.repr().map_or("?".into(), |r| r.to_string())))?
+            a.extract().map_err(|_| bad(repr(&a)))?
         }
         _ => args
             .iter()
-            .map(|a| {
-                a.extract::<f64>()
-                    .map_err(|_| bad(a.repr().map_or("?".into(), |r| r.to_string())))
-            })
+            .map(|a| a.extract::<f64>().map_err(|_| bad(repr(&a))))
             .collect::<PyResult<_>>()?,
     };
     <[f64; 3]>::try_from(values.as_slice()).map_err(|_| bad(values.len().to_string()))
