@@ -72,7 +72,10 @@ def _real(a: Any, name: str) -> np.ndarray:
     """``a`` as a numpy array of real numbers (any float or integer dtype),
     or a ValueError naming it: complex numbers would lose their imaginary
     part and strings would be parsed as numbers by a plain conversion."""
-    arr = np.asarray(a)
+    try:
+        arr = np.asarray(a)
+    except ValueError as e:  # ragged lists
+        raise ValueError(f"{name} must be an array of real numbers: {e}") from None
     if arr.dtype.kind not in "iuf":
         raise ValueError(f"{name} must be real numbers, got an array of dtype {arr.dtype}")
     return arr

@@ -79,6 +79,7 @@ def test_memory_limit_must_be_a_positive_number_of_bytes():
         (lambda c: c.astype(str).astype(object), "centres must be real numbers, got an array of dtype object"),
         (lambda c: c.astype(str), "centres must be real numbers, got an array of dtype <U"),
         (lambda c: c.ravel(), "centres must have shape (N, 3), got (12,)"),
+        (lambda c: [[1.0, 2.0, 3.0], [1.0, 2.0]], "centres must be an array of real numbers: setting an array element with a sequence"),
         (lambda c: c[None], "centres must have shape (N, 3), got (1, 4, 3)"),
         (lambda c: c[:, :2], "centres must have shape (N, 3), got (4, 2)"),
     ],
