@@ -130,9 +130,9 @@ def test_more_rods_than_the_library_holds_are_a_memory_error_before_any_allocati
         rgc.Rods.from_arrays(rgc.Box(10.0), centres, directions=centres, lengths=1.0, radii=0.01)
 
 
-def test_rods_beyond_the_memory_available_are_a_memory_error():
-    # Under an address-space limit of 1.5 GiB more than the interpreter holds,
-    # 10 million rods (about 4 GB to build) are refused before they are built.
+def under_memory_limit(code):
+    """What ``code`` prints in a child process whose address space is held
+    to 1.5 GiB more than the interpreter holds once rgc is imported."""
     script = textwrap.dedent(
         """
         import resource
@@ -141,14 +141,41 @@ def test_rods_beyond_the_memory_available_are_a_memory_error():
         held = int(open("/proc/self/status").read().split("VmSize:")[1].split()[0]) * 1024
         limit = held + (3 << 29)
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-        centres = np.broadcast_to(np.array([1.0, 1.0, 1.0]), (10_000_000, 3))
         try:
-            rgc.Rods.from_arrays(rgc.Box(10.0), centres, directions=centres, lengths=1.0, radii=0.01)
+        """
+    ) + textwrap.indent(textwrap.dedent(code), "    ") + textwrap.dedent(
+        """
         except MemoryError as e:
             print("MemoryError:", e)
         """
     )
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.startswith("MemoryError: over the memory limit: 10000000 rods need about 3.73 GiB to build, more than the "), out.stdout
-    assert out.stdout.rstrip().endswith("this process has available")
+    return out.stdout.rstrip()
+
+
+def test_rods_beyond_the_memory_available_are_a_memory_error():
+    # 10 million rods (about 4 GB to build) in rows that take no memory.
+    out = under_memory_limit(
+        """
+        centres = np.broadcast_to(np.array([1.0, 1.0, 1.0]), (10_000_000, 3))
+        rgc.Rods.from_arrays(rgc.Box(10.0), centres, directions=centres, lengths=1.0, radii=0.01)
+        """
+    )
+    assert out.startswith("MemoryError: over the memory limit: 10000000 rods need about 3.73 GiB to build, more than the "), out
+    assert out.endswith("this process has available")
+
+
+def test_runs_whose_answers_pass_the_memory_available_are_a_memory_error():
+    # 100,000 runs of 2,560 rods keep about 4 GB of answers.
+    out = under_memory_limit(
+        """
+        rods = rgc.generate(rgc.Box(4.0), density=40, gamma=23, seed=1)
+        print(rgc.compress(rods, runs=10).runs_spanning >= 0)
+        rgc.compress(rods, runs=100_000)
+        """
+    )
+    first, second = out.splitlines()
+    assert first == "True"
+    assert second.startswith("MemoryError: over the memory limit: 100000 runs of 2560 rods keep an estimated 3.81 GiB of answers beside the "), second
+    assert second.endswith("this process has available; take fewer runs")
