@@ -3,21 +3,25 @@
 Rods go in as numpy arrays (or are generated), and results come out as
 numpy arrays: contacts as (M, 2) pairs with their points and image
 offsets, 3D-RGC bodies and exact rigid clusters as per-rod labels of shape
-(N,). The work runs in Rust with the interpreter released; the answers are
-those of the ``rgc`` command line for the same seed.
+(N,). The work runs in Rust with the interpreter released, and Ctrl-C
+stops a long call at once; the answers are those of the ``rgc`` command
+line for the same seed. Bad input raises ValueError, work too large for
+the memory available MemoryError, an undecided truth UndecidedError.
+Boxes, rods, contacts and results pickle.
 """
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Union
+from typing import Any, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._rgc import Box, Compression, Contacts, Rods, Truth
 from ._rgc import check_graph6 as _check_graph6
-from ._rgc import compress, contacts, generate, truth
+from ._rgc import compress, contacts, generate
+from ._rgc import truth as _truth
 
 __all__ = [
     "Box",
@@ -25,6 +29,8 @@ __all__ = [
     "Contacts",
     "Compression",
     "Truth",
+    "UndecidedError",
+    "UndecidedMemoryError",
     "generate",
     "contacts",
     "compress",
@@ -62,37 +68,149 @@ def to_rustworkx(c: Contacts) -> Any:
     return g
 
 
-_from_arrays = Rods.from_arrays
+def _real(a: Any, name: str) -> np.ndarray:
+    """``a`` as a numpy array of real numbers (any float or integer dtype),
+    or a ValueError naming it: complex numbers would lose their imaginary
+    part and strings would be parsed as numbers by a plain conversion."""
+    try:
+        arr = np.asarray(a)
+    except ValueError as e:  # ragged lists
+        raise ValueError(f"{name} must be an array of real numbers: {e}") from None
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be real numbers, got an array of dtype {arr.dtype}")
+    return arr
 
 
-def _float64(a: Any) -> Any:
-    """Any array-like (float32 from OVITO or gsd, lists) as contiguous float64;
-    numbers and None as they are."""
-    if a is None or isinstance(a, (int, float)):
-        return a
-    return np.ascontiguousarray(a, dtype=np.float64)
+def _points(a: Any, name: str, cols: int) -> np.ndarray:
+    """An (N, cols) array of real numbers as float64 (float32 from OVITO
+    or gsd and lists too; float64 views as they are, not copied), or a
+    ValueError naming the shape."""
+    arr = _real(a, name)
+    if arr.ndim != 2 or arr.shape[1] != cols:
+        raise ValueError(f"{name} must have shape (N, {cols}), got {arr.shape}")
+    return arr.astype(np.float64, copy=False)
 
 
-def from_arrays(box, centres, directions=None, quaternions=None, lengths=None, radii=None, axis=(1.0, 0.0, 0.0)):
-    return _from_arrays(
+def _per_rod(a: Any, name: str) -> Tuple[Optional[float], Optional[np.ndarray]]:
+    """A number for every rod (a Python, numpy or 0-d array number) or an
+    (N,) float64 array, as (number, None) or (None, array)."""
+    if a is None:
+        raise ValueError(f"{name} are needed")
+    if isinstance(a, bool):
+        raise ValueError(f"{name} must be a number or an array of shape (N,), got {a!r}")
+    arr = _real(a, name)
+    if arr.ndim == 0:
+        return float(arr), None
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be a number or an array of shape (N,), got shape {arr.shape}")
+    return None, arr.astype(np.float64, copy=False)
+
+
+def from_arrays(
+    box: Box,
+    centres: Any,
+    directions: Any = None,
+    quaternions: Any = None,
+    lengths: Any = None,
+    radii: Any = None,
+    axis: Sequence[float] = (1.0, 0.0, 0.0),
+) -> Rods:
+    """Rods from arrays: ``centres`` (N, 3) in the box's frame (wrapped
+    along periodic axes, so centred boxes and ``np.mod`` at exactly ``L``
+    work), and either ``directions`` (N, 3) or ``quaternions`` (N, 4,
+    ``(w, x, y, z)`` rotating ``axis``); ``lengths`` and ``radii`` are
+    numbers or (N,) arrays. Any real dtype and lists are taken as float64;
+    complex or text input, wrong shapes and rods the library refuses raise
+    ValueError; rods too many for the memory available raise MemoryError
+    before anything is allocated. Cores crossing a wall are cut to the box,
+    as reading a file does."""
+    if not isinstance(box, Box):
+        raise ValueError(f"box must be an rgc.Box, got {type(box).__name__}")
+    length, length_array = _per_rod(lengths, "lengths")
+    radius, radius_array = _per_rod(radii, "radii")
+    return Rods._from_arrays(
         box,
-        _float64(centres),
-        _float64(directions),
-        _float64(quaternions),
-        _float64(lengths),
-        _float64(radii),
-        tuple(float(x) for x in axis),
+        _points(centres, "centres", 3),
+        None if directions is None else _points(directions, "directions", 3),
+        None if quaternions is None else _points(quaternions, "quaternions", 4),
+        length,
+        length_array,
+        radius,
+        radius_array,
+        tuple(float(x) for x in _real(axis, "axis")),
     )
 
 
-from_arrays.__doc__ = _from_arrays.__doc__
-Rods.from_arrays = staticmethod(from_arrays)  # type: ignore[method-assign]
+_wrap = Box.wrap
+
+
+def wrap(self: Box, points: Any) -> np.ndarray:
+    return _wrap(self, _points(points, "points", 3))
+
+
+wrap.__doc__ = _wrap.__doc__
+Box.wrap = wrap  # type: ignore[method-assign]
+Rods.from_arrays = staticmethod(from_arrays)  # type: ignore[attr-defined]
 Contacts.to_networkx = to_networkx  # type: ignore[attr-defined]
 Contacts.to_rustworkx = to_rustworkx  # type: ignore[attr-defined]
 Compression.motifs = property(  # type: ignore[attr-defined]
     lambda self: json.loads(self.report)["motifs"],
     doc="Motif instances compressed in the reported run, by motif.",
 )
+
+
+class UndecidedError(RuntimeError):
+    """Truth could not decide this system: nothing is claimed about it.
+
+    A RuntimeError, not a ValueError: the input was fine, the method ran
+    out of ways to decide. ``reason`` says why; ``truth`` is the undecided
+    answer (``method == 'undecided'``, no DOF, spanning None). Pass
+    ``allow_undecided=True`` to ``rgc.truth`` to get that answer back
+    instead."""
+
+    def __init__(self, truth: Truth):
+        self.truth = truth
+        self.reason = truth.reason
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        return f"truth is undecided: {self.reason}"
+
+    def __reduce__(self) -> Tuple[type, Tuple[Truth]]:
+        # Rebuilt from the answer, so a pool's worker can raise it too.
+        return type(self), (self.truth,)
+
+
+class UndecidedMemoryError(UndecidedError, MemoryError):
+    """Truth stopped before work that would pass its ``memory_limit``: an
+    UndecidedError that is also a MemoryError."""
+
+    def _message(self) -> str:
+        return f"truth refused this system: {self.reason} (raise memory_limit)"
+
+
+def truth(
+    rods: Rods,
+    criterion: str = "wrap",
+    seed: int = 1,
+    memory_limit: Optional[int] = None,
+    allow_undecided: bool = False,
+) -> Truth:
+    """The exact generic rigidity of ``rods`` (the same answer as ``rgc
+    truth`` with that seed): degrees of freedom, rigid clusters and
+    spanning under 'wrap' or 'faces'. ``memory_limit`` (bytes, positive)
+    refuses a system whose elimination would pass it.
+
+    An undecided answer raises UndecidedError (UndecidedMemoryError, also a
+    MemoryError, when the memory limit was the reason), so that it is never
+    read as "not spanning"; with ``allow_undecided=True`` it is returned
+    (``t.undecided``, ``t.reason``). Rods estimated to need more memory
+    than available raise MemoryError before the work; Ctrl-C stops the call
+    within a fraction of a second."""
+    t = _truth(rods, criterion=criterion, seed=seed, memory_limit=memory_limit)
+    if t.undecided and not allow_undecided:
+        raise (UndecidedMemoryError if t.memory_refused else UndecidedError)(t)
+    return t
 
 
 def check(graph: Any, seed: int = 1) -> dict:

@@ -9,11 +9,17 @@ Float64Array = npt.NDArray[np.float64]
 Int64Array = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
 
+MAX_RUNS: int
+
 class Box:
     """A box [0, L_x) x [0, L_y) x [0, L_z) and its periodic axes ('xyz', 'xy' or 'none');
-    ``centred`` boxes ([-L/2, L/2), HOOMD's) take points in that frame."""
+    ``centred`` boxes ([-L/2, L/2), HOOMD's and freud's) take points in that frame and give
+    them back in it. Pickles."""
 
-    def __init__(self, sides: Union[float, Sequence[float]], periodic: str = "xyz", centred: bool = False) -> None: ...
+    def __init__(
+        self, *sides: Union[float, Sequence[float]], periodic: str = "xyz", centred: bool = False
+    ) -> None:
+        """``Box(L)``, ``Box([Lx, Ly, Lz])`` or ``Box(Lx, Ly, Lz)``."""
     @property
     def sides(self) -> Float64Array:
         """Side lengths, shape (3,)."""
@@ -23,30 +29,46 @@ class Box:
     def centred(self) -> bool: ...
     @property
     def volume(self) -> float: ...
-    def wrap(self, points: Float64Array) -> Float64Array:
-        """Points (N, 3) in this box's frame, in rgc's frame [0, L) (wrapped along periodic axes)."""
+    def wrap(self, points: npt.ArrayLike) -> Float64Array:
+        """Points (N, 3) wrapped into the box along periodic axes, in its own frame."""
 
 class Rods:
-    """A checked rod system in a box."""
+    """A checked rod system in a box, shown in the frame of the box it was given in. Pickles."""
 
     @staticmethod
     def from_arrays(
         box: Box,
-        centres: Float64Array,
-        directions: Optional[Float64Array] = None,
-        quaternions: Optional[Float64Array] = None,
-        lengths: Union[float, Float64Array, None] = None,
-        radii: Union[float, Float64Array, None] = None,
+        centres: npt.ArrayLike,
+        directions: Optional[npt.ArrayLike] = None,
+        quaternions: Optional[npt.ArrayLike] = None,
+        lengths: Union[float, npt.ArrayLike, None] = None,
+        radii: Union[float, npt.ArrayLike, None] = None,
         axis: Tuple[float, float, float] = (1.0, 0.0, 0.0),
     ) -> "Rods":
-        """Rods from centres (N, 3) and directions (N, 3) or quaternions (N, 4), (w, x, y, z)
-        rotating ``axis``; lengths and radii are numbers or (N,) arrays."""
+        """Rods from centres (N, 3) in the box's frame and directions (N, 3) or quaternions
+        (N, 4), (w, x, y, z) rotating ``axis``; lengths and radii are numbers (numpy scalars
+        too) or (N,) arrays, of any real dtype. ValueError for complex or text input, wrong
+        shapes and refused rods; MemoryError before allocating rods too many for memory."""
+    @staticmethod
+    def _from_arrays(
+        box: Box,
+        centres: Float64Array,
+        directions: Optional[Float64Array],
+        quaternions: Optional[Float64Array],
+        length: Optional[float],
+        lengths: Optional[Float64Array],
+        radius: Optional[float],
+        radii: Optional[Float64Array],
+        axis: Tuple[float, float, float],
+    ) -> "Rods":
+        """``from_arrays`` after the Python layer's conversion: float64 arrays, each size a number or an array."""
     def __len__(self) -> int: ...
     @property
-    def box(self) -> Box: ...
+    def box(self) -> Box:
+        """The box the rods were given in (centred if it was)."""
     @property
     def centres(self) -> Float64Array:
-        """Centres in [0, L), shape (N, 3)."""
+        """Centres in the box's frame ([-L/2, L/2) along periodic axes if centred), shape (N, 3)."""
     @property
     def directions(self) -> Float64Array:
         """Unit directions, shape (N, 3)."""
@@ -63,7 +85,7 @@ class Rods:
     def density(self) -> float: ...
 
 class Contacts:
-    """Contacts of a rod system, one row each."""
+    """Contacts of a rod system, one row each. Pickles."""
 
     def __len__(self) -> int: ...
     @property
@@ -71,7 +93,7 @@ class Contacts:
         """The two rods of each contact, first < second, shape (M, 2)."""
     @property
     def points(self) -> Float64Array:
-        """Contact points wrapped into the box, shape (M, 3)."""
+        """Contact points wrapped into the box, in its frame, shape (M, 3)."""
     @property
     def params(self) -> Float64Array:
         """Arc length from each rod's centre to its closest point, shape (M, 2)."""
@@ -84,7 +106,8 @@ class Contacts:
     def to_rustworkx(self) -> object: ...
 
 class Compression:
-    """The bodies of one 3D-RGC run (the first that spans, else the one with the largest body)."""
+    """The bodies of one 3D-RGC run (the first that spans, else the one with the largest body).
+    Pickles."""
 
     @property
     def body_idx(self) -> Int64Array:
@@ -101,7 +124,7 @@ class Compression:
     report: str
 
 class Truth:
-    """Rigid clusters of the exact truth and the degrees of freedom."""
+    """Rigid clusters of the exact truth and the degrees of freedom. Pickles."""
 
     @property
     def cluster_idx(self) -> Int64Array:
@@ -115,6 +138,7 @@ class Truth:
     spanning: Optional[bool]
     method: str
     reason: Optional[str]
+    memory_refused: bool
     report: str
 
 def generate(
@@ -128,6 +152,8 @@ def generate(
     seed: int = 1,
 ) -> Rods: ...
 def contacts(rods: Rods) -> Contacts: ...
-def compress(rods: Rods, rules: str = "sound", runs: int = 1, seed: int = 1, criterion: str = "wrap") -> Compression: ...
-def truth(rods: Rods, criterion: str = "wrap", seed: int = 1, memory_limit: Optional[int] = None) -> Truth: ...
+def compress(rods: Rods, rules: str = "sound", runs: int = 1, seed: int = 1, criterion: str = "wrap") -> Compression:
+    """runs from 1 to MAX_RUNS (100,000, the command line's cap), else ValueError."""
+def truth(rods: Rods, criterion: str = "wrap", seed: int = 1, memory_limit: Optional[int] = None) -> Truth:
+    """The answer as it is, undecided too (``rgc.truth`` raises ``UndecidedError`` for that)."""
 def check_graph6(graph6: str, seed: int = 1) -> str: ...

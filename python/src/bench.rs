@@ -32,7 +32,7 @@ pub fn library_seconds(py: Python<'_>, rods: &PyRods, what: &str, seed: u64) -> 
                 std::hint::black_box(s.reported_bodies(Criterion::Wrap));
                 Ok(start.elapsed().as_secs_f64())
             })
-            .map_err(|e: rgc::Error| value_error(e))
+            .map_err(crate::error)
         }
         _ => Err(value_error(format!(
             "what must be 'truth' or 'compress', got {what:?}"

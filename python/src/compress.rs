@@ -3,13 +3,24 @@
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 use rgc::engine::RuleSet;
 use rgc::rods::file::Loaded;
 use rgc::sample::{self, Rods, SampleOptions};
 use rgc::spanning::Criterion;
+use rgc::usage::{MemoryBudget, size};
 
 use crate::system::PyRods;
-use crate::value_error;
+use crate::{count, error, interrupt, value_error};
+
+/// Bytes each run's answer keeps per rod until the runs are compared
+/// (bodies, nodes, motif counts): 6 to 14 measured over 8,640 to 40,000
+/// rods at gamma 10 to 48, densities 20 to 80, with room to spare.
+const RUN_BYTES_PER_ROD: u64 = 16;
+
+/// The most runs one call takes: the command line's cap (`rgc sample
+/// --runs`), which also keeps the runs' answers within memory.
+pub const MAX_RUNS: u64 = 100_000;
 
 pub(crate) fn criterion(name: &str) -> PyResult<Criterion> {
     match name {
@@ -36,17 +47,17 @@ fn rules(name: &str) -> PyResult<RuleSet> {
 /// with the largest body, as `rgc sample` reports).
 #[pyclass(name = "Compression", module = "rgc", frozen)]
 pub struct PyCompression {
-    body_idx: Vec<i64>,
-    spans: Vec<bool>,
+    pub body_idx: Vec<i64>,
+    pub spans: Vec<bool>,
     #[pyo3(get)]
-    spanning: bool,
+    pub spanning: bool,
     #[pyo3(get)]
-    runs_spanning: usize,
+    pub runs_spanning: usize,
     #[pyo3(get)]
-    run: usize,
+    pub run: usize,
     /// The report `rgc sample --json` prints, as JSON text.
     #[pyo3(get)]
-    report: String,
+    pub report: String,
 }
 
 #[pymethods]
@@ -63,6 +74,22 @@ impl PyCompression {
         Array1::from(self.spans.clone()).into_pyarray(py)
     }
 
+    /// What `pickle` rebuilds the compression from.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let state = (
+            self.body_idx.clone(),
+            self.spans.clone(),
+            self.spanning,
+            self.runs_spanning,
+            self.run,
+            self.report.clone(),
+        );
+        crate::pickle::reduce(py, "_compression", state)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Compression({} bodies, spanning={})",
@@ -70,6 +97,53 @@ impl PyCompression {
             if self.spanning { "True" } else { "False" }
         )
     }
+}
+
+/// These rods as `rgc sample` reads them from a file.
+fn read(rods: &PyRods) -> Rods {
+    Rods::Read {
+        path: "<python>".into(),
+        loaded: Loaded {
+            system: (*rods.system).clone(),
+            cut: rods.cut,
+            wrapped: 0,
+            lines: (1..=rods.system.len()).collect(),
+            ids: None,
+        },
+    }
+}
+
+/// Refuses, as `rgc sample` and `rgc truth` do, rods whose contacts and
+/// compression are estimated to need more memory than `limit` bytes (none:
+/// what the process has available): a `MemoryError` before the work.
+pub(crate) fn check_memory(rods: &PyRods, limit: Option<u64>) -> PyResult<()> {
+    read(rods)
+        .check_memory(MemoryBudget::of(limit))
+        .map_err(error)
+}
+
+/// Refuses, before the work, a compression whose sample and runs' answers
+/// (kept until the runs are compared) are estimated to need more memory
+/// than the process has: many runs of a large system would otherwise end
+/// the interpreter on a failed allocation.
+fn check_runs_memory(opts: &SampleOptions) -> PyResult<()> {
+    let Some(budget) = MemoryBudget::of(None) else {
+        return Ok(());
+    };
+    opts.rods.check_memory(Some(budget)).map_err(error)?;
+    let sample = opts.rods.memory_estimate();
+    let runs = (opts.runs as u64).saturating_mul(sample.rods as u64 * RUN_BYTES_PER_ROD);
+    if sample.bytes.saturating_add(runs) > budget.bytes() {
+        return Err(error(rgc::Error::Memory(format!(
+            "{} runs of {} rods keep an estimated {} of answers beside the {} of the sample, more than {}; take fewer runs",
+            opts.runs,
+            sample.rods,
+            size(runs),
+            size(sample.bytes),
+            budget.describe()
+        ))));
+    }
+    Ok(())
 }
 
 /// What `rgc sample` would be given for these rods (read, not generated).
@@ -81,16 +155,7 @@ pub(crate) fn options(
     criterion: Criterion,
 ) -> SampleOptions {
     SampleOptions {
-        rods: Rods::Read {
-            path: "<python>".into(),
-            loaded: Loaded {
-                system: rods.system.clone(),
-                cut: rods.cut,
-                wrapped: 0,
-                lines: (1..=rods.system.len()).collect(),
-                ids: None,
-            },
-        },
+        rods: read(rods),
         seed,
         runs,
         rules,
@@ -99,23 +164,28 @@ pub(crate) fn options(
     }
 }
 
-/// Compresses the contact graph of `rods` with 3D-RGC: `runs` runs in
-/// random motif orders from `seed` (the same runs as `rgc sample` with
-/// that seed), rules 'sound', 'paper' or 'certified', spanning under
-/// 'wrap' or 'faces'.
+/// Compresses the contact graph of `rods` with 3D-RGC: `runs` runs (1 to
+/// 100,000, the command line's cap) in random motif orders from `seed`
+/// (the same runs as `rgc sample` with that seed), rules 'sound', 'paper'
+/// or 'certified', spanning under 'wrap' or 'faces'.
 #[pyfunction]
-#[pyo3(signature = (rods, rules="sound", runs=1, seed=1, criterion="wrap"))]
+#[pyo3(
+    signature = (rods, rules="sound", runs=None, seed=None, criterion="wrap"),
+    text_signature = "(rods, rules='sound', runs=1, seed=1, criterion='wrap')"
+)]
 pub fn compress(
     py: Python<'_>,
     rods: &PyRods,
     rules: &str,
-    runs: usize,
-    seed: u64,
+    runs: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
     criterion: &str,
 ) -> PyResult<PyCompression> {
-    if runs == 0 {
-        return Err(value_error("runs must be at least 1"));
-    }
+    let seed = crate::seed(seed)?;
+    let runs = match runs {
+        Some(r) => count(r, "runs", 1, MAX_RUNS)? as usize,
+        None => 1,
+    };
     let opts = options(
         rods,
         self::rules(rules)?,
@@ -123,8 +193,14 @@ pub fn compress(
         seed,
         self::criterion(criterion)?,
     );
-    let s = py.detach(|| sample::sample(&opts)).map_err(value_error)?;
-    let reported = s.reported_bodies(opts.criterion);
+    check_runs_memory(&opts)?;
+    let criterion = opts.criterion;
+    let (s, reported) = interrupt::run(py, move || {
+        let s = sample::sample(&opts)?;
+        let reported = s.reported_bodies(criterion);
+        Ok::<_, rgc::Error>((s, reported))
+    })?
+    .map_err(error)?;
     let mut body_idx = vec![-1i64; s.system.len()];
     for (k, b) in reported.bodies.iter().enumerate() {
         for &r in &b.rods {

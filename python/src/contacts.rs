@@ -3,15 +3,19 @@
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 use rgc::contacts::Contact;
 
-use crate::system::PyRods;
+use crate::interrupt;
+use crate::system::{PyBox, PyRods};
 
-/// The contacts of a rod system, one row each.
+/// The contacts of a rod system, one row each, with the box its rods were
+/// given in (whose frame the points come out in).
 #[pyclass(name = "Contacts", module = "rgc", frozen)]
 pub struct PyContacts {
     pub contacts: Vec<Contact>,
     pub n_rods: usize,
+    pub r#box: PyBox,
 }
 
 fn rows<T: Copy + numpy::Element, const K: usize>(
@@ -34,10 +38,11 @@ impl PyContacts {
         rows(&self.contacts, |c| c.rods.map(i64::from)).into_pyarray(py)
     }
 
-    /// Contact points, wrapped into the box: float64, shape (M, 3).
+    /// Contact points, wrapped into the box along periodic axes, in the
+    /// box's frame (`[-L/2, L/2)` if centred): float64, shape (M, 3).
     #[getter]
     fn points<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        rows(&self.contacts, |c| [c.point.x, c.point.y, c.point.z]).into_pyarray(py)
+        rows(&self.contacts, |c| self.r#box.to_frame(c.point.into())).into_pyarray(py)
     }
 
     /// Arc length from each rod's centre to its closest point: float64, shape (M, 2).
@@ -59,6 +64,23 @@ impl PyContacts {
         self.n_rods
     }
 
+    /// What `pickle` rebuilds the contacts from (points in rgc's frame, so
+    /// the round trip is exact).
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let state = (
+            self.pairs(py),
+            self.params(py),
+            rows(&self.contacts, |c| [c.point.x, c.point.y, c.point.z]).into_pyarray(py),
+            self.shifts(py),
+            self.n_rods,
+            self.r#box.clone(),
+        );
+        crate::pickle::reduce(py, "_contacts", state)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Contacts({} contacts between {} rods)",
@@ -71,10 +93,12 @@ impl PyContacts {
 /// Every contact of `rods` (cores closer than the sum of the radii),
 /// periodic images included.
 #[pyfunction]
-pub fn contacts(py: Python<'_>, rods: &PyRods) -> PyContacts {
-    let system = &rods.system;
-    PyContacts {
-        contacts: py.detach(|| rgc::contacts::detect(system)),
-        n_rods: system.len(),
-    }
+pub fn contacts(py: Python<'_>, rods: &PyRods) -> PyResult<PyContacts> {
+    crate::compress::check_memory(rods, None)?;
+    let system = rods.system.clone();
+    Ok(PyContacts {
+        contacts: interrupt::run(py, move || rgc::contacts::detect(&system))?,
+        n_rods: rods.system.len(),
+        r#box: rods.r#box(),
+    })
 }

@@ -1,19 +1,28 @@
-//! Boxes and rods: arrays in, a checked rod system out.
+//! Boxes and rods: arrays in, a checked rod system out, and out again in
+//! the frame they came in.
 
-use numpy::ndarray::{Array1, Array2, ArrayView2};
-use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
-};
+use std::sync::Arc;
+
+use numpy::ndarray::{Array1, Array2, ArrayView1, ArrayView2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 use rgc::Error;
+use rgc::error::short;
 use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
-use rgc::rods::{Cut, Domain, Periodic, Rod, RodSystem, wrap};
+use rgc::rods::{Cut, Domain, MAX_RODS, Periodic, Rod, RodSystem, wrap};
+use rgc::usage::{available_memory, size};
 
-use crate::value_error;
+use crate::{error, interrupt, repr, value_error};
 
-/// A box `[0, L_x) x [0, L_y) x [0, L_z)` and its periodic axes. A box
-/// given as `centred` (HOOMD's convention, `[-L/2, L/2)`) takes points in
-/// that frame and shifts them by `L/2`.
+/// Peak bytes per rod of building a system (rods, the checked copy, the
+/// index that finds rods given twice): 303 measured for 2 million rods,
+/// with room to spare. Checked before anything is allocated.
+const BUILD_BYTES_PER_ROD: u64 = 400;
+
+/// A box `[0, L_x) x [0, L_y) x [0, L_z)` and its periodic axes, or, as
+/// `centred` (HOOMD's and freud's convention), `[-L/2, L/2)`: points go in
+/// and come out in the box's own frame.
 #[pyclass(name = "Box", module = "rgc", frozen)]
 #[derive(Clone)]
 pub struct PyBox {
@@ -32,29 +41,41 @@ fn periodic(name: &str) -> PyResult<Periodic> {
     }
 }
 
-/// Three sides from a number or a sequence of three.
-fn sides(obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
-    if let Ok(l) = obj.extract::<f64>() {
-        return Ok([l; 3]);
-    }
-    let v: Vec<f64> = obj
-        .extract()
-        .map_err(|_| value_error("box sides must be a number or three numbers"))?;
-    <[f64; 3]>::try_from(v.as_slice()).map_err(|_| {
+/// Three sides from one number, one sequence of three, or three numbers
+/// (freud's `Box(Lx, Ly, Lz)`).
+fn sides(args: &Bound<'_, PyTuple>) -> PyResult<[f64; 3]> {
+    let bad = |got: String| {
         value_error(format!(
-            "box sides must be a number or three numbers, got {}",
-            v.len()
+            "box sides must be a number or three numbers, got {got} (periodic and centred are keywords: Box(5.0, periodic='xy'))"
         ))
-    })
+    };
+    let values: Vec<f64> = match args.len() {
+        1 => {
+            let a = args.get_item(0)?;
+            if let Ok(l) = a.extract::<f64>() {
+                return Ok([l; 3]);
+            }
+            if a.is_instance_of::<pyo3::types::PyString>() {
+                return Err(bad(repr(&a)));
+            }
+            a.extract().map_err(|_| bad(repr(&a)))?
+        }
+        _ => args
+            .iter()
+            .map(|a| a.extract::<f64>().map_err(|_| bad(repr(&a))))
+            .collect::<PyResult<_>>()?,
+    };
+    <[f64; 3]>::try_from(values.as_slice()).map_err(|_| bad(values.len().to_string()))
 }
 
 #[pymethods]
 impl PyBox {
+    /// `Box(L)`, `Box([Lx, Ly, Lz])` or `Box(Lx, Ly, Lz)`; `periodic`
+    /// 'xyz', 'xy' (walls in z) or 'none'; `centred` for `[-L/2, L/2)`.
     #[new]
-    #[pyo3(signature = (sides, periodic="xyz", centred=false))]
-    fn new(sides: &Bound<'_, PyAny>, periodic: &str, centred: bool) -> PyResult<Self> {
-        let domain =
-            Domain::new(self::sides(sides)?, self::periodic(periodic)?).map_err(value_error)?;
+    #[pyo3(signature = (*sides, periodic="xyz", centred=false))]
+    fn new(sides: &Bound<'_, PyTuple>, periodic: &str, centred: bool) -> PyResult<Self> {
+        let domain = Domain::new(self::sides(sides)?, self::periodic(periodic)?).map_err(error)?;
         Ok(PyBox { domain, centred })
     }
 
@@ -80,19 +101,43 @@ impl PyBox {
         self.domain.volume()
     }
 
-    /// Points of shape (N, 3) in this box's frame, in rgc's frame `[0, L)`:
-    /// shifted by `L/2` if centred, and wrapped along periodic axes.
+    /// Points of shape (N, 3) wrapped into the box along its periodic axes,
+    /// in the box's own frame (`[-L/2, L/2)` if centred, else `[0, L)`).
     fn wrap<'py>(
         &self,
         py: Python<'py>,
         points: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = points3(&points.as_array(), "points")?;
-        Ok(self.to_box(&p).into_pyarray(py))
+        let p = points.as_array();
+        check_points(&p, "points")?;
+        let mut out = p.to_owned();
+        for mut row in out.rows_mut() {
+            let inside = self.to_rgc([row[0], row[1], row[2]]);
+            let back = self.to_frame(inside);
+            row.iter_mut().zip(back).for_each(|(x, b)| *x = b);
+        }
+        Ok(out.into_pyarray(py))
+    }
+
+    /// What `pickle` rebuilds the box from.
+    fn __getnewargs_ex__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyTuple>, Bound<'py, PyDict>)> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("periodic", self.domain.periodic.name())?;
+        kwargs.set_item("centred", self.centred)?;
+        Ok((PyTuple::new(py, self.domain.sides)?, kwargs))
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<PyBox>()
+            .is_ok_and(|o| o.get().domain == self.domain && o.get().centred == self.centred)
     }
 
     fn __repr__(&self) -> String {
-        let [x, y, z] = self.domain.sides;
+        let [x, y, z] = self.domain.sides.map(short);
         format!(
             "Box(sides=({x}, {y}, {z}), periodic={:?}, centred={})",
             self.domain.periodic.name(),
@@ -102,139 +147,186 @@ impl PyBox {
 }
 
 impl PyBox {
-    /// Points in rgc's frame.
-    fn to_box(&self, p: &Array2<f64>) -> Array2<f64> {
-        let mut out = p.clone();
-        for mut row in out.rows_mut() {
-            for k in 0..3 {
-                let l = self.domain.sides[k];
-                let x = row[k] + if self.centred { 0.5 * l } else { 0.0 };
-                row[k] = if self.domain.wraps(k) { wrap(x, l) } else { x };
+    /// The lowest corner in the box's own frame: `-L/2` if centred, else 0.
+    pub fn origin(&self) -> [f64; 3] {
+        let half = if self.centred { -0.5 } else { 0.0 };
+        self.domain.sides.map(|l| half * l)
+    }
+
+    /// A point of the box's frame in rgc's `[0, L)`, wrapped along periodic axes.
+    fn to_rgc(&self, p: [f64; 3]) -> [f64; 3] {
+        let o = self.origin();
+        std::array::from_fn(|k| {
+            let x = p[k] - o[k];
+            if self.domain.wraps(k) {
+                wrap(x, self.domain.sides[k])
+            } else {
+                x
             }
-        }
-        out
+        })
+    }
+
+    /// A point of rgc's frame back in the box's own.
+    pub fn to_frame(&self, p: [f64; 3]) -> [f64; 3] {
+        let o = self.origin();
+        std::array::from_fn(|k| p[k] + o[k])
     }
 }
 
 /// An (N, 3) array of finite numbers, or an error naming it (a NaN would
 /// otherwise wrap silently into the box).
-fn points3(a: &ArrayView2<'_, f64>, what: &str) -> PyResult<Array2<f64>> {
+fn check_points(a: &ArrayView2<'_, f64>, what: &str) -> PyResult<()> {
     if a.ncols() != 3 {
         return Err(value_error(format!(
             "{what} must have shape (N, 3), got {:?}",
             a.shape()
         )));
     }
-    if let Some((i, _)) = a
+    match a
         .rows()
         .into_iter()
-        .enumerate()
-        .find(|(_, r)| r.iter().any(|x| !x.is_finite()))
+        .position(|r| r.iter().any(|x| !x.is_finite()))
     {
-        return Err(value_error(format!("{what} row {i} is not finite")));
+        Some(i) => Err(value_error(format!("{what} row {i} is not finite"))),
+        None => Ok(()),
     }
-    Ok(a.to_owned())
 }
 
-/// Per-rod values from a number or an (N,) array.
-fn per_rod(obj: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResult<Vec<f64>> {
-    if let Ok(x) = obj.extract::<f64>() {
-        return Ok(vec![x; n]);
-    }
-    let a: PyReadonlyArray1<'_, f64> = obj.extract().map_err(|_| {
-        value_error(format!(
-            "{what} must be a number or a float64 array of shape (N,)"
-        ))
-    })?;
-    if a.len() != n {
-        return Err(value_error(format!(
-            "{what} has {} values for {n} rods",
-            a.len()
-        )));
-    }
-    Ok(a.as_array().to_vec())
+/// Per-rod values: one number for all, or an (N,) array.
+enum PerRod<'a> {
+    All(f64),
+    Each(ArrayView1<'a, f64>),
 }
 
-/// Unit directions from quaternions `(w, x, y, z)` (HOOMD's order) rotating
-/// `axis`, as the library reads a LAMMPS dump's quaternions.
-fn rotate(q: &ArrayView2<'_, f64>, axis: [f64; 3]) -> PyResult<Array2<f64>> {
-    if q.ncols() != 4 {
-        return Err(value_error(format!(
-            "quaternions must have shape (N, 4), got {:?}",
-            q.shape()
-        )));
-    }
-    let mut out = Array2::zeros((q.nrows(), 3));
-    for (i, row) in q.rows().into_iter().enumerate() {
-        let a = rgc::rods::rotate([row[0], row[1], row[2], row[3]], axis)
-            .ok_or_else(|| value_error(format!("quaternion {i} is not a rotation")))?;
-        for k in 0..3 {
-            out[[i, k]] = a[k];
+impl PerRod<'_> {
+    fn get(&self, i: usize) -> f64 {
+        match self {
+            PerRod::All(x) => *x,
+            PerRod::Each(a) => a[i],
         }
     }
-    Ok(out)
 }
 
-/// A checked rod system in a box.
+/// A number, or the view of an (N,) array checked against the rods.
+fn per_rod<'a>(
+    number: Option<f64>,
+    array: &'a Option<PyReadonlyArray1<'_, f64>>,
+    n: usize,
+    what: &str,
+) -> PyResult<PerRod<'a>> {
+    match (number, array) {
+        (Some(x), _) => Ok(PerRod::All(x)),
+        (None, Some(a)) if a.as_array().len() == n => Ok(PerRod::Each(a.as_array())),
+        (None, Some(a)) => Err(value_error(format!(
+            "{what} has {} values for {n} rods",
+            a.as_array().len()
+        ))),
+        (None, None) => Err(value_error(format!("{what} are needed"))),
+    }
+}
+
+/// Refuses, before any allocation, a system of `n` rods too large to
+/// build: over the library's cap or over the memory this process has.
+pub(crate) fn check_build(n: usize) -> PyResult<()> {
+    if n >= MAX_RODS {
+        return Err(error(Error::Memory(format!(
+            "{n} rods, more than the {MAX_RODS} that fit in memory"
+        ))));
+    }
+    let need = n as u64 * BUILD_BYTES_PER_ROD;
+    match available_memory() {
+        Some(have) if need > have => Err(error(Error::Memory(format!(
+            "{n} rods need about {} to build, more than the {} this process has available",
+            size(need),
+            size(have)
+        )))),
+        _ => Ok(()),
+    }
+}
+
+/// A checked rod system in a box, kept in rgc's frame and shown in the
+/// frame of the box it was given in.
 #[pyclass(name = "Rods", module = "rgc", frozen)]
 #[derive(Clone)]
 pub struct PyRods {
-    pub system: RodSystem,
+    pub system: Arc<RodSystem>,
     /// Rods whose cores were cut at a wall.
     pub cut: usize,
+    /// Whether the box it was given in is centred.
+    pub centred: bool,
 }
 
 #[pymethods]
 impl PyRods {
-    /// Rods from arrays: `centres` (N, 3) in the box's frame (wrapped along
-    /// periodic axes, so centred boxes and `np.mod` at exactly `L` work),
-    /// and either `directions` (N, 3) or `quaternions` (N, 4, `(w, x, y, z)`
-    /// rotating `axis`); `lengths` and `radii` are numbers or (N,) arrays.
-    /// Cores crossing a wall are cut to the box, as reading a file does.
+    /// Rods from float64 arrays (`rgc.Rods.from_arrays` converts and checks
+    /// shapes first): `centres` (N, 3) in the box's frame, wrapped along
+    /// periodic axes; `directions` (N, 3) or `quaternions` (N, 4); lengths
+    /// and radii each a number or an (N,) array. Cores crossing a wall are
+    /// cut to the box, as reading a file does.
     #[staticmethod]
-    #[pyo3(signature = (r#box, centres, directions=None, quaternions=None, lengths=None, radii=None, axis=(1.0, 0.0, 0.0)))]
+    #[pyo3(signature = (r#box, centres, directions, quaternions, length, lengths, radius, radii, axis))]
     #[allow(clippy::too_many_arguments)]
-    fn from_arrays(
+    fn _from_arrays(
+        py: Python<'_>,
         r#box: &PyBox,
         centres: PyReadonlyArray2<'_, f64>,
         directions: Option<PyReadonlyArray2<'_, f64>>,
         quaternions: Option<PyReadonlyArray2<'_, f64>>,
-        lengths: Option<&Bound<'_, PyAny>>,
-        radii: Option<&Bound<'_, PyAny>>,
+        length: Option<f64>,
+        lengths: Option<PyReadonlyArray1<'_, f64>>,
+        radius: Option<f64>,
+        radii: Option<PyReadonlyArray1<'_, f64>>,
         axis: (f64, f64, f64),
     ) -> PyResult<Self> {
-        let centres = r#box.to_box(&points3(&centres.as_array(), "centres")?);
+        let centres = centres.as_array();
+        check_points(&centres, "centres")?;
         let n = centres.nrows();
-        let dirs = match (directions, quaternions) {
-            (Some(d), None) => points3(&d.as_array(), "directions")?,
-            (None, Some(q)) => rotate(&q.as_array(), [axis.0, axis.1, axis.2])?,
+        let directions = directions.as_ref().map(|d| d.as_array());
+        let quaternions = quaternions.as_ref().map(|q| q.as_array());
+        match (&directions, &quaternions) {
+            (Some(d), None) => check_points(d, "directions")?,
+            (None, Some(q)) if q.ncols() != 4 => {
+                return Err(value_error(format!(
+                    "quaternions must have shape (N, 4), got {:?}",
+                    q.shape()
+                )));
+            }
+            (None, Some(_)) => {}
             _ => return Err(value_error("give either directions or quaternions")),
-        };
-        if dirs.nrows() != n {
-            return Err(value_error(format!(
-                "{} directions for {n} centres",
-                dirs.nrows()
-            )));
         }
-        let lengths = per_rod(
-            lengths.ok_or_else(|| value_error("lengths are needed"))?,
-            n,
-            "lengths",
-        )?;
-        let radii = per_rod(
-            radii.ok_or_else(|| value_error("radii are needed"))?,
-            n,
-            "radii",
-        )?;
+        let given = directions
+            .as_ref()
+            .or(quaternions.as_ref())
+            .map_or(n, |a| a.nrows());
+        if given != n {
+            let what = if directions.is_some() {
+                "directions"
+            } else {
+                "quaternions"
+            };
+            return Err(value_error(format!("{given} {what} for {n} centres")));
+        }
+        let lengths = per_rod(length, &lengths, n, "lengths")?;
+        let radii = per_rod(radius, &radii, n, "radii")?;
+        check_build(n)?;
+        let body = [axis.0, axis.1, axis.2];
         let mut rods = Vec::with_capacity(n);
         let mut cut = 0;
         for i in 0..n {
-            let v = |a: &Array2<f64>| nalgebra::Vector3::new(a[[i, 0]], a[[i, 1]], a[[i, 2]]);
+            let axis = match (&directions, &quaternions) {
+                (Some(d), _) => nalgebra::Vector3::new(d[[i, 0]], d[[i, 1]], d[[i, 2]]),
+                (_, Some(q)) => {
+                    rgc::rods::rotate([q[[i, 0]], q[[i, 1]], q[[i, 2]], q[[i, 3]]], body)
+                        .ok_or_else(|| value_error(format!("quaternion {i} is not a rotation")))?
+                }
+                (None, None) => unreachable!("checked above"),
+            };
+            let c = r#box.to_rgc([centres[[i, 0]], centres[[i, 1]], centres[[i, 2]]]);
             let rod = Rod {
-                center: v(&centres),
-                axis: v(&dirs),
-                length: lengths[i],
-                radius: radii[i],
+                center: c.into(),
+                axis,
+                length: lengths.get(i),
+                radius: radii.get(i),
             };
             if let Some(why) = rod.defect() {
                 return Err(value_error(format!("rod {i}: {why}")));
@@ -248,32 +340,34 @@ impl PyRods {
                 Cut::Whole(_) | Cut::Outside => rod,
             });
         }
-        let system = RodSystem::new(r#box.domain, rods).map_err(value_error)?;
-        Ok(PyRods { system, cut })
+        let domain = r#box.domain;
+        let system = py.detach(|| RodSystem::new(domain, rods)).map_err(error)?;
+        Ok(PyRods::new(system, cut, r#box.centred))
     }
 
     fn __len__(&self) -> usize {
         self.system.len()
     }
 
+    /// The box, centred if the rods were given in a centred one.
     #[getter(r#box)]
     fn get_box(&self) -> PyBox {
-        PyBox {
-            domain: self.system.domain,
-            centred: false,
-        }
+        self.r#box()
     }
 
-    /// Centres in `[0, L)`, shape (N, 3).
+    /// Centres in the box's frame (`[-L/2, L/2)` along periodic axes if
+    /// centred, else `[0, L)`), shape (N, 3).
     #[getter]
     fn centres<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        self.column3(|r| r.center).into_pyarray(py)
+        let b = self.r#box();
+        self.column3(|r| b.to_frame(r.center.into()))
+            .into_pyarray(py)
     }
 
     /// Unit directions, shape (N, 3).
     #[getter]
     fn directions<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        self.column3(|r| r.axis).into_pyarray(py)
+        self.column3(|r| r.axis.into()).into_pyarray(py)
     }
 
     /// Core lengths, shape (N,).
@@ -300,26 +394,55 @@ impl PyRods {
         self.system.density()
     }
 
+    /// What `pickle` rebuilds the rods from: the box and the rods in rgc's
+    /// frame, so the round trip is exact.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let raw = self.column3(|r| r.center.into()).into_pyarray(py);
+        let state = (
+            self.r#box(),
+            raw,
+            self.column3(|r| r.axis.into()).into_pyarray(py),
+            self.lengths(py),
+            self.radii(py),
+            self.cut,
+        );
+        crate::pickle::reduce(py, "_rods", state)
+    }
+
     fn __repr__(&self) -> String {
         format!(
-            "Rods({} rods in a box {} ({}))",
+            "Rods({} rods in a box {} ({}{}))",
             self.system.len(),
-            self.system.domain.describe(),
-            self.system.domain.periodic.name()
+            self.system.domain.sides.map(short).join(","),
+            self.system.domain.periodic.name(),
+            if self.centred { ", centred" } else { "" }
         )
     }
 }
 
 impl PyRods {
-    fn column3(&self, f: impl Fn(&Rod) -> nalgebra::Vector3<f64>) -> Array2<f64> {
-        let mut a = Array2::zeros((self.system.len(), 3));
-        for (i, r) in self.system.rods.iter().enumerate() {
-            let v = f(r);
-            for k in 0..3 {
-                a[[i, k]] = v[k];
-            }
+    pub fn new(system: RodSystem, cut: usize, centred: bool) -> Self {
+        PyRods {
+            system: Arc::new(system),
+            cut,
+            centred,
         }
-        a
+    }
+
+    /// The box the rods were given in.
+    pub fn r#box(&self) -> PyBox {
+        PyBox {
+            domain: self.system.domain,
+            centred: self.centred,
+        }
+    }
+
+    fn column3(&self, f: impl Fn(&Rod) -> [f64; 3]) -> Array2<f64> {
+        let flat: Vec<f64> = self.system.rods.iter().flat_map(f).collect();
+        Array2::from_shape_vec((self.system.len(), 3), flat).expect("three values per rod")
     }
 }
 
@@ -337,9 +460,13 @@ fn dist(obj: &Bound<'_, PyAny>) -> PyResult<Dist> {
 /// Random rods of the CLI's ensembles: `density` rods per unit volume, of
 /// aspect ratio `gamma` (radius = mean length / (2 gamma)) or of `radius`,
 /// isotropic or aligned (`order`, the nematic order parameter, about
-/// `director`), reproducibly from `seed` (the same as `rgc sample --seed`).
+/// `director`), reproducibly from `seed` (the same as `rgc sample --seed`;
+/// in a centred box the same rods shifted by `-L/2`).
 #[pyfunction]
-#[pyo3(signature = (r#box, density, gamma=None, radius=None, length=None, order=None, director=None, seed=1))]
+#[pyo3(
+    signature = (r#box, density, gamma=None, radius=None, length=None, order=None, director=None, seed=None),
+    text_signature = "(box, density, gamma=None, radius=None, length=None, order=None, director=None, seed=1)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn generate(
     py: Python<'_>,
@@ -350,8 +477,9 @@ pub fn generate(
     length: Option<&Bound<'_, PyAny>>,
     order: Option<f64>,
     director: Option<(f64, f64, f64)>,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyRods> {
+    let seed = crate::seed(seed)?;
     let length = match length {
         Some(l) => dist(l)?,
         None => Dist::Fixed { value: 1.0 },
@@ -361,7 +489,8 @@ pub fn generate(
         (None, Some(g)) => {
             if !g.is_finite() || g < rgc::rods::MIN_GAMMA {
                 return Err(value_error(format!(
-                    "gamma must be at least 1 (a rod at least as long as it is wide), got {g}"
+                    "gamma must be at least 1 (a rod at least as long as it is wide), got {}",
+                    short(g)
                 )));
             }
             Dist::Fixed {
@@ -385,9 +514,12 @@ pub fn generate(
         radius,
         orientation,
     };
-    ensemble.check().map_err(value_error)?;
-    let system = py
-        .detach(|| ensemble.generate(seed))
-        .map_err(|e: Error| value_error(e))?;
-    Ok(PyRods { system, cut: 0 })
+    // Too many rods for memory is a MemoryError, before the ensemble's own
+    // checks would call it a bad parameter.
+    if density.is_finite() && density > 0.0 {
+        check_build(ensemble.n_rods())?;
+    }
+    ensemble.check().map_err(error)?;
+    let system = interrupt::run(py, move || ensemble.generate(seed))?.map_err(error)?;
+    Ok(PyRods::new(system, 0, r#box.centred))
 }

@@ -3,34 +3,40 @@
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 
 use rgc::rods::RodSystem;
 use rgc::spanning::Criterion;
 use rgc::truth::{Truth, TruthOptions};
 
-use crate::compress::criterion;
+use crate::compress::{check_memory, criterion};
 use crate::system::PyRods;
+use crate::{count, interrupt, value_error};
 
 /// Rigid clusters of the exact truth and the degrees of freedom.
 #[pyclass(name = "Truth", module = "rgc", frozen)]
 pub struct PyTruth {
-    cluster_idx: Vec<i64>,
-    clusters: Vec<Vec<u32>>,
+    pub cluster_idx: Vec<i64>,
+    pub clusters: Vec<Vec<u32>>,
     /// Internal degrees of freedom, or None when undecided.
     #[pyo3(get)]
-    dof: Option<usize>,
+    pub dof: Option<usize>,
     /// Whether a rigid cluster spans (None when undecided).
     #[pyo3(get)]
-    spanning: Option<bool>,
+    pub spanning: Option<bool>,
     /// 'exact', 'float' or 'undecided'.
     #[pyo3(get)]
-    method: String,
+    pub method: String,
     /// Why truth is undecided (or how a float answer was reached).
     #[pyo3(get)]
-    reason: Option<String>,
+    pub reason: Option<String>,
+    /// Whether truth stopped before work that would pass `memory_limit`
+    /// (it is then undecided).
+    #[pyo3(get)]
+    pub memory_refused: bool,
     /// The whole answer as `rgc truth --json` prints it, as JSON text.
     #[pyo3(get)]
-    report: String,
+    pub report: String,
 }
 
 #[pymethods]
@@ -56,6 +62,24 @@ impl PyTruth {
     #[getter]
     fn undecided(&self) -> bool {
         self.method == "undecided"
+    }
+
+    /// What `pickle` rebuilds the answer from.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let state = (
+            self.cluster_idx.clone(),
+            self.clusters.clone(),
+            self.dof,
+            self.spanning,
+            self.method.clone(),
+            self.reason.clone(),
+            self.memory_refused,
+            self.report.clone(),
+        );
+        crate::pickle::reduce(py, "_truth", state)
     }
 
     fn __repr__(&self) -> String {
@@ -85,21 +109,31 @@ pub(crate) fn of_rods(
 
 /// The exact generic rigidity of `rods` (the same answer as `rgc truth`
 /// with that seed): degrees of freedom, rigid clusters and spanning under
-/// 'wrap' or 'faces'. `memory_limit` in bytes refuses a system whose
-/// elimination would pass it (undecided, with the reason).
+/// 'wrap' or 'faces'. `memory_limit` in bytes (positive) refuses a system
+/// whose elimination would pass it; an undecided answer comes back as it
+/// is here (`rgc.truth` raises `UndecidedError` for it unless asked not to).
 #[pyfunction]
-#[pyo3(signature = (rods, criterion="wrap", seed=1, memory_limit=None))]
+#[pyo3(
+    signature = (rods, criterion="wrap", seed=None, memory_limit=None),
+    text_signature = "(rods, criterion='wrap', seed=1, memory_limit=None)"
+)]
 pub fn truth(
     py: Python<'_>,
     rods: &PyRods,
     criterion: &str,
-    seed: u64,
-    memory_limit: Option<u64>,
+    seed: Option<&Bound<'_, PyAny>>,
+    memory_limit: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyTruth> {
+    let seed = crate::seed(seed)?;
     let criterion = self::criterion(criterion)?;
-    let system = &rods.system;
-    let t = py.detach(|| of_rods(system, criterion, seed, memory_limit));
-    let mut cluster_idx = vec![-1i64; system.len()];
+    let memory_limit = match memory_limit {
+        Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),
+        None => None,
+    };
+    check_memory(rods, memory_limit)?;
+    let system = rods.system.clone();
+    let t = interrupt::run(py, move || of_rods(&system, criterion, seed, memory_limit))?;
+    let mut cluster_idx = vec![-1i64; rods.system.len()];
     for (k, c) in t.clusters.iter().enumerate().rev() {
         for &r in &c.rods {
             cluster_idx[r as usize] = k as i64;
@@ -112,6 +146,7 @@ pub fn truth(
         spanning: t.spanning,
         method: t.outcome.decision().to_string(),
         reason: t.outcome.reason().map(str::to_string),
-        report: serde_json::to_string(&t).map_err(crate::value_error)?,
+        memory_refused: t.outcome.refused().is_some(),
+        report: serde_json::to_string(&t).map_err(value_error)?,
     })
 }

@@ -111,7 +111,7 @@ def test_bad_names_are_value_errors(system):
         rgc.compress(system, rules="fast")
     with pytest.raises(ValueError, match="criterion must be 'wrap' or 'faces'"):
         rgc.truth(system, criterion="corners")
-    with pytest.raises(ValueError, match="runs must be at least 1"):
+    with pytest.raises(ValueError, match="runs must be an integer from 1 to 100000, got 0"):
         rgc.compress(system, runs=0)
 
 

@@ -22,8 +22,9 @@ def test_box_properties_and_wrap():
     # Exactly L wraps to 0 (np.mod can return L for -tiny), walls leave z alone.
     w = b.wrap(np.array([[4.0, -1.0, 7.0], [-1e-17, 5.0, -1.0]]))
     assert w.tolist() == [[0.0, 4.0, 7.0], [0.0, 0.0, -1.0]]
+    # A centred box wraps into [-L/2, L/2), its own frame.
     c = rgc.Box(4.0, centred=True)
-    assert c.wrap(np.array([[-2.0, 0.0, 1.9]])).tolist() == [[0.0, 2.0, 3.9]]
+    assert c.wrap(np.array([[-2.0, 0.0, 1.9], [2.0, 3.0, -2.5]])).tolist() == [[-2.0, 0.0, 1.9], [-2.0, -1.0, 1.5]]
 
 
 def test_arrays_round_trip():
@@ -45,6 +46,10 @@ def test_float32_and_lists_are_taken_as_float64():
     assert np.array_equal(exact.centres, lists.centres)
     single = rgc.Rods.from_arrays(b, centres.astype(np.float32), directions=d.astype(np.float32), lengths=1.0, radii=0.05)
     assert np.allclose(single.centres, centres, atol=1e-5)
+    # Strided views (columns of a wider table, reversed rows) are read as they lie.
+    table = np.column_stack([centres, d])[::-1]
+    view = rgc.Rods.from_arrays(b, table[:, :3], directions=table[:, 3:], lengths=np.ones(40)[::2], radii=0.05)
+    assert np.array_equal(view.centres, centres[::-1]) and np.allclose(view.directions, d[::-1], atol=1e-15)
 
 
 def test_quaternions_and_centred_boxes_give_the_same_contacts():
@@ -60,7 +65,27 @@ def test_quaternions_and_centred_boxes_give_the_same_contacts():
     assert len(a) > 0
     assert np.array_equal(a.pairs, c.pairs)
     assert np.array_equal(a.shifts, c.shifts)
-    assert np.allclose(a.points, c.points, atol=1e-9)
+    # Contact points come back in the centred frame.
+    assert np.allclose(a.points - 2.5, c.points, atol=1e-9)
+
+
+def test_centred_boxes_give_centres_and_points_back_in_their_frame():
+    centred = rgc.Box(5.0, centred=True)
+    sys = rgc.generate(centred, density=30, gamma=10, seed=4)
+    plain = rgc.generate(rgc.Box(5.0), density=30, gamma=10, seed=4)
+    assert sys.box.centred and sys.box == centred and not plain.box.centred
+    assert sys.centres.min() >= -2.5 and sys.centres.max() < 2.5
+    assert np.allclose(sys.centres, plain.centres - 2.5, atol=1e-15, rtol=0)
+    c = rgc.contacts(sys)
+    assert c.points.min() >= -2.5 and c.points.max() < 2.5
+    assert np.allclose(c.points, rgc.contacts(plain).points - 2.5, atol=1e-15, rtol=0)
+    # What goes in comes out: from_arrays in a centred box, walls in z too.
+    walls = rgc.Box(5.0, periodic="xy", centred=True)
+    again = rgc.Rods.from_arrays(walls, sys.centres, directions=sys.directions, lengths=sys.lengths, radii=sys.radii)
+    assert again.box == walls and again.cut > 0
+    inside = np.abs(sys.centres[:, 2]) < 2.0
+    assert np.allclose(again.centres[inside], sys.centres[inside], atol=1e-15, rtol=0)
+    assert "centred" in repr(again) and "centred" not in repr(plain)
 
 
 def test_generated_systems_are_reproducible():
