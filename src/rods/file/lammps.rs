@@ -290,14 +290,9 @@ pub(super) fn parse_lammps(
         let n = i + 1;
         let fields: Vec<&str> = lines[i].split_whitespace().collect();
         if fields.len() != names.len() {
-            let end = if n == lines.len() && !text.ends_with('\n') {
-                "; the file ends mid-line"
-            } else {
-                ""
-            };
             return Err(bad(
                 n,
-                format!("{} of {} fields{end}", fields.len(), names.len()),
+                format!("{} of {} fields", fields.len(), names.len()),
             ));
         }
         if let (Some(t), Some(types)) = (type_column, pick.types)
