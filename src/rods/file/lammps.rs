@@ -286,9 +286,9 @@ pub(super) fn parse_lammps(
     };
     let mut raws = Vec::with_capacity(count);
     let mut other_types = BTreeSet::new();
-    for i in atoms..atoms + count {
+    for (i, line) in lines.iter().enumerate().skip(atoms).take(count) {
         let n = i + 1;
-        let fields: Vec<&str> = lines[i].split_whitespace().collect();
+        let fields: Vec<&str> = line.split_whitespace().collect();
         if fields.len() != names.len() {
             return Err(bad(
                 n,

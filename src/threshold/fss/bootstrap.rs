@@ -48,7 +48,7 @@ pub(super) fn pipeline(
     // study, a wide logistic, nu near 0) fails, on the data as on a
     // resample, so that no interval reaches below 0.
     for (x, row) in xs.iter().zip(&rho_x) {
-        if let Some((l, r)) = lens.iter().zip(row).find(|(_, r)| !(**r > 0.0)) {
+        if let Some((l, r)) = lens.iter().zip(row).find(|(_, r)| r.is_nan() || **r <= 0.0) {
             return Err(Error::analysis(format!(
                 "box L={l}: rho_x at x = {x} is {}, not a positive density: too few sequences for the fit",
                 four(*r)
@@ -56,7 +56,7 @@ pub(super) fn pipeline(
         }
     }
     let ext = extrapolate(&t, &rho_x)?;
-    if !(ext.threshold > 0.0) {
+    if ext.threshold.is_nan() || ext.threshold <= 0.0 {
         return Err(Error::analysis(format!(
             "the extrapolated threshold {} is not a positive density: too few sequences (or box sizes) for the extrapolation",
             four(ext.threshold)
