@@ -848,7 +848,11 @@ fn huge_numbers_in_messages_are_short() {
         "density 40 in a box of side 1.0000e300 means inf rods",
     );
     let csv = dir.join("wide.csv");
-    std::fs::write(&csv, "x,y,z,dx,dy,dz,length,radius\n1,1,1,1,0,0,1e300,0.02\n").unwrap();
+    std::fs::write(
+        &csv,
+        "x,y,z,dx,dy,dz,length,radius\n1,1,1,1,0,0,1e300,0.02\n",
+    )
+    .unwrap();
     refused(
         &["truth", "--rods", s(&csv), "--box", "4"],
         "2 (l + 2r) = 2.0000e300, so that",
