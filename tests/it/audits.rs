@@ -141,7 +141,8 @@ fn audit_results_do_not_depend_on_the_thread_count() {
 /// The main job, `rgc audit` on its defaults in a copy of the repository's
 /// `results/` and `motifs/`, leaves every committed file it writes as it
 /// was, byte for byte (its timings go to stderr), so a newcomer's first
-/// command leaves `git status` clean. About 9 s on two cores.
+/// command leaves `git status` clean. 2.3 s wall on two idle cores (8.6 s
+/// while other builds ran), 14 MB peak: the default audit itself is the test.
 #[test]
 fn the_default_audit_rewrites_the_committed_files_byte_for_byte() {
     let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
