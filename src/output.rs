@@ -7,9 +7,14 @@
 //! (or none), never a truncated one. The only exception is the record files
 //! of a threshold study, which grow one finished line at a time.
 //!
+//! A symbolic link is written through: the temporary file goes beside the
+//! link's target and is renamed onto it, so the link stays a link.
+//!
 //! [`check_file`] and [`check_dir`] let a command refuse an unwritable
-//! output before it does its work, and [`csv()`] writes tables through the
-//! `csv` crate, so that a field holding a comma or a quote is quoted.
+//! output before it does its work, [`check_outputs`] also refuses two
+//! outputs that are one file (by what they name, not how they are spelt),
+//! and [`csv()`] writes tables through the `csv` crate, so that a field
+//! holding a comma or a quote is quoted.
 
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -25,23 +30,41 @@ pub fn write_atomic(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
 }
 
 /// Replaces `path` by what `write` puts in the file it is given: a
-/// temporary file beside `path`, with the same extension (some writers pick
-/// the format by it), synced and renamed over `path` once `write` succeeds
-/// and removed if it fails.
+/// temporary file beside `path` (beside its target, if `path` is a
+/// symbolic link), with the same extension (some writers pick the format by
+/// it), synced and renamed over the target once `write` succeeds and
+/// removed if it fails.
 pub fn replace_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let tmp = temporary_beside(path);
+    let target = target(path);
+    let tmp = temporary_beside(&target);
     let done = write(&tmp).and_then(|()| {
         std::fs::OpenOptions::new()
             .write(true)
             .open(&tmp)
             .and_then(|f| f.sync_all())
             .map_err(|e| Error::io(path, e))?;
-        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+        std::fs::rename(&tmp, &target).map_err(|e| Error::io(path, e))
     });
     if done.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     done
+}
+
+/// The file a write to `path` lands in: `path`, or the end of the chain of
+/// symbolic links it starts (which need not exist yet). Renaming onto the
+/// link itself would replace it by a plain file.
+fn target(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    // The kernel's own limit on a chain of links; past it, the write fails there.
+    for _ in 0..40 {
+        match std::fs::read_link(&p) {
+            // A relative target is relative to the link's directory.
+            Ok(to) => p = p.parent().map_or_else(|| to.clone(), |dir| dir.join(&to)),
+            Err(_) => break,
+        }
+    }
+    p
 }
 
 /// A fresh hidden name in `path`'s directory ending in `path`'s file name:
@@ -70,9 +93,72 @@ pub fn check_file(path: &Path) -> Result<()> {
     }
 }
 
+/// The outputs of one command, as (flag, path), checked before the work:
+/// each one writable ([`check_file`]) and no two the same file, however
+/// they are spelt (`./a.csv` and `a.csv`, `d/../a.csv`, a symbolic or a
+/// hard link to it), since the second write would silently replace the
+/// first.
+pub fn check_outputs(outputs: &[(&str, &Path)]) -> Result<()> {
+    for (_, path) in outputs {
+        check_file(path)?;
+    }
+    // After check_file, every output's directory exists and canonicalizes.
+    let ids: Vec<FileId> = outputs.iter().map(|(_, p)| FileId::of(p)).collect();
+    for (i, (flag, path)) in outputs.iter().enumerate() {
+        if let Some(j) = ids[..i].iter().position(|id| *id == ids[i]) {
+            let (other, first) = outputs[j];
+            let spelt = if first == *path {
+                path.display().to_string()
+            } else {
+                format!("{} and {}", first.display(), path.display())
+            };
+            return Err(Error::Parameter(format!(
+                "{other} and {flag} both write {spelt}, one file: one would overwrite the other"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Which file a path names, whatever its spelling.
+#[derive(Debug, PartialEq)]
+enum FileId {
+    /// An existing file: its device and inode (through hard links).
+    #[cfg(unix)]
+    Node(u64, u64),
+    /// A file to be made (or, off Unix, any file): its directory's
+    /// canonical path joined with its name.
+    Path(PathBuf),
+}
+
+impl FileId {
+    fn of(path: &Path) -> Self {
+        let target = target(path);
+        #[cfg(unix)]
+        if let Ok(m) = std::fs::metadata(&target) {
+            use std::os::unix::fs::MetadataExt;
+            return FileId::Node(m.dev(), m.ino());
+        }
+        let dir = target
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        match (dir.canonicalize(), target.file_name()) {
+            (Ok(dir), Some(name)) => FileId::Path(dir.join(name)),
+            _ => FileId::Path(std::path::absolute(&target).unwrap_or(target)),
+        }
+    }
+}
+
 /// Checks that files can be written into `dir`, creating it if missing: a
 /// command that will write there fails now rather than after its work.
 pub fn check_dir(dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::io(
+            dir,
+            std::io::Error::other("is a file, not a directory"),
+        ));
+    }
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let probe = temporary_beside(&dir.join("probe"));
     std::fs::OpenOptions::new()
@@ -272,7 +358,85 @@ mod tests {
             matches!(&err, Error::Io { path, .. } if path.ends_with("plain")),
             "{err}"
         );
-        assert!(check_dir(&dir.join("plain")).is_err());
+        let err = check_dir(&dir.join("plain")).unwrap_err().to_string();
+        assert!(err.ends_with("plain: is a file, not a directory"), "{err}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_is_written_through_and_stays_a_link() {
+        let dir = scratch("link");
+        std::fs::create_dir_all(dir.join("data")).unwrap();
+        let real = dir.join("data/table.csv");
+        std::fs::write(&real, "old\n").unwrap();
+        // A relative link, and a link to that link.
+        let link = dir.join("link.csv");
+        std::os::unix::fs::symlink("data/table.csv", &link).unwrap();
+        let chain = dir.join("chain.csv");
+        std::os::unix::fs::symlink(&link, &chain).unwrap();
+        write_atomic(&chain, "new\n").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
+        assert!(std::fs::symlink_metadata(&chain).unwrap().is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new\n");
+        assert_eq!(names(&dir.join("data")), ["table.csv"], "no temporary left");
+        // A dangling link: the write makes its target.
+        let dangling = dir.join("dangling.csv");
+        std::os::unix::fs::symlink("data/fresh.csv", &dangling).unwrap();
+        write_atomic(&dangling, "made\n").unwrap();
+        assert!(std::fs::symlink_metadata(&dangling).unwrap().is_symlink());
+        assert_eq!(
+            std::fs::read_to_string(dir.join("data/fresh.csv")).unwrap(),
+            "made\n"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn two_outputs_are_one_file_however_they_are_spelt() {
+        let dir = scratch("same");
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        let a = dir.join("a.csv");
+        let refused = |x: &Path, y: &Path| {
+            let err = check_outputs(&[("--one", x), ("--two", y)])
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains("--one and --two both write"), "{err}");
+            assert!(err.contains("one file"), "{err}");
+        };
+        // Not yet made: spelt with ./ and with ../ from another folder.
+        refused(&a, &dir.join("./a.csv"));
+        refused(&a, &dir.join("sub/../a.csv"));
+        // A symbolic link to it, made or not.
+        let link = dir.join("link.csv");
+        std::os::unix::fs::symlink("a.csv", &link).unwrap();
+        refused(&a, &link);
+        std::fs::write(&a, "").unwrap();
+        refused(&link, &a);
+        // A hard link.
+        let hard = dir.join("sub/hard.csv");
+        std::fs::hard_link(&a, &hard).unwrap();
+        refused(&a, &hard);
+        // Different files pass, in a folder made for them.
+        check_outputs(&[
+            ("--one", &a),
+            ("--two", &dir.join("sub/b.csv")),
+            ("--three", &dir.join("new/a.csv")),
+        ])
+        .unwrap();
+        assert!(dir.join("new").is_dir());
+        // The same spelling twice says it once.
+        let err = check_outputs(&[("--one", &a), ("--two", &a)])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.ends_with(&format!(
+                "both write {}, one file: one would overwrite the other",
+                a.display()
+            )),
+            "{err}"
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 

@@ -79,7 +79,10 @@ impl Dist {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} must be a positive finite number, got {v}"))
+                Err(format!(
+                    "{name} must be a positive finite number, got {}",
+                    short(v)
+                ))
             }
         };
         match *self {
@@ -179,7 +182,8 @@ impl Orientation {
         };
         if !(order.is_finite() && order > -0.499 && order < 0.999) {
             return Err(format!(
-                "the nematic order parameter must lie in (-0.499, 0.999), got {order}"
+                "the nematic order parameter must lie in (-0.499, 0.999), got {}",
+                short(order)
             ));
         }
         let d = Vector3::from(director);
@@ -285,7 +289,8 @@ impl Ensemble {
         let rho = self.density;
         if !rho.is_finite() || rho <= 0.0 {
             return Err(Error::Parameter(format!(
-                "density must be a positive finite number, got {rho}"
+                "density must be a positive finite number, got {}",
+                short(rho)
             )));
         }
         let n = rho * domain.volume();
@@ -303,13 +308,22 @@ impl Ensemble {
                 short(domain.volume())
             )));
         }
+        let mean = Rod::new(
+            Vector3::zeros(),
+            Vector3::x(),
+            self.length.mean(),
+            self.radius.mean(),
+        );
+        if let Some(why) = mean.too_wide() {
+            return Err(Error::Parameter(format!("rods of the mean size: {why}")));
+        }
         let reach = 2.0 * (self.length.bound() + 2.0 * self.radius.bound());
         for k in (0..3).filter(|&k| domain.wraps(k)) {
             if domain.sides[k] <= reach {
                 return Err(Error::Parameter(format!(
                     "box side {} along {} is too small: a periodic side must exceed two reaches of the \
                      largest rods drawn, 2 (l + 2r) = {reach:.4}, so that two rods touch through at most one image",
-                    domain.sides[k],
+                    short(domain.sides[k]),
                     ["x", "y", "z"][k]
                 )));
             }
@@ -328,7 +342,12 @@ impl Ensemble {
     /// is too long for a periodic side (`L > 2 (l + 2 r)` for every rod),
     /// which only a lognormal's tail can draw.
     pub fn generate(&self, seed: u64) -> Result<RodSystem> {
-        let system = self.draw(seed);
+        let (system, wide) = self.draw(seed);
+        if let Some((i, why)) = wide {
+            return Err(Error::Parameter(format!(
+                "rod {i} was drawn too wide: {why}; use narrower distributions of the length and radius"
+            )));
+        }
         if let Some((i, k, limit)) = too_long(&self.domain, &system.rods) {
             let r = &system.rods[i];
             return Err(Error::Parameter(format!(
@@ -345,8 +364,10 @@ impl Ensemble {
         Ok(system)
     }
 
-    /// The rods of `seed`, unchecked.
-    pub(super) fn draw(&self, seed: u64) -> RodSystem {
+    /// The rods of `seed`, unchecked but for the first rod drawn wider than
+    /// long (before a wall cuts it), with why.
+    pub(super) fn draw(&self, seed: u64) -> (RodSystem, Option<(usize, String)>) {
+        let mut wide = None;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let sides = self.domain.sides;
         let aligned = match self.orientation {
@@ -364,7 +385,7 @@ impl Ensemble {
             }
         };
         let rods = (0..self.n_rods())
-            .map(|_| {
+            .map(|i| {
                 let center = Vector3::new(
                     rng.random::<f64>() * sides[0],
                     rng.random::<f64>() * sides[1],
@@ -394,6 +415,9 @@ impl Ensemble {
                     length,
                     radius,
                 };
+                if wide.is_none() {
+                    wide = rod.too_wide().map(|why| (i, why));
+                }
                 match self.domain.cut(&rod) {
                     Cut::Whole(r) | Cut::Cut(r) => r,
                     // A centre drawn in [0, L) is inside; rounding at a side
@@ -402,10 +426,11 @@ impl Ensemble {
                 }
             })
             .collect();
-        RodSystem {
+        let system = RodSystem {
             domain: self.domain,
             rods,
-        }
+        };
+        (system, wide)
     }
 }
 
@@ -414,8 +439,8 @@ impl RodSystem {
     /// radius `1 / (2 gamma)` with uniform centres in `[0, L)^3` and
     /// isotropic orientations, reproducibly from `seed`.
     pub fn generate(params: RodParams, seed: u64) -> Self {
-        // RodParams::new has checked the box against the rods.
-        Ensemble::paper(params).draw(seed)
+        // RodParams::new has checked the box against the rods, and gamma.
+        Ensemble::paper(params).draw(seed).0
     }
 }
 

@@ -39,13 +39,15 @@ impl RodParams {
         for (name, v) in [("gamma", gamma), ("box", box_len), ("density", density)] {
             if !v.is_finite() || v <= 0.0 {
                 return Err(Error::Parameter(format!(
-                    "{name} must be a positive finite number, got {v}"
+                    "{name} must be a positive finite number, got {}",
+                    short(v)
                 )));
             }
         }
         if gamma < MIN_GAMMA {
             return Err(Error::Parameter(format!(
-                "gamma must be at least {MIN_GAMMA} (a rod at least as long as it is wide), got {gamma}"
+                "gamma must be at least {MIN_GAMMA} (a rod at least as long as it is wide), got {}",
+                short(gamma)
             )));
         }
         let p = RodParams {
@@ -56,8 +58,9 @@ impl RodParams {
         let min_box = 2.0 * (1.0 + 2.0 * p.radius());
         if box_len <= min_box {
             return Err(Error::Parameter(format!(
-                "box {box_len} is too small: it must exceed two rod lengths, 2(l + 2r) = {min_box:.4}, \
-                 so that two rods touch through at most one periodic image"
+                "box {} is too small: it must exceed two rod lengths, 2(l + 2r) = {min_box:.4}, \
+                 so that two rods touch through at most one periodic image",
+                short(box_len)
             )));
         }
         let n = density * box_len.powi(3);
@@ -161,9 +164,36 @@ impl Rod {
         )
     }
 
-    /// Why this rod cannot be modelled, if it cannot: a non-finite number,
-    /// a zero direction, or a length or radius that is not positive.
+    /// Why this rod cannot be modelled, if it cannot: [`Rod::malformed`],
+    /// or [`Rod::too_wide`]. Checked on every rod as it arrives (a file's
+    /// line, a drawn rod, Python's arrays), before a wall cuts its core.
     pub fn defect(&self) -> Option<String> {
+        self.malformed().or_else(|| self.too_wide())
+    }
+
+    /// Wider than long: an aspect ratio `l / (2r)` below [`MIN_GAMMA`], the
+    /// rule `--gamma` follows, for a rod however it is given.
+    pub fn too_wide(&self) -> Option<String> {
+        let (l, r) = (self.length, self.radius);
+        // As given where that is short (a file's 0.6), else four decimals (a drawn 0.2219).
+        let shown = |x: f64| {
+            let given = short(x);
+            if given.contains('e') { four(x) } else { given }
+        };
+        (l < 2.0 * MIN_GAMMA * r).then(|| {
+            format!(
+                "radius {} is more than half the length {}: the rod is wider than long \
+                 (aspect ratio l / (2r) = {}, at least {MIN_GAMMA} is needed)",
+                shown(r),
+                shown(l),
+                four(l / (2.0 * r))
+            )
+        })
+    }
+
+    /// A non-finite number, a zero direction, or a length or radius that is
+    /// not positive.
+    pub fn malformed(&self) -> Option<String> {
         let named = [
             ("x", self.center.x),
             ("y", self.center.y),
@@ -281,7 +311,8 @@ impl Domain {
     pub fn new(sides: [f64; 3], periodic: Periodic) -> Result<Self> {
         if let Some(s) = sides.iter().find(|s| !s.is_finite() || **s <= 0.0) {
             return Err(Error::Parameter(format!(
-                "box sides must be positive finite numbers, got {s}"
+                "box sides must be positive finite numbers, got {}",
+                short(*s)
             )));
         }
         Ok(Domain { sides, periodic })
@@ -296,11 +327,12 @@ impl Domain {
         self.periodic.axes()[k]
     }
 
-    /// The box as `LX,LY,LZ`, or `L` for a cube.
+    /// The box as `LX,LY,LZ`, or `L` for a cube (each side short, as in
+    /// every message).
     pub fn describe(&self) -> String {
-        let [x, y, z] = self.sides;
+        let [x, y, z] = self.sides.map(short);
         if x == y && y == z {
-            format!("{x}")
+            x
         } else {
             format!("{x},{y},{z}")
         }
@@ -361,6 +393,19 @@ impl Domain {
         cut.length = hi - lo;
         Cut::Cut(cut)
     }
+
+    /// Whether an end of the rod's core lies on a wall (to rounding), as
+    /// the ends of a core [`Domain::cut`] has cut do.
+    fn ends_at_wall(&self, rod: &Rod) -> bool {
+        [-0.5, 0.5].iter().any(|&t| {
+            let end = rod.at(t * rod.length);
+            (0..3).filter(|&k| !self.wraps(k)).any(|k| {
+                let (x, l) = (end[k], self.sides[k]);
+                let tol = WALL_SLACK * (1.0 + l);
+                x.abs() <= tol || (x - l).abs() <= tol
+            })
+        })
+    }
 }
 
 /// `x mod l` in `[0, l)` (0 where rounding would give `l`).
@@ -391,7 +436,8 @@ pub struct RodSystem {
 }
 
 impl RodSystem {
-    /// A checked system: every rod modelled ([`Rod::defect`]) and inside the
+    /// A checked system: every rod modelled ([`Rod::defect`]; a core cut at
+    /// a wall may be shorter than it is wide) and inside the
     /// box (a centre in `[0, L)` along periodic axes, a core within the walls
     /// on the others: [`Domain::cut`] them first), no rod given twice (the
     /// same centre and axis line), and every periodic side longer than two
@@ -427,10 +473,15 @@ impl RodSystem {
         let mut seen = rustc_hash::FxHashMap::default();
         let mut out = Vec::with_capacity(rods.len());
         for (i, rod) in rods.into_iter().enumerate() {
-            if let Some(reason) = rod.defect() {
+            if let Some(reason) = rod.malformed() {
                 return Err(fault(i, reason));
             }
             let rod = Rod::new(rod.center, rod.axis, rod.length, rod.radius);
+            // A core cut at a wall may be shorter than it is wide; the rod
+            // it was cut from was checked whole.
+            if let Some(reason) = rod.too_wide().filter(|_| !domain.ends_at_wall(&rod)) {
+                return Err(fault(i, reason));
+            }
             match domain.cut(&rod) {
                 Cut::Whole(_) => {}
                 Cut::Cut(_) => {

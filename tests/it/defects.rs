@@ -848,10 +848,20 @@ fn huge_numbers_in_messages_are_short() {
         "density 40 in a box of side 1.0000e300 means inf rods",
     );
     let csv = dir.join("wide.csv");
+    std::fs::write(
+        &csv,
+        "x,y,z,dx,dy,dz,length,radius\n1,1,1,1,0,0,1e300,0.02\n",
+    )
+    .unwrap();
+    refused(
+        &["truth", "--rods", s(&csv), "--box", "4"],
+        "2 (l + 2r) = 2.0000e300, so that",
+    );
+    // A rod as wide: refused as wider than long, its radius short too.
     std::fs::write(&csv, "x,y,z,dx,dy,dz,length,radius\n1,1,1,1,0,0,1,1e300\n").unwrap();
     refused(
         &["truth", "--rods", s(&csv), "--box", "4"],
-        "2 (l + 2r) = 4.0000e300, so that",
+        "line 2: radius 1.0000e300 is more than half the length 1",
     );
     let out = rgc(&["truth", "--rods", s(&csv), "--box", "4"]);
     assert!(text(&out.stderr).len() < 250, "{}", text(&out.stderr));

@@ -1,6 +1,7 @@
 //! The integration tests: one binary, one module per concern.
 
 mod audits;
+mod battery;
 mod bench;
 mod bench_truth;
 mod charts;

@@ -245,6 +245,8 @@ fn cli_rods_files_give_the_same_sample() {
 const GOOD: [&str; 2] = ["1,1,1,1,0,0,1,0.02", "2,2,2,0,0,1,1,0.02"];
 /// A good rod after the bad one.
 const LAST: &str = "3,3,3,0,1,0,1,0.02";
+/// A good rod whose radius, cut by one digit, is another good radius.
+const WIDER: &str = "3,3,3,0,1,0,1,0.025";
 
 /// Rods given as comma-separated `x,y,z,dx,dy,dz,length,radius` rows, as a
 /// file of `format` (in a box of side 4 for JSON and LAMMPS), one rod a line
@@ -414,19 +416,35 @@ fn a_rod_given_twice_names_the_first_copy() {
     }
 }
 
-/// A last line cut short without a newline is refused as a file that ends
-/// mid-line; a short line with its newline, or a long one, is refused as such.
+/// Why a CSV or dump whose last line has no line break is refused.
+const MID_LINE: &str = "the file ends mid-line, without a line break after its last line (a cut file? its last number may be cut short)";
+
+/// A last line without a newline is refused as a file that ends mid-line,
+/// even when it parses (its last number cut short: `0.02` read as `0.0`
+/// would be a rod of radius 0, `0.025` as `0.02` a silently wrong rod); a
+/// short line with its newline, or a long one, is refused as such.
 #[test]
 fn a_file_ending_mid_line_is_named() {
     let opts = options(Format::Csv, &Domain::cube(4.0));
     let whole = file_of(Format::Csv, &[GOOD[0], GOOD[1], "3,3,3,1"], Periodic::Xyz);
     let (line, reason) = malformed(whole.trim_end(), Format::Csv, &opts);
-    assert_eq!(
-        (line, reason.as_str()),
-        (4, "4 of 8 fields; the file ends mid-line")
-    );
+    assert_eq!((line, reason.as_str()), (4, MID_LINE));
     let (line, reason) = malformed(&whole, Format::Csv, &opts);
     assert_eq!((line, reason.as_str()), (4, "4 of 8 fields"));
+    // Cut inside the last number: every field there and a number still.
+    let cut = file_of(Format::Csv, &[GOOD[0], WIDER], Periodic::Xyz);
+    let cut = cut.trim_end().strip_suffix('5').unwrap();
+    file::parse(&format!("{cut}\n"), Path::new("c.csv"), Format::Csv, &opts).unwrap();
+    let (line, reason) = malformed(cut, Format::Csv, &opts);
+    assert_eq!((line, reason.as_str()), (3, MID_LINE));
+    // A last line kept whole but for its line break: still refused, since
+    // a cut file cannot be told from it.
+    let (line, reason) = malformed(whole.trim_end(), Format::Csv, &opts);
+    assert_eq!((line, reason.as_str()), (4, MID_LINE));
+    // Even a last comment line: the rule is a line break at the end.
+    let commented = format!("{}# end", file_of(Format::Csv, &GOOD[..2], Periodic::Xyz));
+    let (line, reason) = malformed(&commented, Format::Csv, &opts);
+    assert_eq!((line, reason.as_str()), (4, MID_LINE));
     let long = file_of(
         Format::Csv,
         &[GOOD[0], "3,3,3,1,0,0,1,0.02,9"],
@@ -441,12 +459,30 @@ fn a_file_ending_mid_line_is_named() {
     let dump = file_of(Format::Lammps, &[GOOD[0], GOOD[1], LAST], Periodic::Xyz);
     let short = dump.trim_end().rsplit_once(' ').unwrap().0.to_string();
     let (line, reason) = malformed(&short, Format::Lammps, &ReadOptions::default());
-    assert_eq!(
-        (line, reason.as_str()),
-        (12, "8 of 9 fields; the file ends mid-line")
-    );
+    assert_eq!((line, reason.as_str()), (12, MID_LINE));
     let (line, reason) = malformed(&(short + "\n"), Format::Lammps, &ReadOptions::default());
     assert_eq!((line, reason.as_str()), (12, "8 of 9 fields"));
+    // Cut inside the last number of the last atom: all nine fields there.
+    let wider = file_of(Format::Lammps, &[GOOD[0], GOOD[1], WIDER], Periodic::Xyz);
+    let digit = wider.trim_end().strip_suffix('5').unwrap();
+    let (line, reason) = malformed(digit, Format::Lammps, &ReadOptions::default());
+    assert_eq!((line, reason.as_str()), (12, MID_LINE));
+    // JSON closes its brackets last: a cut file does not parse.
+    let json = file_of(Format::Json, &GOOD[..2], Periodic::Xyz);
+    let json = json.trim_end();
+    file::parse(
+        json,
+        Path::new("j.json"),
+        Format::Json,
+        &options(Format::Json, &Domain::cube(4.0)),
+    )
+    .unwrap();
+    let (_, reason) = malformed(
+        &json[..json.len() - 5],
+        Format::Json,
+        &options(Format::Json, &Domain::cube(4.0)),
+    );
+    assert!(reason.contains("EOF while parsing"), "{reason}");
 }
 
 /// Comments before the header and right after it leave the rows' line numbers right.
@@ -477,10 +513,7 @@ fn csv_comment_lines_between_rows_count() {
     assert_eq!((line, reason.as_str()), (7, "z \"zz\" is not a number"));
     let mid = format!("{text}# last\n1,1");
     let (line, reason) = malformed(&mid, Format::Csv, &opts);
-    assert_eq!(
-        (line, reason.as_str()),
-        (7, "2 of 8 fields; the file ends mid-line")
-    );
+    assert_eq!((line, reason.as_str()), (7, MID_LINE));
 }
 
 /// A CSV with CRLF line ends (as written on Windows) names the same lines.
@@ -493,10 +526,7 @@ fn csv_crlf_line_ends_count() {
     assert!(reason.starts_with("the same rod as line 2 "), "{reason}");
     let mid = file_of(Format::Csv, &[GOOD[0], "1,1"], Periodic::Xyz).replace('\n', "\r\n");
     let (line, reason) = malformed(mid.trim_end(), Format::Csv, &opts);
-    assert_eq!(
-        (line, reason.as_str()),
-        (3, "2 of 8 fields; the file ends mid-line")
-    );
+    assert_eq!((line, reason.as_str()), (3, MID_LINE));
 }
 
 /// A missing column is refused at the header: the CSV's first line, the dump's `ITEM: ATOMS`.
@@ -610,10 +640,7 @@ fn cli_names_the_bad_line() {
     let mid = file_of(Format::Csv, &[GOOD[0], "2,2"], Periodic::Xyz);
     let mid = write(&dir, "mid.csv", mid.trim_end());
     let err = cli_error(&["sample", "--rods", &mid, "--box", "4"]);
-    assert!(
-        err.contains("line 3: 2 of 8 fields; the file ends mid-line"),
-        "{err}"
-    );
+    assert!(err.contains(&format!("line 3: {MID_LINE}")), "{err}");
 
     let dump = file_of(Format::Lammps, &GOOD, Periodic::Xyz);
     let two = write(&dir, "two.dump", &dump.repeat(2));

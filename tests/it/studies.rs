@@ -525,7 +525,10 @@ fn stability_reproduces_the_committed_study() {
     let csv = std::fs::read_to_string(dir.join("rank-stability.csv")).unwrap();
     // Every fraction as committed (the median gap, the last column, is a
     // float that moves with the rank's arithmetic).
-    assert_eq!(without_last_column(&csv), committed("rank-stability.csv"));
+    assert_eq!(
+        without_last_column(&csv),
+        without_last_column(&committed("rank-stability.csv").join("\n"))
+    );
     // Never a wrong decided verdict.
     for line in csv.lines().skip(1) {
         assert_eq!(line.split(',').nth(7), Some("0.0000"), "{line}");
@@ -582,11 +585,14 @@ fn a_gamma_98_study_killed_three_times_and_a_killed_shard_resume_to_the_same_sum
     use rand::{RngExt, SeedableRng};
     let base = crate::scratch("cli-kill-98");
     let at = |d: &str| base.join(d);
+    // Seed 2: seed 1's sequences extrapolate to a negative threshold, which
+    // the analysis refuses (issue 31), so that study has no summary.
     let study = [
         ("--gamma", "98"),
         ("--boxes", "2.1,2.3,2.5"),
         ("--sequences", "16"),
         ("--bootstrap", "30"),
+        ("--seed", "2"),
     ];
     let shard = |k| [&study[..], &[("--shard", k)]].concat();
     let path = |d: &std::path::Path| d.to_str().unwrap().to_string();

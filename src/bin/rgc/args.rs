@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use clap::Args;
+use clap::{ArgAction, Args};
 use rgc::engine::RuleSet;
 use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
 use rgc::rods::file::{self, Columns, Format, Frame, ReadOptions};
@@ -111,6 +111,7 @@ pub struct RodsArgs {
         long,
         requires = "rods",
         value_delimiter = ',',
+        action = ArgAction::Set,
         allow_hyphen_values = true,
         value_name = "O|X,Y,Z"
     )]
@@ -122,6 +123,7 @@ pub struct RodsArgs {
     #[arg(
         long = "box",
         value_delimiter = ',',
+        action = ArgAction::Set,
         allow_hyphen_values = true,
         value_name = "L|LX,LY,LZ"
     )]
@@ -145,6 +147,7 @@ pub struct RodsArgs {
     #[arg(
         long,
         value_delimiter = ',',
+        action = ArgAction::Set,
         allow_hyphen_values = true,
         requires = "order",
         value_name = "X,Y,Z"
@@ -242,7 +245,8 @@ impl RodsArgs {
                 }
                 if !gamma.is_finite() || gamma < MIN_GAMMA {
                     return Err(Error::Parameter(format!(
-                        "gamma must be at least {MIN_GAMMA} (a rod at least as long as it is wide), got {gamma}"
+                        "gamma must be at least {MIN_GAMMA} (a rod at least as long as it is wide), got {}",
+                        rgc::error::short(gamma)
                     )));
                 }
                 Dist::Fixed {
@@ -320,6 +324,7 @@ pub struct StudyArgs {
     #[arg(
         long,
         value_delimiter = ',',
+        action = ArgAction::Set,
         allow_hyphen_values = true,
         default_value = "5,6,7,8,10"
     )]

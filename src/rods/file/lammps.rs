@@ -286,18 +286,13 @@ pub(super) fn parse_lammps(
     };
     let mut raws = Vec::with_capacity(count);
     let mut other_types = BTreeSet::new();
-    for i in atoms..atoms + count {
+    for (i, line) in lines.iter().enumerate().skip(atoms).take(count) {
         let n = i + 1;
-        let fields: Vec<&str> = lines[i].split_whitespace().collect();
+        let fields: Vec<&str> = line.split_whitespace().collect();
         if fields.len() != names.len() {
-            let end = if n == lines.len() && !text.ends_with('\n') {
-                "; the file ends mid-line"
-            } else {
-                ""
-            };
             return Err(bad(
                 n,
-                format!("{} of {} fields{end}", fields.len(), names.len()),
+                format!("{} of {} fields", fields.len(), names.len()),
             ));
         }
         if let (Some(t), Some(types)) = (type_column, pick.types)

@@ -11,9 +11,10 @@
 //!
 //! Every rod is checked, and the first problem stops the read with its line:
 //! a field that is not a finite number, a zero direction, a length or radius
-//! that is not positive, a core entirely outside the walls, a rod given
-//! twice, ids given to some rods only or twice, and a file that ends
-//! mid-line.
+//! that is not positive, a rod wider than long, a core entirely outside the
+//! walls, a rod given twice, ids given to some rods only or twice, and a
+//! CSV or dump that ends mid-line (without a line break after its last line:
+//! a cut file, whose last number may be cut short and still parse).
 
 use nalgebra::Vector3;
 use std::io::Read;
@@ -24,6 +25,7 @@ use super::format::{FileBox, Format, Raw};
 use super::json::parse_json;
 use super::lammps::{Frame, Pick, parse_lammps};
 use super::table::parse_csv;
+use crate::error::short;
 use crate::rods::system::{Cut, Domain, Periodic, Rod, RodSystem, wrap};
 use crate::{Error, Result};
 
@@ -124,6 +126,11 @@ pub fn parse(text: &str, path: &Path, format: Format, opts: &ReadOptions) -> Res
             )));
         }
     }
+    if format != Format::Json
+        && let Some(line) = unterminated(text)
+    {
+        return Err(bad(line, MID_LINE.into()));
+    }
     let (raws, file_box) = match format {
         Format::Csv => (parse_csv(text, &bad)?, FileBox::default()),
         Format::Json => parse_json(text, &bad)?,
@@ -185,6 +192,22 @@ pub fn parse(text: &str, path: &Path, format: Format, opts: &ReadOptions) -> Res
     })
 }
 
+/// Why a file whose last line has no line break is refused.
+const MID_LINE: &str = "the file ends mid-line, without a line break after its last line (a cut file? its last number may be cut short)";
+
+/// The number of the last line when no line break ends it (`\n`, `\r\n`
+/// and a lone `\r` each end a line).
+fn unterminated(text: &str) -> Option<usize> {
+    let b = text.as_bytes();
+    let cut = !matches!(b.last(), None | Some(b'\n' | b'\r'));
+    cut.then(|| {
+        let lone_cr = (0..b.len())
+            .filter(|&i| b[i] == b'\r' && b.get(i + 1) != Some(&b'\n'))
+            .count();
+        1 + b.iter().filter(|&&c| c == b'\n').count() + lone_cr
+    })
+}
+
 /// The rods' ids: none, or one for every rod and each once.
 fn ids_of(raws: &[Raw], bad: &impl Fn(usize, String) -> Error) -> Result<Option<Vec<u64>>> {
     let Some(numbered) = raws.iter().find(|r| r.id.is_some()) else {
@@ -220,13 +243,18 @@ fn outside(rod: &Rod, domain: &Domain, origin: Vector3<f64>) -> String {
     let at = if origin == Vector3::zeros() {
         String::new()
     } else {
-        format!(" from ({}, {}, {})", origin.x, origin.y, origin.z)
+        format!(
+            " from ({}, {}, {})",
+            short(origin.x),
+            short(origin.y),
+            short(origin.z)
+        )
     };
     format!(
         "rod at ({}, {}, {}) lies wholly outside the walls of the box {}{at}",
-        c.x,
-        c.y,
-        c.z,
+        short(c.x),
+        short(c.y),
+        short(c.z),
         domain.describe()
     )
 }
@@ -271,7 +299,20 @@ fn box_of(path: &Path, opts: &ReadOptions, file: FileBox) -> Result<(Domain, Vec
 
 #[cfg(test)]
 mod tests {
-    use super::placement;
+    use super::{placement, unterminated};
+
+    #[test]
+    fn a_last_line_without_a_line_break_is_found_with_its_number() {
+        assert_eq!(unterminated("a\nb\n"), None);
+        assert_eq!(unterminated("a\r\nb\r\n"), None);
+        assert_eq!(unterminated("a\rb\r"), None);
+        assert_eq!(unterminated("a\nb\n# end"), Some(3));
+        assert_eq!(unterminated(""), None);
+        assert_eq!(unterminated("a"), Some(1));
+        assert_eq!(unterminated("a\nb\n1,0.0"), Some(3));
+        assert_eq!(unterminated("a\r\nb\r\n1,0.0"), Some(3));
+        assert_eq!(unterminated("a\rb\r\n\n1"), Some(4));
+    }
 
     #[test]
     fn placement_says_only_what_happened_in_words_that_agree() {

@@ -54,14 +54,9 @@ pub(super) fn parse_csv(text: &str, bad: &impl Fn(usize, String) -> Error) -> Re
             .position()
             .map_or(line, |p| lines.record(p.byte() as usize));
         if record.len() < header.len() {
-            let end = if lines.is_last(line) {
-                "; the file ends mid-line"
-            } else {
-                ""
-            };
             return Err(bad(
                 line,
-                format!("{} of {} fields{end}", record.len(), header.len()),
+                format!("{} of {} fields", record.len(), header.len()),
             ));
         }
         if record.len() > header.len() {
@@ -140,16 +135,5 @@ impl<'a> LineCounter<'a> {
             self.at(at);
         }
         self.line
-    }
-
-    /// Whether `line` is the file's last and ends without a line break.
-    fn is_last(&self, line: usize) -> bool {
-        let unterminated = !self.text.ends_with(b"\n") && !self.text.ends_with(b"\r");
-        let mut counter = LineCounter {
-            text: self.text,
-            offset: self.offset,
-            line: self.line,
-        };
-        unterminated && counter.at(self.text.len()) == line
     }
 }

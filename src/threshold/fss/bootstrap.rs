@@ -8,6 +8,7 @@ use rayon::prelude::*;
 
 use super::boxes::{BoxResult, Observation, Protocol, fit_box};
 use super::scaling::{Extrapolation, NuFit, extrapolate, fit_nu};
+use crate::error::four;
 use crate::{Error, Result};
 
 /// Puts the box size in front of an analysis message.
@@ -43,7 +44,24 @@ pub(super) fn pipeline(
         .iter()
         .map(|&x| fits.iter().map(|f| f.logistic.quantile(x)).collect())
         .collect();
+    // A density is positive: a fit that puts one at or below 0 (a tiny
+    // study, a wide logistic, nu near 0) fails, on the data as on a
+    // resample, so that no interval reaches below 0.
+    for (x, row) in xs.iter().zip(&rho_x) {
+        if let Some((l, r)) = lens.iter().zip(row).find(|(_, r)| r.is_nan() || **r <= 0.0) {
+            return Err(Error::analysis(format!(
+                "box L={l}: rho_x at x = {x} is {}, not a positive density: too few sequences for the fit",
+                four(*r)
+            )));
+        }
+    }
     let ext = extrapolate(&t, &rho_x)?;
+    if ext.threshold.is_nan() || ext.threshold <= 0.0 {
+        return Err(Error::analysis(format!(
+            "the extrapolated threshold {} is not a positive density: too few sequences (or box sizes) for the extrapolation",
+            four(ext.threshold)
+        )));
+    }
     Ok(Pipeline { fits, nu, ext })
 }
 

@@ -41,7 +41,9 @@ pub struct ContactNumbers {
 /// distinct densities.
 fn line(points: &[(f64, f64)], threshold: &Estimate) -> Option<LinearFit> {
     let stats::Fit { beta, r2, .. } = stats::line(points)?;
-    let at = |rho: f64| beta[0] + beta[1] * rho;
+    // A contact number is never negative: the line read far below the
+    // densities it was fitted on stops at 0.
+    let at = |rho: f64| (beta[0] + beta[1] * rho).max(0.0);
     let interval = threshold
         .lo
         .zip(threshold.hi)

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use rgc::audit::{self, AuditOptions};
 use rgc::engine::RuleSet;
+use rgc::progress::Progress;
 use rgc::{Result, output};
 
 use crate::progress::Reporter;
@@ -57,7 +58,8 @@ pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
     }
     let examples = audit::self_check()?;
     let started = std::time::Instant::now();
-    let result = audit::run(&opts, &Reporter::new(a.json))?;
+    let reporter = Reporter::new(a.json);
+    let result = audit::run(&opts, &reporter)?;
     let files = audit::write_outputs(&result, &opts, &a.results, &a.rules_dir)?;
     let shown = |paths: &[std::path::PathBuf]| {
         paths
@@ -93,19 +95,35 @@ pub fn run(a: AuditArgs, out: &mut String) -> Result<()> {
     }
     say!(
         out,
-        "Tables: {}. Rule files: {}. {:.1} s.",
+        "Tables: {}. Rule files: {}.",
         shown(&files.tables),
         if written.is_empty() {
             "none (nothing missed)".to_string()
         } else {
             written.join(", ")
-        },
-        started.elapsed().as_secs_f64()
+        }
     );
     say!(
         out,
         "Falsely compressed patterns, with the motifs that compressed each: {}.",
         shown(&files.beside)
     );
+    // Timings on stderr: what stdout and the tables hold repeats exactly.
+    let seconds = |rows: &[audit::AuditRow]| {
+        rows.iter()
+            .map(|r| format!("{} {:.3}", r.size, r.seconds))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let parts: Vec<String> = [("rods", &result.rods), ("mixed", &result.mixed)]
+        .into_iter()
+        .filter(|(_, rows)| !rows.is_empty())
+        .map(|(kind, rows)| format!("{kind} {}", seconds(rows)))
+        .collect();
+    reporter.note(&format!(
+        "Seconds by size: {}; {:.1} s in all.",
+        parts.join("; "),
+        started.elapsed().as_secs_f64()
+    ));
     Ok(())
 }

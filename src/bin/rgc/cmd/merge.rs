@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::Result;
 use rgc::threshold::{fss, study};
+use rgc::{Error, Result, output};
 
 #[derive(Args)]
 pub struct MergeArgs {
@@ -25,6 +25,17 @@ pub struct MergeArgs {
 pub fn run(a: MergeArgs, out: &mut String) -> Result<()> {
     fss::check_bootstrap(a.bootstrap)?;
     let dest = a.out.clone().unwrap_or_else(|| a.dirs[0].clone());
+    // Refused before the shards are read; the first directory, the default,
+    // may be read-only when it was merged before.
+    if let Some(dir) = &a.out {
+        if dir.exists() && !dir.is_dir() {
+            return Err(Error::Parameter(format!(
+                "--out {} is a file, not a directory: the merged study is a directory",
+                dir.display()
+            )));
+        }
+        output::check_dir(dir)?;
+    }
     let (spec, records) = study::merge(&a.dirs, &dest)?;
     if !a.json {
         say!(

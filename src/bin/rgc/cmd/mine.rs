@@ -94,8 +94,15 @@ pub fn run(a: MineArgs, out: &mut String) -> Result<()> {
     };
     // Everything that can be refused is refused before the first system.
     params.validate()?;
-    output::check_file(&a.out)?;
     output::check_dir(&a.results)?;
+    let report = |ext: &str| a.results.join(format!("mined-motifs.{ext}"));
+    let (json, csv, md) = (report("json"), report("csv"), report("md"));
+    output::check_outputs(&[
+        ("--out", &a.out),
+        ("--results", &json),
+        ("--results", &csv),
+        ("--results", &md),
+    ])?;
     let command = super::command_line();
     mine::check_replace(
         &a.results.join("mined-motifs.json"),

@@ -39,22 +39,13 @@ pub mod truth;
 pub mod workspace;
 
 /// The output files given, as (flag, path), checked before the work: each
-/// writable, and no two the same file.
+/// writable, and no two the same file ([`output::check_outputs`]).
 fn check_outputs(outputs: &[(&str, &Option<PathBuf>)]) -> Result<()> {
-    let given: Vec<(&str, &PathBuf)> = outputs
+    let given: Vec<(&str, &std::path::Path)> = outputs
         .iter()
-        .filter_map(|(flag, p)| Some((*flag, p.as_ref()?)))
+        .filter_map(|(flag, p)| Some((*flag, p.as_deref()?)))
         .collect();
-    for (i, (flag, path)) in given.iter().enumerate() {
-        output::check_file(path)?;
-        if let Some((other, _)) = given[..i].iter().find(|(_, p)| p == path) {
-            return Err(rgc::Error::Parameter(format!(
-                "{other} and {flag} both write {}: one would overwrite the other",
-                path.display()
-            )));
-        }
-    }
-    Ok(())
+    output::check_outputs(&given)
 }
 
 /// An `--out` prefix must end in a file name: `DIR/` would write the
@@ -71,14 +62,16 @@ fn check_prefix(prefix: &std::path::Path) -> Result<()> {
 }
 
 /// Refuses to replace `PREFIX.ext` for any of `exts` unless `force`: an
-/// exploratory run never silently replaces committed results.
+/// exploratory run never silently replaces committed results. Each file
+/// must be writable (its folder is made now, as for every output).
 fn refuse_existing(prefix: &std::path::Path, exts: &[&str], force: bool) -> Result<()> {
     check_prefix(prefix)?;
     let paths: Vec<std::path::PathBuf> = exts
         .iter()
         .map(|ext| format!("{}.{ext}", prefix.display()).into())
         .collect();
-    refuse_files(&paths, force)
+    refuse_files(&paths, force)?;
+    paths.iter().try_for_each(|p| output::check_file(p))
 }
 
 /// Refuses to replace any of `paths` that exists, unless `force`.

@@ -10,9 +10,13 @@ pub struct RulesArgs {
     /// Where the base motif rules go.
     #[arg(long, default_value = "motifs/base.json")]
     out: PathBuf,
+    /// Replace `--out` if it exists.
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(a: RulesArgs, out: &mut String) -> Result<()> {
+    super::refuse_files(std::slice::from_ref(&a.out), a.force)?;
     output::check_file(&a.out)?;
     let (rules, refuted) = engine::shapes::base_rules()?;
     rule_file::write_rules(&a.out, &rules)?;
