@@ -16,7 +16,7 @@ use crate::rods::file::Loaded;
 use crate::rods::{Periodic, Rod, RodParams, RodSystem, pair_excluded_volume};
 use crate::spanning::{self, Criterion, SpanChecker};
 use crate::truth::{self, Decision, Truth, TruthOptions};
-use crate::usage::{MemoryBudget, size};
+use crate::usage;
 use crate::{Error, Result};
 
 /// Where a sample's rods come from.
@@ -86,23 +86,20 @@ impl Rods {
         }
     }
 
-    /// Refuses, before the work, rods whose sample is estimated to need
-    /// more memory than `budget` (none: no check): one line with the
-    /// estimate and the budget, instead of an allocation failing midway.
-    pub fn check_memory(&self, budget: Option<MemoryBudget>) -> Result<()> {
-        let Some(budget) = budget else {
-            return Ok(());
-        };
+    /// Refuses, before the work, rods whose sample is estimated to take the
+    /// process past `limit` (on its resident size; what the machine has
+    /// available and an address-space limit are checked without one): one
+    /// line with the estimate, what the process holds and the bound,
+    /// instead of an allocation failing midway.
+    pub fn check_memory(&self, limit: Option<u64>) -> Result<()> {
         let e = self.memory_estimate();
-        if e.bytes > budget.bytes() {
-            return Err(Error::Memory(format!(
-                "{} rods (about {:.3e} contacts) need an estimated {}, more than {}; take a smaller box or density",
-                e.rods,
-                e.contacts,
-                size(e.bytes),
-                budget.describe()
-            )));
-        }
+        usage::reserve(e.bytes, 0, limit).map_err(|r| {
+            let what = format!("{} rods (about {:.3e} contacts)", e.rods, e.contacts);
+            Error::Memory(format!(
+                "{}; take a smaller box or density",
+                r.describe(&what)
+            ))
+        })?;
         Ok(())
     }
 

@@ -88,7 +88,7 @@ fn check_outputs(a: &TruthArgs) -> Result<()> {
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     let opts = TruthOptions {
-        memory_limit: a.memory.limit(),
+        memory_limit: a.memory.memory_limit,
         ..TruthOptions::seeded(a.seed)
     };
     let inputs = [a.graph6.is_some(), a.edges.is_some(), a.rods.given()];
@@ -109,7 +109,7 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
         (_, Some(path)) => finite(&graphio::read_edge_list(path)?, opts),
         (None, None) => {
             let rods = a.rods.rods()?;
-            rods.check_memory(a.memory.budget())?;
+            rods.check_memory(a.memory.memory_limit)?;
             let system = match rods {
                 Rods::Generated(e) => e.generate(a.seed)?,
                 Rods::Read { loaded, .. } => {
@@ -128,7 +128,7 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     };
     if t.outcome.refused().is_some() {
         return Err(Error::Memory(format!(
-            "truth refused this system: {} (raise it with --memory-limit)",
+            "truth refused this system: {}",
             t.outcome.reason().unwrap_or_default()
         )));
     }
