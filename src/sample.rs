@@ -57,6 +57,21 @@ pub fn memory_estimate(rods: usize, contacts: f64, thickness: f64) -> u64 {
     (rods as f64 * per_rod + contacts.max(0.0) * CONTACT_BYTES) as u64
 }
 
+impl MemoryEstimate {
+    /// Refuses the estimate and `more` bytes if they would take the
+    /// process past `limit` (see [`Rods::check_memory`]).
+    fn check(&self, more: u64, limit: Option<u64>) -> Result<()> {
+        usage::reserve(self.bytes + more, 0, limit).map_err(|r| {
+            let what = format!("{} rods (about {:.3e} contacts)", self.rods, self.contacts);
+            Error::Memory(format!(
+                "{}; take a smaller box or density",
+                r.describe(&what)
+            ))
+        })?;
+        Ok(())
+    }
+}
+
 impl Rods {
     /// What a sample of these rods is estimated to need, known before any
     /// rod is drawn (or, for rods read, before their contacts are sought).
@@ -92,15 +107,7 @@ impl Rods {
     /// line with the estimate, what the process holds and the bound,
     /// instead of an allocation failing midway.
     pub fn check_memory(&self, limit: Option<u64>) -> Result<()> {
-        let e = self.memory_estimate();
-        usage::reserve(e.bytes, 0, limit).map_err(|r| {
-            let what = format!("{} rods (about {:.3e} contacts)", e.rods, e.contacts);
-            Error::Memory(format!(
-                "{}; take a smaller box or density",
-                r.describe(&what)
-            ))
-        })?;
-        Ok(())
+        self.memory_estimate().check(0, limit)
     }
 
     /// Each rod's id, when the rods were read from a file that numbers them.
@@ -132,6 +139,17 @@ pub struct SampleOptions {
     pub criterion: Criterion,
     /// Also decide the exact rigidity of the whole system (MODEL §10).
     pub truth: bool,
+}
+
+impl SampleOptions {
+    /// [`Rods::check_memory`], with the compressions beyond the first that
+    /// run at once and the outcomes of all of them.
+    pub fn check_memory(&self, limit: Option<u64>) -> Result<()> {
+        let e = self.rods.memory_estimate();
+        let (n, m) = (e.rods, e.contacts as usize);
+        let runs = engine::runs_memory(n, m, self.runs) - engine::runs_memory(n, m, 1);
+        e.check(runs, limit)
+    }
 }
 
 /// The exact rigidity of a sample's system, as `rgc sample --truth` reports it.

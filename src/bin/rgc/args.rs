@@ -13,8 +13,8 @@ use rgc::spanning::Criterion;
 use rgc::threshold::study::StudySpec;
 use rgc::{Error, Result};
 
-/// How much memory a system may use: `sample`, `render`, `truth` and the
-/// studies that run truth.
+/// How much memory a system may use: `sample`, `render`, `truth`,
+/// `compress` and the studies that run truth.
 #[derive(Args)]
 pub struct MemoryArgs {
     /// Refuse, before each large step, work that would take the process's resident size past this (the rods, contacts and graph up front; truth's realization and each dense front of its elimination; the compressions): bytes, or with a unit (`512M`, `4G`, `1.5GiB`). With or without it, a step is refused that the machine (free memory, a cgroup's limit) or an address-space limit (`ulimit -v`) has no room for.

@@ -121,26 +121,27 @@ impl Step {
 
 thread_local! {
     /// Whether this thread's matrix products have reserved their scratch
-    /// ([`usage::product_scratch`]): until then a large front reserves it.
+    /// ([`usage::product_scratch`]).
     static PRODUCT_SCRATCH: Cell<bool> = const { Cell::new(false) };
 }
 
-/// Fronts with fewer entries than this never reach faer's large matrix
-/// products (below 16^3 multiply-adds faer takes its small kernels).
-const SMALL_FRONT: usize = 4096;
+/// Matrix products of fewer multiply-adds than this take faer's small
+/// kernels, which reserve no scratch.
+const SMALL_PRODUCT: usize = 16 * 16 * 16;
 
 /// Admits the front of `rows` x `cols` against `guard`: what it adds to
 /// the dense buffer, in f64, and the rows it leaves (an element, or pivot
-/// rows kept) in f32; on its thread's first large front, the address space
-/// faer's products reserve. Returns the address space held before that
-/// reservation while it is pending.
+/// rows kept) in f32. Before this thread's first front whose products may
+/// take faer's large kernels, the address space they reserve is admitted
+/// too and reserved at once, so that it never fails inside a product.
 fn admit_front(
     guard: &mut Guard,
     scratch: &front::Scratch,
     (rows, cols): (usize, usize),
-) -> Result<Option<u64>, Refused> {
+) -> Result<(), Refused> {
     let need = scratch.growth(rows, cols) + rows * cols * 4;
-    let pending = rows * cols >= SMALL_FRONT && !PRODUCT_SCRATCH.get();
+    let large = rows * cols * rows.min(cols) > SMALL_PRODUCT;
+    let pending = large && !PRODUCT_SCRATCH.get();
     let reserved = if pending { usage::product_scratch() } else { 0 };
     guard
         .admit(need as u64, reserved)
@@ -148,18 +149,20 @@ fn admit_front(
             refusal,
             step: Step::Front(rows, cols),
         })?;
-    Ok(pending.then(|| usage::held().map_or(0, |h| h.address)))
+    if pending {
+        reserve_product_scratch();
+    }
+    Ok(())
 }
 
-/// Marks the products' scratch reserved on this thread once the address
-/// space has grown by half of it since `before`.
-fn note_product_scratch(before: Option<u64>) {
-    let scratch = usage::product_scratch();
-    if let Some(before) = before
-        && usage::held().is_some_and(|h| h.address >= before + scratch / 2)
-    {
-        PRODUCT_SCRATCH.set(true);
-    }
+/// One matrix product just above faer's small kernels: it makes the
+/// thread reserve its products' scratch now.
+fn reserve_product_scratch() {
+    use faer::{Accum, Mat, Par, linalg::matmul::matmul};
+    let a = Mat::<f64>::zeros(17, 17);
+    let mut c = Mat::<f64>::zeros(17, 17);
+    matmul(c.as_mut(), Accum::Add, a.as_ref(), a.as_ref(), 1.0, Par::Seq);
+    PRODUCT_SCRATCH.set(true);
 }
 
 /// The elimination, with the pivot rows of every front if `keep` is set.
@@ -208,6 +211,7 @@ fn factorize<F: Field>(
         counts: Counts::default(),
     };
     for e in quotient.take_single() {
+        admit_front(&mut guard, &scratch, (e.rows, width))?;
         let pinned = front::pin(e, keep, &mut scratch);
         quotient.clear_columns(pinned.group, width, &pinned.pivots, &pinned.rows);
         out.rank += pinned.pivots.len();
@@ -216,7 +220,7 @@ fn factorize<F: Field>(
     }
     while let Some(g) = quotient.next_group() {
         let gathered = quotient.gather(g);
-        let before = admit_front(&mut guard, &scratch, front::size(&gathered, &scratch))?;
+        admit_front(&mut guard, &scratch, front::size(&gathered, &scratch))?;
         if gathered.tail {
             out.counts.tail += gathered.own.len();
         } else {
@@ -227,7 +231,6 @@ fn factorize<F: Field>(
         out.counts.reduced += usize::from(done.reduced);
         quotient.settle(&pattern, done.left);
         out.rank += done.pivots;
-        note_product_scratch(before);
         out.fronts += 1;
         out.work += done.work;
         let (r, c) = done.size;

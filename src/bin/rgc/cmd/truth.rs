@@ -105,8 +105,17 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     // A rod system with its contacts, for --save-vtk.
     let mut drawn = None;
     let t = match (&a.graph6, &a.edges) {
-        (Some(s), _) => finite(&graphio::parse_graph6(s)?, opts),
-        (_, Some(path)) => finite(&graphio::read_edge_list(path)?, opts),
+        (Some(s), _) => {
+            let graph = graphio::parse_graph6(s)?;
+            opts.check_memory(graph.n_nodes(), graph.n_edges(), 0)?;
+            finite(&graph, opts)
+        }
+        (_, Some(path)) => {
+            let graph = graphio::read_edge_list_within(path, |n, m| {
+                opts.check_memory(n, m, graphio::graph_bytes(n, m))
+            })?;
+            finite(&graph, opts)
+        }
         (None, None) => {
             let rods = a.rods.rods()?;
             rods.check_memory(a.memory.memory_limit)?;
