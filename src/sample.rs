@@ -62,7 +62,10 @@ impl MemoryEstimate {
     /// process past `limit` (see [`Rods::check_memory`]).
     fn check(&self, more: u64, limit: Option<u64>) -> Result<()> {
         usage::reserve(self.bytes + more, 0, limit).map_err(|r| {
-            let what = format!("{} rods (about {:.3e} contacts)", self.rods, self.contacts);
+            let what = format!(
+                "the system of {} rods (about {:.3e} contacts)",
+                self.rods, self.contacts
+            );
             Error::Memory(format!(
                 "{}; take a smaller box or density",
                 r.describe(&what)

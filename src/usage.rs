@@ -341,3 +341,79 @@ impl Guard {
         self.readings
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_guard_reads_the_process_size_for_large_or_accumulated_steps() {
+        let Some(now) = held() else {
+            return;
+        };
+        assert!(now.resident > 0 && now.address >= now.resident, "{now:?}");
+        let mut guard = Guard::new(None);
+        guard.admit(1 << 20, 0).unwrap();
+        assert_eq!(guard.readings(), 1, "the first step reads");
+        for _ in 0..6 {
+            guard.admit(1 << 20, 0).unwrap();
+        }
+        assert_eq!(guard.readings(), 1, "7 MiB of small steps pass unread");
+        guard.admit(1 << 20, 0).unwrap();
+        assert_eq!(guard.readings(), 2, "8 MiB since the last reading");
+        guard.admit(UNREAD, 0).unwrap();
+        assert_eq!(guard.readings(), 3, "one large step reads");
+        guard.admit(0, 1).unwrap();
+        assert_eq!(guard.readings(), 4, "address space to reserve reads");
+    }
+
+    #[test]
+    fn a_step_over_the_limit_is_refused_with_what_is_held() {
+        let Some(now) = held() else {
+            return;
+        };
+        // Room for 64 MiB more: a 1 GiB step is refused naming the limit.
+        let limit = now.resident + (64 << 20);
+        let refusal = reserve(1 << 30, 0, Some(limit)).unwrap_err();
+        assert_eq!((refusal.bound, refusal.limit), (Bound::Limit, limit));
+        assert_eq!(refusal.need, 1 << 30);
+        assert!(refusal.held >= now.resident / 2, "{refusal:?}");
+        let text = refusal.describe("the step");
+        assert!(
+            text.starts_with("the step needs about 1.00 GiB, the process holds ")
+                && text.ends_with(&format!(
+                    ", over the limit of {} (--memory-limit)",
+                    size(limit)
+                )),
+            "{text}"
+        );
+        // Estimates are not held memory: steps that allocate nothing pass,
+        // the process's size read again every 8 MiB of them.
+        let mut guard = Guard::new(Some(limit));
+        for _ in 0..100 {
+            guard.admit(1 << 20, 0).unwrap();
+        }
+        assert_eq!(guard.readings(), 15, "steps 1, 8, 15, ..., 99");
+    }
+
+    #[test]
+    fn reading_the_process_size_is_cheap() {
+        // What a guard pays per reading: statm alone, and everything
+        // `reserve` reads (statm, limits, meminfo, the cgroup's files).
+        let time = |f: &dyn Fn()| {
+            let start = std::time::Instant::now();
+            for _ in 0..2000 {
+                f();
+            }
+            start.elapsed().as_secs_f64() / 2000.0
+        };
+        let statm = time(&|| drop(held()));
+        let whole = time(&|| drop(reserve(0, 0, None)));
+        eprintln!(
+            "one reading: statm {:.1} us, reserve {:.1} us",
+            statm * 1e6,
+            whole * 1e6
+        );
+        assert!(statm < 1e-3 && whole < 2e-3, "{statm} {whole}");
+    }
+}
