@@ -407,8 +407,12 @@ mod tests {
             }
             start.elapsed().as_secs_f64() / 2000.0
         };
-        let statm = time(&|| drop(held()));
-        let whole = time(&|| drop(reserve(0, 0, None)));
+        let statm = time(&|| {
+            std::hint::black_box(held());
+        });
+        let whole = time(&|| {
+            let _ = std::hint::black_box(reserve(0, 0, None));
+        });
         eprintln!(
             "one reading: statm {:.1} us, reserve {:.1} us",
             statm * 1e6,

@@ -402,7 +402,10 @@ impl TruthSystem {
         let start = Instant::now();
         let refused = one_thread(|| {
             if let Err(e) = Rods::from(params).check_memory(Some(limit)) {
-                return Some(e.to_string());
+                return Some(match e {
+                    Error::Memory(why) => why,
+                    other => other.to_string(),
+                });
             }
             let network = Network::detect(RodSystem::generate(params, self.seed));
             let opts = TruthOptions {
