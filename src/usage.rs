@@ -295,7 +295,7 @@ const UNREAD: u64 = 8 << 20;
 /// [`reserve`] over the many steps of one piece of work, cheap for small
 /// ones: a step is admitted without a reading while the last reading plus
 /// the estimates admitted since stay within the limit and below
-/// [`UNREAD`]; otherwise the process's size is read again.
+/// 8 MiB; otherwise the process's size is read again.
 #[derive(Clone, Debug)]
 pub struct Guard {
     limit: Option<u64>,
