@@ -367,6 +367,13 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
     let truth = opts
         .truth
         .then(|| truth::of_system(view, opts.criterion, TruthOptions::seeded(opts.seed)));
+    // Truth stopped short of the memory it may take is no answer to report.
+    if let Some(t) = truth.as_ref().filter(|t| t.outcome.refused().is_some()) {
+        return Err(Error::Memory(format!(
+            "truth refused this system: {}",
+            t.outcome.reason().unwrap_or_default()
+        )));
+    }
     let truth_report = truth.as_ref().map(|t| TruthReport {
         method: t.outcome.decision(),
         spanning: t.spanning,

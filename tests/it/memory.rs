@@ -183,11 +183,15 @@ fn an_address_space_limit_refuses_truth_instead_of_aborting() {
         all.extend(limit.map(|l| ["--memory-limit", l]).into_iter().flatten());
         refused(&rgc_under(Some(300_000), &all), &needles);
     }
-    let out = rgc_under(Some(600_000), &args);
-    if rgc::usage::product_scratch() > 600_000 * 1024 {
-        let err = refused(&out, &needles);
-        assert!(err.contains("the dense front of "), "{err}");
-    } else {
-        assert!(out.status.code() == Some(0), "{}", text(&out.stderr));
+    // `sample --truth` takes the same refusal, not a report of it.
+    let sample = ["sample", "--gamma", "23", "--box", "8", "--density", "40", "--truth"];
+    for args in [&args[..], &sample[..]] {
+        let out = rgc_under(Some(600_000), args);
+        if rgc::usage::product_scratch() > 600_000 * 1024 {
+            let err = refused(&out, &needles);
+            assert!(err.contains("the dense front of "), "{err}");
+        } else {
+            assert!(out.status.code() == Some(0), "{}", text(&out.stderr));
+        }
     }
 }
