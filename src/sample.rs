@@ -16,7 +16,7 @@ use crate::rods::file::Loaded;
 use crate::rods::{Periodic, Rod, RodParams, RodSystem, pair_excluded_volume};
 use crate::spanning::{self, Criterion, SpanChecker};
 use crate::truth::{self, Decision, Truth, TruthOptions};
-use crate::usage::{MemoryBudget, size};
+use crate::usage;
 use crate::{Error, Result};
 
 /// Where a sample's rods come from.
@@ -57,6 +57,24 @@ pub fn memory_estimate(rods: usize, contacts: f64, thickness: f64) -> u64 {
     (rods as f64 * per_rod + contacts.max(0.0) * CONTACT_BYTES) as u64
 }
 
+impl MemoryEstimate {
+    /// Refuses the estimate and `more` bytes if they would take the
+    /// process past `limit` (see [`Rods::check_memory`]).
+    fn check(&self, more: u64, limit: Option<u64>) -> Result<()> {
+        usage::reserve(self.bytes + more, 0, limit).map_err(|r| {
+            let what = format!(
+                "the system of {} rods (about {:.3e} contacts)",
+                self.rods, self.contacts
+            );
+            Error::Memory(format!(
+                "{}; take a smaller box or density",
+                r.describe(&what)
+            ))
+        })?;
+        Ok(())
+    }
+}
+
 impl Rods {
     /// What a sample of these rods is estimated to need, known before any
     /// rod is drawn (or, for rods read, before their contacts are sought).
@@ -86,24 +104,13 @@ impl Rods {
         }
     }
 
-    /// Refuses, before the work, rods whose sample is estimated to need
-    /// more memory than `budget` (none: no check): one line with the
-    /// estimate and the budget, instead of an allocation failing midway.
-    pub fn check_memory(&self, budget: Option<MemoryBudget>) -> Result<()> {
-        let Some(budget) = budget else {
-            return Ok(());
-        };
-        let e = self.memory_estimate();
-        if e.bytes > budget.bytes() {
-            return Err(Error::Memory(format!(
-                "{} rods (about {:.3e} contacts) need an estimated {}, more than {}; take a smaller box or density",
-                e.rods,
-                e.contacts,
-                size(e.bytes),
-                budget.describe()
-            )));
-        }
-        Ok(())
+    /// Refuses, before the work, rods whose sample is estimated to take the
+    /// process past `limit` (on its resident size; what the machine has
+    /// available and an address-space limit are checked without one): one
+    /// line with the estimate, what the process holds and the bound,
+    /// instead of an allocation failing midway.
+    pub fn check_memory(&self, limit: Option<u64>) -> Result<()> {
+        self.memory_estimate().check(0, limit)
     }
 
     /// Each rod's id, when the rods were read from a file that numbers them.
@@ -135,6 +142,17 @@ pub struct SampleOptions {
     pub criterion: Criterion,
     /// Also decide the exact rigidity of the whole system (MODEL §10).
     pub truth: bool,
+}
+
+impl SampleOptions {
+    /// [`Rods::check_memory`], with the compressions beyond the first that
+    /// run at once and the outcomes of all of them.
+    pub fn check_memory(&self, limit: Option<u64>) -> Result<()> {
+        let e = self.rods.memory_estimate();
+        let (n, m) = (e.rods, e.contacts as usize);
+        let runs = engine::runs_memory(n, m, self.runs) - engine::runs_memory(n, m, 1);
+        e.check(runs, limit)
+    }
 }
 
 /// The exact rigidity of a sample's system, as `rgc sample --truth` reports it.
@@ -349,6 +367,13 @@ pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Resu
     let truth = opts
         .truth
         .then(|| truth::of_system(view, opts.criterion, TruthOptions::seeded(opts.seed)));
+    // Truth stopped short of the memory it may take is no answer to report.
+    if let Some(t) = truth.as_ref().filter(|t| t.outcome.refused().is_some()) {
+        return Err(Error::Memory(format!(
+            "truth refused this system: {}",
+            t.outcome.reason().unwrap_or_default()
+        )));
+    }
     let truth_report = truth.as_ref().map(|t| TruthReport {
         method: t.outcome.decision(),
         spanning: t.spanning,

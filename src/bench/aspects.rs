@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use super::growth::Growth;
-use super::truth::TruthRow;
+use super::truth::{LimitRow, TruthRow, TruthSystem};
 use crate::progress::Progress;
 
 /// The systems of the aspect-ratio benchmark of truth, `(gamma, density,
@@ -47,6 +47,45 @@ pub struct AspectReport {
     /// CPU seconds per rod of the first system of [`ASPECT_PAIR`] over
     /// that of the second, measured in this run.
     pub per_rod_ratio: Option<f64>,
+    /// Every system again under memory limits ([`run_memory_limits`]), when asked.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub limits: Vec<LimitRow>,
+}
+
+/// A small fixed memory limit every system is also run under, bytes.
+pub const SMALL_LIMIT: u64 = 64 << 20;
+
+/// The limits each system of `rows` runs under: [`SMALL_LIMIT`], half its
+/// measured peak (refused midway) and one and a half times it (room to
+/// finish), bytes.
+pub fn limits_of(row: &TruthRow) -> [u64; 3] {
+    let peak = row.peak_mib * (1u64 << 20) as f64;
+    [SMALL_LIMIT, (peak * 0.5) as u64, (peak * 1.5) as u64]
+}
+
+/// Every system of `rows` under each of its [`limits_of`], by
+/// `measure(system, limit)` (a child process of its own each).
+pub fn run_memory_limits(
+    rows: &[TruthRow],
+    mut measure: impl FnMut(&TruthSystem, u64) -> crate::Result<LimitRow>,
+    progress: &impl Progress,
+) -> crate::Result<Vec<LimitRow>> {
+    progress.start("memory limits", 3 * rows.len() as u64);
+    let mut out = Vec::new();
+    for row in rows {
+        let system = TruthSystem {
+            gamma: row.gamma,
+            density: row.density,
+            box_len: row.box_len,
+            seed: row.seed,
+        };
+        for limit in limits_of(row) {
+            out.push(measure(&system, limit)?);
+            progress.advance(1);
+        }
+    }
+    progress.finish();
+    Ok(out)
 }
 
 /// Truth on every system of [`ASPECT_SYSTEMS`] (and [`ASPECT_LARGE`] if
@@ -95,5 +134,6 @@ pub fn run_truth_aspects(
         rows,
         scaling,
         per_rod_ratio,
+        limits: Vec::new(),
     })
 }

@@ -15,7 +15,8 @@ pub mod truth;
 
 pub use crate::usage::{peak_rss_mib, reset_peak_rss};
 pub use aspects::{
-    ASPECT_LARGE, ASPECT_PAIR, ASPECT_SYSTEMS, AspectReport, AspectScaling, run_truth_aspects,
+    ASPECT_LARGE, ASPECT_PAIR, ASPECT_SYSTEMS, AspectReport, AspectScaling, SMALL_LIMIT, limits_of,
+    run_memory_limits, run_truth_aspects,
 };
 pub use foundation::{
     BenchReport, BenchRow, RULE_SETS, RULES_SYSTEM, RuleSetBench, RulesRow, SYSTEMS,
@@ -25,7 +26,7 @@ pub use growth::Growth;
 pub use measure::one_thread;
 pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networkx_version};
 pub use truth::{
-    PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES, TRUTH_GAMMA,
-    TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,
-    predict_largest_box, run_truth, truth_in_child,
+    LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES,
+    TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,
+    predict_largest_box, run_truth, truth_in_child, within_limit,
 };

@@ -9,10 +9,11 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::growth::Growth;
-use super::measure::one_thread;
+use super::measure::{one_thread, run_child};
 use crate::network::Network;
 use crate::progress::Progress;
 use crate::rods::{RodParams, RodSystem};
+use crate::sample::Rods;
 use crate::spanning::Criterion;
 use crate::truth::{self, TruthOptions};
 use crate::usage::{peak_rss_mib, reset_peak_rss, thread_cpu_seconds};
@@ -360,6 +361,97 @@ impl TruthSystem {
         }
         serde_json::from_slice(&child.stdout)
             .map_err(|e| failed(format!("truth on system {spec}: unreadable row: {e}")))
+    }
+}
+
+/// One system run under a memory limit in a process of its own: the
+/// process's peak against the limit, and whether it was refused.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct LimitRow {
+    pub gamma: f64,
+    pub density: f64,
+    pub box_len: usize,
+    pub seed: u64,
+    pub limit_mib: f64,
+    /// Peak resident memory of the whole process (`VmHWM`), MiB.
+    pub peak_mib: f64,
+    /// The refusal's message where the limit stopped it; `None`: truth
+    /// finished.
+    pub refused: Option<String>,
+    pub seconds: f64,
+    /// Whether the peak kept to [`within_limit`].
+    pub within: bool,
+}
+
+/// The rule a memory limit keeps: the process's peak passes it by at most
+/// 5% or 20 MB, the larger (what the guard's estimates between two
+/// readings of the process's size, and allocations too small to guard, may
+/// add).
+pub fn within_limit(peak_bytes: u64, limit: u64) -> bool {
+    peak_bytes as f64 <= (limit as f64 * 1.05).max(limit as f64 + 20e6)
+}
+
+const MIB: f64 = (1u64 << 20) as f64;
+
+impl TruthSystem {
+    /// What `rgc truth --memory-limit` does on this system, on one thread
+    /// in this process: the rods checked up front, then truth under the
+    /// limit; with the process's peak.
+    pub fn under_limit(&self, limit: u64) -> Result<LimitRow> {
+        let params = RodParams::new(self.gamma, self.box_len as f64, self.density)?;
+        let start = Instant::now();
+        let refused = one_thread(|| {
+            if let Err(e) = Rods::from(params).check_memory(Some(limit)) {
+                return Some(match e {
+                    Error::Memory(why) => why,
+                    other => other.to_string(),
+                });
+            }
+            let network = Network::detect(RodSystem::generate(params, self.seed));
+            let opts = TruthOptions {
+                memory_limit: Some(limit),
+                ..TruthOptions::seeded(self.seed)
+            };
+            let t = truth::of_system(network.view(), Criterion::Wrap, opts);
+            t.outcome
+                .refused()
+                .map(|_| t.outcome.reason().unwrap_or_default().to_string())
+        });
+        let peak_mib = peak_rss_mib();
+        Ok(LimitRow {
+            gamma: self.gamma,
+            density: self.density,
+            box_len: self.box_len,
+            seed: self.seed,
+            limit_mib: limit as f64 / MIB,
+            peak_mib,
+            refused,
+            seconds: start.elapsed().as_secs_f64(),
+            within: within_limit((peak_mib * MIB) as u64, limit),
+        })
+    }
+
+    /// [`TruthSystem::under_limit`] in a child process of its own, `rgc
+    /// bench --truth-system ... --memory-limit`: the peak is the child's.
+    pub fn under_limit_in_child(&self, rgc: &Path, limit: u64) -> Result<LimitRow> {
+        let spec = self.to_string();
+        let child = run_child(
+            Command::new(rgc).args([
+                "bench",
+                "--truth-system",
+                &spec,
+                "--memory-limit",
+                &limit.to_string(),
+            ]),
+            rgc,
+            &format!("truth on system {spec} under {limit} bytes"),
+        )?;
+        serde_json::from_slice(&child.stdout).map_err(|e| {
+            Error::io(
+                rgc,
+                std::io::Error::other(format!("truth on system {spec}: unreadable row: {e}")),
+            )
+        })
     }
 }
 

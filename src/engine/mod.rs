@@ -58,4 +58,7 @@ pub use compression::Compression;
 pub use motif::{Motif, MotifCounts};
 pub use rule::CompiledRule;
 pub use ruleset::RuleSet;
-pub use run::{Engine, Matching, compress, compress_from, compress_runs, run_seed};
+pub use run::{
+    Engine, Matching, check_runs_memory, compress, compress_from, compress_runs, run_seed,
+    runs_memory,
+};

@@ -159,8 +159,27 @@ pub fn parse_edge_list(text: &str, path: &Path) -> Result<ContactGraph> {
 
 /// Reads a contact edge list file (see [`read_edge_list_from`]).
 pub fn read_edge_list(path: &Path) -> Result<ContactGraph> {
+    read_edge_list_within(path, |_, _| Ok(()))
+}
+
+/// [`read_edge_list`], with `admit` asked about the numbers of nodes and
+/// edges before the graph is built: a node count read from the file (a
+/// `# nodes N` line, a large index) sizes everything after it, so what
+/// will hold it is checked against the memory limit before any of it is
+/// allocated.
+pub fn read_edge_list_within(
+    path: &Path,
+    admit: impl FnOnce(usize, usize) -> Result<()>,
+) -> Result<ContactGraph> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    read_edge_list_from(BufReader::new(file), path)
+    read_edges(BufReader::new(file), path, admit)
+}
+
+/// Bytes a contact graph of `nodes` nodes and `edges` edges holds: per
+/// node its offsets and degree, per edge the pair and both adjacency
+/// entries.
+pub fn graph_bytes(nodes: usize, edges: usize) -> u64 {
+    16 * nodes as u64 + 40 * edges as u64
 }
 
 /// Largest node count an edge list may imply without declaring it: nodes
@@ -184,7 +203,16 @@ const IMPLIED_SLACK: usize = 1 << 16;
 /// pairs (in either order) and indices outside the declared count are
 /// errors, since a pair of rods touches at most once. A UTF-8 byte order
 /// mark at the start is skipped; other invalid UTF-8 is an error.
-pub fn read_edge_list_from(mut reader: impl BufRead, path: &Path) -> Result<ContactGraph> {
+pub fn read_edge_list_from(reader: impl BufRead, path: &Path) -> Result<ContactGraph> {
+    read_edges(reader, path, |_, _| Ok(()))
+}
+
+/// [`read_edge_list_from`], with `admit` asked before the graph is built.
+fn read_edges(
+    mut reader: impl BufRead,
+    path: &Path,
+    admit: impl FnOnce(usize, usize) -> Result<()>,
+) -> Result<ContactGraph> {
     let fail = |line: usize, reason: String| Error::EdgeList {
         path: path.to_path_buf(),
         line,
@@ -312,6 +340,8 @@ pub fn read_edge_list_from(mut reader: impl BufRead, path: &Path) -> Result<Cont
             return Err(fail(end, "no edges and no '# nodes N' line".into()));
         }
     };
+    drop(first_seen);
+    admit(n, edges.len())?;
     ContactGraph::new(n, edges).map_err(|e| fail(end, e.to_string()))
 }
 

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use crate::graph::ContactGraph;
 use crate::math::sparse;
 use crate::spanning::Criterion;
+use crate::usage;
 
 /// How truth was decided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -51,12 +52,35 @@ pub struct TruthOptions {
     /// bad draw in a small prime).
     #[doc(hidden)]
     pub primes: Option<[u32; 3]>,
-    /// Stop an elimination before a dense front that would take it past
-    /// this many bytes; the answer is then undecided ([`Outcome::Undecided`]).
+    /// Stop before a step (the realization and matrix, each dense front)
+    /// that would take the process's resident size past this many bytes;
+    /// the answer is then undecided ([`Outcome::Undecided`]) with what was
+    /// refused. What the machine has available and an address-space limit
+    /// are checked without it too.
     pub memory_limit: Option<u64>,
 }
 
+/// Bytes truth holds per rod and per contact before its realization (the
+/// graph, its topology, the 2-core, the planes, the order, per-rod lines):
+/// 140 per rod measured on isolated rods.
+const NODE_BYTES: u64 = 150;
+const CONTACT_BYTES: u64 = 100;
+
 impl TruthOptions {
+    /// Refuses, before anything is built, truth on a system of `rods`
+    /// rods and `contacts` contacts whose first steps (everything before
+    /// the realization, with `more` bytes still to come before them) would
+    /// take the process past the memory limit: the sizes a file declares
+    /// are checked before they are allocated.
+    pub fn check_memory(&self, rods: usize, contacts: usize, more: u64) -> crate::Result<()> {
+        let need = NODE_BYTES * rods as u64 + CONTACT_BYTES * contacts as u64 + more;
+        usage::reserve(need, 0, self.memory_limit).map_err(|r| {
+            let what = format!("truth on {rods} rods and {contacts} contacts");
+            crate::Error::Memory(r.describe(&what))
+        })?;
+        Ok(())
+    }
+
     /// The default options with realizations drawn from `seed`.
     pub fn seeded(seed: u64) -> Self {
         TruthOptions {
@@ -141,7 +165,7 @@ impl Outcome {
         }
     }
 
-    /// The front that would have passed the memory limit, if that stopped it.
+    /// The step that would have passed the memory limit, if that stopped it.
     pub fn refused(&self) -> Option<sparse::Refused> {
         match *self {
             Outcome::Undecided { refused, .. } => refused,
@@ -343,19 +367,16 @@ impl Truth {
         };
     }
 
-    /// Records an elimination stopped for the memory limit: undecided,
-    /// with the front that would pass it.
+    /// Records a step stopped before it would pass the memory limit
+    /// (`limit`, if one was asked for; the machine's own bounds apply
+    /// without one): undecided, with what it needed and held.
     pub(super) fn refuse(&mut self, e: sparse::Refused, limit: Option<u64>) {
-        let limit = limit.expect("a refusal needs a limit");
-        let reason = format!(
-            "its elimination reached a dense front of {} x {} that would take it to about {}, over the memory limit of {}",
-            e.front.0,
-            e.front.1,
-            gib(e.bytes),
-            gib(limit)
+        debug_assert!(
+            e.refusal.bound != usage::Bound::Limit || limit == Some(e.refusal.limit),
+            "refused against a limit not asked for"
         );
         self.outcome = Outcome::Undecided {
-            reason,
+            reason: e.refusal.describe(&e.step.describe()),
             refused: Some(e),
         };
     }
@@ -388,11 +409,6 @@ impl Truth {
             .map(|rods| Cluster { rods, spans: None })
             .collect();
     }
-}
-
-/// Bytes in GiB, for messages.
-fn gib(bytes: u64) -> String {
-    format!("{:.2} GiB", bytes as f64 / (1u64 << 30) as f64)
 }
 
 #[cfg(test)]
@@ -434,8 +450,13 @@ mod tests {
     fn every_outcome_keeps_its_flat_keys_and_reads_back() {
         let graph = ContactGraph::new(2, vec![[0, 1]]).unwrap();
         let refused = sparse::Refused {
-            front: (40, 50),
-            bytes: 1 << 31,
+            refusal: usage::Refusal {
+                need: 1 << 31,
+                held: 1 << 30,
+                limit: 3 << 29,
+                bound: usage::Bound::Limit,
+            },
+            step: sparse::Step::Front(40, 50),
         };
         let outcomes = [
             exact(5, 2),

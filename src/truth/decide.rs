@@ -345,6 +345,13 @@ struct Ranked<F> {
 }
 
 impl<'a> Twin<'a> {
+    /// Bytes a realization and its matrix hold per core rod (its line, its
+    /// spin rows) and per core contact (its point, three rows of up to
+    /// twelve entries): resident growth measured over them was 350 to 450
+    /// bytes per contact (rods included) at gamma 23 to 98.
+    const ROD_BYTES: usize = 120;
+    const CONTACT_BYTES: usize = 420;
+
     fn new(
         topo: &'a Topology<'a>,
         planes: &'a Planes,
@@ -367,10 +374,26 @@ impl<'a> Twin<'a> {
     /// Builds a realization over `F` (redrawn while it lands on a
     /// degenerate position) and its matrix; `Err` says why no realization
     /// could be built.
+    /// Refused before anything is built if the realization and its matrix
+    /// would take the process past its memory limit.
     fn realize<F: Field>(
         &self,
         rng: &mut ChaCha8Rng,
     ) -> std::result::Result<(realize::Realization<F>, Vec<sparse::SparseRow<F>>), Stop> {
+        let graph = self.topo.graph;
+        let rods = self.active.iter().filter(|&&a| a).count();
+        let contacts = graph
+            .edges()
+            .iter()
+            .filter(|&&[a, b]| self.active[a as usize] && self.active[b as usize])
+            .count();
+        let need = (rods * Self::ROD_BYTES + contacts * Self::CONTACT_BYTES) as u64;
+        crate::usage::reserve(need, 0, self.memory_limit).map_err(|refusal| {
+            Stop::Memory(sparse::Refused {
+                refusal,
+                step: sparse::Step::Rows,
+            })
+        })?;
         let mut why = String::new();
         for _ in 0..self.attempts {
             match realize::build::<F>(self.topo, self.planes, self.active, self.order, rng) {

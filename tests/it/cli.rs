@@ -513,24 +513,8 @@ fn certified_compression_splits_what_truth_refutes() {
 }
 
 #[test]
-fn truth_over_the_memory_limit_is_refused_before_its_front_with_the_sizes() {
-    // gamma 48, L 5: its largest front needs about 10 MB; 8 MB (above the
-    // 6.6 MB its rods and contacts are estimated to need up front) is
-    // refused with exit 2, one line naming the front and the bytes.
-    fails(
-        &[
-            "truth",
-            "--gamma",
-            "48",
-            "--box",
-            "5",
-            "--density",
-            "78",
-            "--memory-limit",
-            "8M",
-        ],
-        "over the memory limit: truth refused this system: its elimination reached a dense front of",
-    );
+fn truth_memory_limits_are_sizes_and_a_limit_with_room_finishes() {
+    // The refusal itself, its sizes and the peak: tests/it/memory.rs.
     fails(
         &[
             "truth",

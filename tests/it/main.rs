@@ -18,6 +18,7 @@ mod fss;
 mod graphio;
 mod graphml;
 mod layers;
+mod memory;
 mod mine;
 mod planes;
 mod projection;

@@ -11,29 +11,15 @@ use rgc::rods::{Domain, MIN_GAMMA, Periodic, RodParams};
 use rgc::sample::{Rods, SampleOptions};
 use rgc::spanning::Criterion;
 use rgc::threshold::study::StudySpec;
-use rgc::usage::MemoryBudget;
 use rgc::{Error, Result};
 
-/// How much memory a system may use: `sample`, `render`, `truth` and the
-/// studies that run truth.
+/// How much memory a system may use: `sample`, `render`, `truth`,
+/// `compress` and the studies that run truth.
 #[derive(Args)]
 pub struct MemoryArgs {
-    /// Refuse, before the work, a system estimated to need more memory than this (its rods, contacts and graph up front; truth's exact elimination before each dense front): bytes, or with a unit (`512M`, `4G`, `1.5GiB`). Default: the memory this process has available now (free memory, within any cgroup or `ulimit -v` limit).
+    /// Refuse, before each large step, work that would take the process's resident size past this (the rods, contacts and graph up front; truth's realization and each dense front of its elimination; the compressions): bytes, or with a unit (`512M`, `4G`, `1.5GiB`). With or without it, a step is refused that the machine (free memory, a cgroup's limit) or an address-space limit (`ulimit -v`) has no room for.
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub memory_limit: Option<u64>,
-}
-
-impl MemoryArgs {
-    /// The limit asked for, or else what the machine has available (none
-    /// where that cannot be read).
-    pub fn limit(&self) -> Option<u64> {
-        self.budget().map(MemoryBudget::bytes)
-    }
-
-    /// [`MemoryArgs::limit`] with where it comes from.
-    pub fn budget(&self) -> Option<MemoryBudget> {
-        MemoryBudget::of(self.memory_limit)
-    }
 }
 
 /// Bytes from `4G`, `512M`, `1.5GiB`, `100000` (binary units).

@@ -2,12 +2,15 @@
 //! the pivot rows kept where kernel vectors are asked for; its rank, its
 //! counts, and the refusal of a front over the memory limit.
 
+use std::cell::Cell;
+
 use rand::Rng;
 
 use super::front;
 use super::quotient::{Quotient, SparseRow};
 use crate::math::echelon::{MAX_MODULUS, Modulus};
 use crate::math::field::{Field, Fp};
+use crate::usage::{self, Guard, Refusal};
 
 /// The outcome of an elimination.
 #[derive(Clone, Debug)]
@@ -83,22 +86,91 @@ pub fn eliminate<F: Field>(
     Ok(out)
 }
 
-/// An elimination stopped before a front that would have taken it past
-/// its memory limit.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+/// A step stopped before it would have taken the process past its memory
+/// limit: an elimination's front, or (for its callers) what comes before.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Refused {
-    /// Bytes it would have held with that front: the front in f64, the
-    /// live elements and the pivot rows kept (f32), and the input rows.
-    pub bytes: u64,
-    /// That front, rows times columns.
-    pub front: (usize, usize),
+    /// What the step needed, what the process held, and the bound.
+    #[serde(flatten)]
+    pub refusal: Refusal,
+    pub step: Step,
+}
+
+/// The step refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Step {
+    /// Building the rows (the caller's realization and matrix).
+    Rows,
+    /// The elimination's copy of the rows as its first elements.
+    Elements,
+    /// A dense front, rows times columns.
+    Front(usize, usize),
+}
+
+impl Step {
+    /// The step in words, for a message.
+    pub fn describe(self) -> String {
+        match self {
+            Step::Rows => "its realization and matrix".into(),
+            Step::Elements => "its elimination's copy of the matrix".into(),
+            Step::Front(r, c) => format!("the dense front of {r} x {c} of its elimination"),
+        }
+    }
+}
+
+thread_local! {
+    /// Whether this thread's matrix products have reserved their scratch
+    /// ([`usage::product_scratch`]).
+    static PRODUCT_SCRATCH: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Matrix products of fewer multiply-adds than this take faer's small
+/// kernels, which reserve no scratch.
+const SMALL_PRODUCT: usize = 16 * 16 * 16;
+
+/// Admits the front of `rows` x `cols` against `guard`: what it adds to
+/// the dense buffer, in f64, and the rows it leaves (an element, or pivot
+/// rows kept) in f32. Before this thread's first front whose products may
+/// take faer's large kernels, the address space they reserve is admitted
+/// too and reserved at once, so that it never fails inside a product.
+fn admit_front(
+    guard: &mut Guard,
+    scratch: &front::Scratch,
+    (rows, cols): (usize, usize),
+) -> Result<(), Refused> {
+    let need = scratch.growth(rows, cols) + rows * cols * 4;
+    let large = rows * cols * rows.min(cols) > SMALL_PRODUCT;
+    let pending = large && !PRODUCT_SCRATCH.get();
+    let reserved = if pending { usage::product_scratch() } else { 0 };
+    guard
+        .admit(need as u64, reserved)
+        .map_err(|refusal| Refused {
+            refusal,
+            step: Step::Front(rows, cols),
+        })?;
+    if pending {
+        reserve_product_scratch();
+    }
+    Ok(())
+}
+
+/// One matrix product just above faer's small kernels: it makes the
+/// thread reserve its products' scratch now.
+fn reserve_product_scratch() {
+    use faer::{Accum, Mat, Par, linalg::matmul::matmul};
+    let a = Mat::<f64>::zeros(17, 17);
+    let mut c = Mat::<f64>::zeros(17, 17);
+    matmul(c.as_mut(), Accum::Add, a.as_ref(), a.as_ref(), 1.0, Par::Seq);
+    PRODUCT_SCRATCH.set(true);
 }
 
 /// The elimination, with the pivot rows of every front if `keep` is set.
-/// Memory is checked before each front is assembled, on what it would
-/// hold: a pattern alone cannot size the fronts ahead (inside a rigid
-/// region the redundant rows vanish, which only their values tell), so
-/// the guard counts the real sizes as they come.
+/// Memory is checked before each front is assembled, on what the process
+/// holds and what the front adds: a pattern alone cannot size the fronts
+/// ahead (inside a rigid region the redundant rows vanish, which only their
+/// values tell), so the guard counts the real sizes as they come, with the
+/// process's size read now and then ([`Guard`]).
 fn factorize<F: Field>(
     rows: &[SparseRow<F>],
     groups: usize,
@@ -116,6 +188,16 @@ fn factorize<F: Field>(
         rows.iter().flatten().all(|&(c, _)| (c as usize) < cols),
         "a row entry beyond the {cols} columns"
     );
+    let mut guard = Guard::new(limit);
+    // The live elements start as a copy of the rows, in f32 and dense over
+    // their groups.
+    let entries: usize = rows.iter().map(|r| r.len()).sum();
+    guard
+        .admit((entries * 8 + rows.len() * 48) as u64, 0)
+        .map_err(|refusal| Refused {
+            refusal,
+            step: Step::Elements,
+        })?;
     let mut quotient = Quotient::new(rows, groups, width);
     let mut scratch = front::Scratch::new(Modulus::new(F::modulus()), groups, width);
     let mut factors = Vec::new();
@@ -129,27 +211,16 @@ fn factorize<F: Field>(
         counts: Counts::default(),
     };
     for e in quotient.take_single() {
+        admit_front(&mut guard, &scratch, (e.rows, width))?;
         let pinned = front::pin(e, keep, &mut scratch);
         quotient.clear_columns(pinned.group, width, &pinned.pivots, &pinned.rows);
         out.rank += pinned.pivots.len();
         out.counts.pinned += pinned.pivots.len();
         factors.extend(pinned.factor);
     }
-    let input: usize = rows.iter().map(|r| r.len() * 8 + 24).sum();
-    let mut factor_bytes = 0;
     while let Some(g) = quotient.next_group() {
         let gathered = quotient.gather(g);
-        if let Some(limit) = limit {
-            let (r, c) = front::size(&gathered, &scratch);
-            let elements = (quotient.live_blocks() * width + r * c) * 4;
-            let bytes = (input + elements + factor_bytes + r * c * 8) as u64;
-            if bytes > limit {
-                return Err(Refused {
-                    bytes,
-                    front: (r, c),
-                });
-            }
-        }
+        admit_front(&mut guard, &scratch, front::size(&gathered, &scratch))?;
         if gathered.tail {
             out.counts.tail += gathered.own.len();
         } else {
@@ -160,9 +231,6 @@ fn factorize<F: Field>(
         out.counts.reduced += usize::from(done.reduced);
         quotient.settle(&pattern, done.left);
         out.rank += done.pivots;
-        if keep {
-            factor_bytes += done.pivots * done.size.1 * 4;
-        }
         out.fronts += 1;
         out.work += done.work;
         let (r, c) = done.size;
@@ -402,9 +470,10 @@ mod tests {
     }
 
     #[test]
-    fn a_memory_limit_stops_before_the_front_that_would_pass_it() {
-        // The dense matrix of the tail test is one front of 240 x 300: 576
-        // KB in f64. A limit below that stops before it, naming it; one above
+    fn a_memory_limit_counts_what_the_process_holds() {
+        // The dense matrix of the tail test is one front of 240 x 300. A
+        // limit below what the process already holds stops before the
+        // elimination copies the rows, naming what it holds; one far above
         // lets the same elimination finish with the same rank.
         let (groups, width) = (50, 6);
         let mut rng = ChaCha8Rng::seed_from_u64(11);
@@ -415,15 +484,30 @@ mod tests {
                     .collect()
             })
             .collect();
-        let refused = rank(&rows, groups, width, Some(500_000)).unwrap_err();
-        assert_eq!(refused.front, (240, 300));
-        assert!(
-            refused.bytes > 500_000 && refused.bytes < 2_000_000,
-            "{refused:?}"
-        );
-        let e = rank(&rows, groups, width, Some(refused.bytes)).expect("within the limit");
-        assert_eq!(e.rank, rank(&rows, groups, width, None).unwrap().rank);
+        let Some(held) = usage::held() else {
+            return;
+        };
+        let refused = rank(&rows, groups, width, Some(held.resident / 2)).unwrap_err();
+        assert_eq!(refused.step, Step::Elements);
+        assert_eq!(refused.refusal.bound, usage::Bound::Limit);
+        assert_eq!(refused.refusal.need, 240 * 300 * 8 + 240 * 48);
+        assert!(refused.refusal.held >= held.resident / 2, "{refused:?}");
+        let e = rank(&rows, groups, width, Some(held.resident + (1 << 30))).expect("within");
         assert_eq!(e.rank, 240);
+    }
+
+    #[test]
+    fn a_front_needs_its_growth_in_f64_and_its_rows_in_f32() {
+        // A first front of 240 x 300 grows the dense buffer by all of it;
+        // the rows it leaves or keeps take half that again. The guard reads
+        // the process's size for it (8 MiB of estimates pass unread).
+        let scratch = front::Scratch::new(Modulus::new(Q1::MODULUS), 50, 6);
+        let mut guard = Guard::new(None);
+        admit_front(&mut guard, &scratch, (240, 300)).unwrap();
+        assert_eq!(scratch.growth(240, 300), 240 * 300 * 8);
+        assert_eq!(guard.readings(), usize::from(usage::held().is_some()));
+        admit_front(&mut guard, &scratch, (2, 3)).unwrap();
+        assert_eq!(guard.readings(), usize::from(usage::held().is_some()));
     }
 
     #[test]

@@ -200,6 +200,12 @@ pub struct Scratch {
 }
 
 impl Scratch {
+    /// Bytes a front of `rows` x `cols` adds to the dense buffer, which
+    /// keeps the largest front so far.
+    pub fn growth(&self, rows: usize, cols: usize) -> usize {
+        (rows * cols).saturating_sub(self.dense.capacity()) * 8
+    }
+
     pub fn new(modulus: Modulus, groups: usize, width: usize) -> Scratch {
         assert!(width <= 64, "at most 64 columns per group, not {width}");
         Scratch {

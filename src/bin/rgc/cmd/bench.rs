@@ -68,9 +68,15 @@ pub struct BenchArgs {
     /// With --truth-aspects: add gamma 98, L 10 (165,000 rods; minutes and gigabytes).
     #[arg(long, requires = "truth_aspects")]
     truth_large: bool,
+    /// With --truth-aspects: also run every system under memory limits (64 MiB, half and 1.5 times its peak), each in a process of its own, and report the peak against the limit: never more than 5% or 20 MB over it.
+    #[arg(long, requires = "truth_aspects")]
+    memory_limits: bool,
     /// Truth on one system, `gamma,density,box,seed`, as a JSON row: what `--truth` runs in a child process per system.
     #[arg(long, hide = true, conflicts_with_all = ["rank", "truth"])]
     truth_system: Option<String>,
+    /// With --truth-system: run it as `rgc truth --memory-limit` does, bytes, and report the process's peak (what --memory-limits runs).
+    #[arg(long, hide = true, requires = "truth_system")]
+    memory_limit: Option<u64>,
 }
 
 pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
@@ -93,8 +99,11 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         return Ok(());
     }
     if let Some(spec) = &a.truth_system {
-        let row = spec.parse::<TruthSystem>()?.measure()?;
-        return super::print_json(&row, out);
+        let system = spec.parse::<TruthSystem>()?;
+        if let Some(limit) = a.memory_limit {
+            return super::print_json(&system.under_limit(limit)?, out);
+        }
+        return super::print_json(&system.measure()?, out);
     }
     if a.truth {
         return truth(a, out);
@@ -223,11 +232,18 @@ fn truth(a: BenchArgs, out: &mut String) -> Result<()> {
 
 fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
     let exe = rgc_exe()?;
-    let report = bench::run_truth_aspects(
+    let mut report = bench::run_truth_aspects(
         a.truth_large,
         |gamma, density, box_len, seed| bench::truth_in_child(&exe, gamma, density, box_len, seed),
         &Reporter::new(a.json),
     )?;
+    if a.memory_limits {
+        report.limits = bench::run_memory_limits(
+            &report.rows,
+            |system, limit| system.under_limit_in_child(&exe, limit),
+            &Reporter::new(a.json),
+        )?;
+    }
     if written(&report, &a, out)? {
         return Ok(());
     }
@@ -266,7 +282,38 @@ fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
             "CPU per rod, gamma {g1} L {l1} over gamma {g2} L {l2}: {ratio:.1}x"
         );
     }
+    limits_table(&report.limits, out);
     Ok(())
+}
+
+/// The memory-limit rows: each peak against its limit, and the rule.
+fn limits_table(rows: &[bench::LimitRow], out: &mut String) {
+    if rows.is_empty() {
+        return;
+    }
+    say!(
+        out,
+        "gamma   rho   L  limit MiB  peak MiB  within  outcome"
+    );
+    for r in rows {
+        say!(
+            out,
+            "{:>5} {:>5} {:>3} {:>10.1} {:>9.1} {:>7}  {}",
+            r.gamma,
+            r.density,
+            r.box_len,
+            r.limit_mib,
+            r.peak_mib,
+            if r.within { "yes" } else { "NO" },
+            if r.refused.is_some() { "refused" } else { "finished" }
+        );
+    }
+    let kept = rows.iter().filter(|r| r.within).count();
+    say!(
+        out,
+        "peak within max(1.05 x limit, limit + 20 MB): {kept} of {}",
+        rows.len()
+    );
 }
 
 /// A fitted growth law as `N^a (R² b)`.

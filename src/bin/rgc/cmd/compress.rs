@@ -11,7 +11,7 @@ use rgc::graph::ContactGraph;
 use rgc::graph::io as graphio;
 use rgc::{Result, output};
 
-use crate::args::EngineArgs;
+use crate::args::{EngineArgs, MemoryArgs};
 
 #[derive(Args)]
 #[group(id = "input", required = true, multiple = false)]
@@ -30,6 +30,8 @@ pub struct CompressArgs {
     input: GraphInput,
     #[command(flatten)]
     engine: EngineArgs,
+    #[command(flatten)]
+    memory: MemoryArgs,
     /// Print one JSON object (the summary and every body's rods) instead of a summary.
     #[arg(long)]
     json: bool,
@@ -70,12 +72,16 @@ pub fn run(a: CompressArgs, out: &mut String) -> Result<()> {
     if let Some(path) = &a.save_bodies {
         output::check_file(path)?;
     }
+    let e = &a.engine;
+    let (runs, limit) = (e.runs as usize, a.memory.memory_limit);
     let graph: ContactGraph = match (&a.input.graph6, &a.input.edges) {
         (Some(s), _) => graphio::parse_graph6(s)?,
-        (None, Some(path)) => graphio::read_edge_list(path)?,
+        (None, Some(path)) => graphio::read_edge_list_within(path, |n, m| {
+            engine::check_runs_memory(n, m, runs, graphio::graph_bytes(n, m), limit)
+        })?,
         (None, None) => unreachable!("clap requires one input"),
     };
-    let e = &a.engine;
+    engine::check_runs_memory(graph.n_nodes(), graph.n_edges(), runs, 0, limit)?;
     let rules = super::load(&e.rules.rule_files)?;
     let runs = Engine::with_rules(e.rules.rules, &rules).runs(&graph, e.seed, e.runs as usize);
     let best = (0..runs.len())

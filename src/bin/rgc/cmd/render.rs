@@ -29,7 +29,7 @@ pub struct RenderArgs {
 
 pub fn run(a: RenderArgs, out: &mut String) -> Result<()> {
     let opts = a.system.options()?;
-    opts.rods.check_memory(a.memory.budget())?;
+    opts.check_memory(a.memory.memory_limit)?;
     let view = View {
         azimuth: a.azimuth,
         elevation: a.elevation,

@@ -37,7 +37,7 @@ pub struct SampleArgs {
 
 pub fn run(a: SampleArgs, out: &mut String) -> Result<()> {
     let opts = a.system.options()?;
-    opts.rods.check_memory(a.memory.budget())?;
+    opts.check_memory(a.memory.memory_limit)?;
     // An output that cannot be written fails before the sample is drawn.
     if let Some(path) = &a.save_rods {
         rgc::rods::file::Format::of_path(path)?;

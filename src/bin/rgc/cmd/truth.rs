@@ -91,7 +91,7 @@ fn check_outputs(a: &TruthArgs) -> Result<()> {
 
 pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     let opts = TruthOptions {
-        memory_limit: a.memory.limit(),
+        memory_limit: a.memory.memory_limit,
         realizations: a.realizations as usize,
         ..TruthOptions::seeded(a.seed)
     };
@@ -109,11 +109,20 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     // A rod system with its contacts, for --save-vtk.
     let mut drawn = None;
     let t = match (&a.graph6, &a.edges) {
-        (Some(s), _) => finite(&graphio::parse_graph6(s)?, opts),
-        (_, Some(path)) => finite(&graphio::read_edge_list(path)?, opts),
+        (Some(s), _) => {
+            let graph = graphio::parse_graph6(s)?;
+            opts.check_memory(graph.n_nodes(), graph.n_edges(), 0)?;
+            finite(&graph, opts)
+        }
+        (_, Some(path)) => {
+            let graph = graphio::read_edge_list_within(path, |n, m| {
+                opts.check_memory(n, m, graphio::graph_bytes(n, m))
+            })?;
+            finite(&graph, opts)
+        }
         (None, None) => {
             let rods = a.rods.rods()?;
-            rods.check_memory(a.memory.budget())?;
+            rods.check_memory(a.memory.memory_limit)?;
             let system = match rods {
                 Rods::Generated(e) => e.generate(a.seed)?,
                 Rods::Read { loaded, .. } => {
@@ -132,7 +141,7 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     };
     if t.outcome.refused().is_some() {
         return Err(Error::Memory(format!(
-            "truth refused this system: {} (raise it with --memory-limit)",
+            "truth refused this system: {}",
             t.outcome.reason().unwrap_or_default()
         )));
     }

@@ -112,7 +112,7 @@ fn slice(a: SliceArgs, out: &mut String) -> Result<()> {
         shard: slice.shard,
         extend: false,
         memory_limit: (slice.spec.kind == Kind::Truth)
-            .then(|| a.memory.limit())
+            .then_some(a.memory.memory_limit)
             .flatten(),
     };
     let compiled: Vec<_> = rules.iter().map(rgc::engine::CompiledRule::new).collect();

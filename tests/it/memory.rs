@@ -1,0 +1,197 @@
+//! The memory limit is a limit (issue 31): every large step is checked
+//! against what the process holds now and what the step adds, so a refused
+//! run ends with one line naming both, exit code 2, and a peak within 5% or
+//! 20 MB of the limit; sizes read from input are checked before they are
+//! allocated; an address-space limit (`ulimit -v`) ends in the same refusal,
+//! never in an allocation abort (SIGABRT, exit 134).
+
+use std::process::{Command, Output};
+
+use rgc::bench::{LimitRow, TruthSystem, within_limit};
+
+const RGC: &str = env!("CARGO_BIN_EXE_rgc");
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// `rgc args` under `ulimit -v kib` (none: no such limit).
+fn rgc_under(kib: Option<u64>, args: &[&str]) -> Output {
+    let limit = kib.map_or(String::new(), |k| format!("ulimit -v {k} && "));
+    Command::new("sh")
+        .args(["-c", &format!("{limit}exec \"$0\" \"$@\""), RGC])
+        .args(args)
+        .output()
+        .expect("sh runs")
+}
+
+/// Checks a refusal: exit code 2 (not an abort), one line, nothing on
+/// stdout, holding every one of `needles`; returns the line.
+fn refused(out: &Output, needles: &[&str]) -> String {
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    assert!(out.stdout.is_empty(), "{}", text(&out.stdout));
+    for needle in needles {
+        assert!(err.contains(needle), "{err:?} lacks {needle:?}");
+    }
+    err
+}
+
+/// Bytes of a size as `usage::size` writes it (`6.02 MiB`).
+fn bytes(size: &str) -> f64 {
+    let (number, unit) = size.trim().split_once(' ').expect("number and unit");
+    let scale = match unit {
+        "B" => 1u64,
+        "KiB" => 1 << 10,
+        "MiB" => 1 << 20,
+        "GiB" => 1 << 30,
+        other => panic!("unit {other}"),
+    };
+    number.parse::<f64>().unwrap() * scale as f64
+}
+
+/// The size after `before` in `line`, up to the next comma.
+fn size_after(line: &str, before: &str) -> f64 {
+    let rest = &line[line.find(before).expect(before) + before.len()..];
+    bytes(rest.split(',').next().unwrap())
+}
+
+#[test]
+fn truth_over_its_limit_names_what_it_holds_and_what_the_front_needs() {
+    // The issue's command on a smaller system: gamma 48, L 5 peaks near
+    // 33 MiB; under 32 MiB a dense front is refused, and the held size
+    // and the front's need pass the limit together.
+    let args = [
+        "truth",
+        "--gamma",
+        "48",
+        "--box",
+        "5",
+        "--density",
+        "78",
+        "--seed",
+        "1",
+        "--memory-limit",
+        "32M",
+    ];
+    let err = refused(
+        &rgc_under(None, &args),
+        &[
+            "rgc: error: over the memory limit: truth refused this system: the dense front of ",
+            " of its elimination needs about ",
+            ", the process holds ",
+            ", over the limit of 32.0 MiB (--memory-limit)",
+        ],
+    );
+    let need = size_after(&err, "needs about ");
+    let held = size_after(&err, "the process holds ");
+    assert!(need > 0.0 && held + need > 32.0 * 1024.0 * 1024.0, "{err}");
+    assert!(held <= 32.0 * 1024.0 * 1024.0, "{err}");
+}
+
+#[test]
+fn the_peak_stays_within_the_limit_whether_refused_or_finished() {
+    // The same work as `rgc truth --memory-limit`, in a child process whose
+    // peak resident size (VmHWM) it reports: refused at the rods, refused
+    // at a front, and finished, each within 5% or 20 MB of its limit.
+    let system: TruthSystem = "48,78,5,1".parse().unwrap();
+    let exe = std::path::Path::new(RGC);
+    let mib = 1u64 << 20;
+    let rows: Vec<LimitRow> = [8 * mib, 32 * mib, 200 * mib]
+        .into_iter()
+        .map(|limit| system.under_limit_in_child(exe, limit).unwrap())
+        .collect();
+    for r in &rows {
+        assert!(r.within, "{r:?}");
+        assert!(
+            within_limit((r.peak_mib * mib as f64) as u64, (r.limit_mib * mib as f64) as u64),
+            "{r:?}"
+        );
+    }
+    let reason = |r: &LimitRow| r.refused.clone().unwrap_or_default();
+    assert!(
+        reason(&rows[0]).contains("the system of 9750 rods (about 1.349e4 contacts) needs about"),
+        "{:?}",
+        rows[0]
+    );
+    assert!(reason(&rows[1]).starts_with("the dense front of "), "{:?}", rows[1]);
+    assert_eq!(rows[2].refused, None, "{:?}", rows[2]);
+    assert!(rows[2].peak_mib > 20.0, "{:?}", rows[2]);
+    // The rule itself: 5% or 20 MB over, the larger.
+    assert!(within_limit(1_050_000_000, 1_000_000_000));
+    assert!(!within_limit(1_050_000_001, 1_000_000_000));
+    assert!(within_limit(120_000_000, 100_000_000));
+    assert!(!within_limit(120_000_001, 100_000_000));
+}
+
+#[test]
+fn an_edge_list_naming_a_huge_node_is_refused_before_anything_is_allocated() {
+    // 50 million rods declared by three edges: truth would hold about 7
+    // GB, the compression 3.4 GB. Under a 400 MB address space nothing
+    // of that size may be allocated: the refusal comes first, exit 2.
+    let dir = crate::scratch("memory-huge-node");
+    let path = dir.join("huge.txt");
+    std::fs::write(&path, "# nodes 49999999\n0 1\n1 2\n0 2\n").unwrap();
+    let edges = path.to_str().unwrap();
+    let ulimit = Some(400_000);
+    refused(
+        &rgc_under(ulimit, &["truth", "--edges", edges, "--memory-limit", "1G"]),
+        &[
+            "over the memory limit: truth on 49999999 rods and 3 contacts needs about ",
+            "over the limit of 1.00 GiB (--memory-limit)",
+        ],
+    );
+    refused(
+        &rgc_under(ulimit, &["compress", "--edges", edges, "--memory-limit", "1G"]),
+        &[
+            "over the memory limit: 1 compression(s) of 49999999 rods and 3 contacts needs about ",
+            "over the limit of 1.00 GiB (--memory-limit)",
+        ],
+    );
+    for cmd in ["truth", "compress"] {
+        refused(
+            &rgc_under(ulimit, &[cmd, "--edges", edges]),
+            &["of address space, the process holds ", "(ulimit -v)"],
+        );
+    }
+    // The same three edges among 5000 rods run under the same limits.
+    std::fs::write(&path, "# nodes 5000\n0 1\n1 2\n0 2\n").unwrap();
+    for cmd in ["truth", "compress"] {
+        let out = rgc_under(ulimit, &[cmd, "--edges", edges, "--memory-limit", "1G"]);
+        assert!(out.status.success(), "{cmd}: {}", text(&out.stderr));
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn an_address_space_limit_refuses_truth_instead_of_aborting() {
+    // gamma 23, L 8 needs about 60 MB resident, but faer's matrix products
+    // reserve twice the last-level cache of address space on their first
+    // use: it used to abort there ("memory allocation of N bytes failed").
+    // Under 300 MB the realization is refused, with or without a resident
+    // limit; under 600 MB, where that reservation does not fit (here 960
+    // MiB), the first front that multiplies matrices.
+    let args = ["truth", "--gamma", "23", "--box", "8", "--density", "40"];
+    let needles = [
+        "rgc: error: over the memory limit: truth refused this system: ",
+        " of address space, the process holds ",
+        "(ulimit -v)",
+    ];
+    for limit in [None, Some("100M")] {
+        let mut all = args.to_vec();
+        all.extend(limit.map(|l| ["--memory-limit", l]).into_iter().flatten());
+        refused(&rgc_under(Some(300_000), &all), &needles);
+    }
+    // `sample --truth` takes the same refusal, not a report of it.
+    let sample = ["sample", "--gamma", "23", "--box", "8", "--density", "40", "--truth"];
+    for args in [&args[..], &sample[..]] {
+        let out = rgc_under(Some(600_000), args);
+        if rgc::usage::product_scratch() > 600_000 * 1024 {
+            let err = refused(&out, &needles);
+            assert!(err.contains("the dense front of "), "{err}");
+        } else {
+            assert!(out.status.code() == Some(0), "{}", text(&out.stderr));
+        }
+    }
+}
