@@ -297,14 +297,17 @@ impl Sample {
 }
 
 /// Generates (or takes), detects, compresses and measures one rod system.
-/// Fails only when generated rods are too long for the box (see
-/// [`Ensemble::generate`]).
+/// Fails when generated rods are too long for the box (see
+/// [`Ensemble::generate`]), and before the work when it would take the
+/// process past what the machine (or an address-space limit) leaves
+/// ([`SampleOptions::check_memory`] without a limit of its own).
 pub fn sample(opts: &SampleOptions) -> Result<Sample> {
     sample_with(opts, &[])
 }
 
 /// [`sample`] with loaded motif rules in addition to the base motifs.
 pub fn sample_with(opts: &SampleOptions, extra: &[engine::CompiledRule]) -> Result<Sample> {
+    opts.check_memory(None)?;
     let start = Instant::now();
     let system = match &opts.rods {
         Rods::Generated(e) => e.generate(opts.seed)?,
