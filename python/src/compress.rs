@@ -8,15 +8,10 @@ use rgc::engine::RuleSet;
 use rgc::rods::file::Loaded;
 use rgc::sample::{self, Rods, SampleOptions};
 use rgc::spanning::Criterion;
-use rgc::usage::{MemoryBudget, size};
 
 use crate::system::PyRods;
 use crate::{count, error, interrupt, value_error};
 
-/// Bytes each run's answer keeps per rod until the runs are compared
-/// (bodies, nodes, motif counts): 6 to 14 measured over 8,640 to 40,000
-/// rods at gamma 10 to 48, densities 20 to 80, with room to spare.
-const RUN_BYTES_PER_ROD: u64 = 16;
 
 /// The most runs one call takes: the command line's cap (`rgc sample
 /// --runs`), which also keeps the runs' answers within memory.
@@ -117,33 +112,7 @@ fn read(rods: &PyRods) -> Rods {
 /// compression are estimated to need more memory than `limit` bytes (none:
 /// what the process has available): a `MemoryError` before the work.
 pub(crate) fn check_memory(rods: &PyRods, limit: Option<u64>) -> PyResult<()> {
-    read(rods)
-        .check_memory(MemoryBudget::of(limit))
-        .map_err(error)
-}
-
-/// Refuses, before the work, a compression whose sample and runs' answers
-/// (kept until the runs are compared) are estimated to need more memory
-/// than the process has: many runs of a large system would otherwise end
-/// the interpreter on a failed allocation.
-fn check_runs_memory(opts: &SampleOptions) -> PyResult<()> {
-    let Some(budget) = MemoryBudget::of(None) else {
-        return Ok(());
-    };
-    opts.rods.check_memory(Some(budget)).map_err(error)?;
-    let sample = opts.rods.memory_estimate();
-    let runs = (opts.runs as u64).saturating_mul(sample.rods as u64 * RUN_BYTES_PER_ROD);
-    if sample.bytes.saturating_add(runs) > budget.bytes() {
-        return Err(error(rgc::Error::Memory(format!(
-            "{} runs of {} rods keep an estimated {} of answers beside the {} of the sample, more than {}; take fewer runs",
-            opts.runs,
-            sample.rods,
-            size(runs),
-            size(sample.bytes),
-            budget.describe()
-        ))));
-    }
-    Ok(())
+    read(rods).check_memory(limit).map_err(error)
 }
 
 /// What `rgc sample` would be given for these rods (read, not generated).
@@ -193,7 +162,7 @@ pub fn compress(
         seed,
         self::criterion(criterion)?,
     );
-    check_runs_memory(&opts)?;
+    opts.check_memory(None).map_err(error)?;
     let criterion = opts.criterion;
     let (s, reported) = interrupt::run(py, move || {
         let s = sample::sample(&opts)?;

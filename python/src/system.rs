@@ -11,7 +11,7 @@ use rgc::Error;
 use rgc::error::short;
 use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
 use rgc::rods::{Cut, Domain, MAX_RODS, Periodic, Rod, RodSystem, wrap};
-use rgc::usage::{available_memory, size};
+use rgc::usage::reserve;
 
 use crate::{error, interrupt, repr, value_error};
 
@@ -234,13 +234,11 @@ pub(crate) fn check_build(n: usize) -> PyResult<()> {
         ))));
     }
     let need = n as u64 * BUILD_BYTES_PER_ROD;
-    match available_memory() {
-        Some(have) if need > have => Err(error(Error::Memory(format!(
-            "{n} rods need about {} to build, more than the {} this process has available",
-            size(need),
-            size(have)
-        )))),
-        _ => Ok(()),
+    match reserve(need, 0, None) {
+        Err(refusal) => Err(error(Error::Memory(
+            refusal.describe(&format!("building {n} rods")),
+        ))),
+        Ok(_) => Ok(()),
     }
 }
 
