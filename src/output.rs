@@ -78,6 +78,14 @@ fn temporary_beside(path: &Path) -> PathBuf {
     path.with_file_name(format!(".rgc-tmp-{}-{k}-{name}", std::process::id()))
 }
 
+/// `PREFIX.ext` beside a prefix that may hold dots of its own (a study
+/// name like `g23.5`), where `Path::with_extension` would replace them.
+pub fn with_extension(prefix: &Path, ext: &str) -> PathBuf {
+    let mut name = prefix.as_os_str().to_owned();
+    name.push(format!(".{ext}"));
+    PathBuf::from(name)
+}
+
 /// Checks that a file can be written at `path`: it is not a directory, and
 /// its directory exists (it is created if missing) and takes new files.
 pub fn check_file(path: &Path) -> Result<()> {

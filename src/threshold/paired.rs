@@ -234,11 +234,7 @@ struct Row<'a> {
 /// Writes `PREFIX.json` (with the command that made it), `PREFIX.csv` and
 /// `PREFIX.md` atomically; the paths written.
 pub fn write(prefix: &Path, pairings: &[Pairing], command: &str) -> Result<Vec<PathBuf>> {
-    let with = |ext: &str| {
-        let mut name = prefix.as_os_str().to_owned();
-        name.push(format!(".{ext}"));
-        PathBuf::from(name)
-    };
+    let with = |ext: &str| output::with_extension(prefix, ext);
     let (json, csv, md) = (with("json"), with("csv"), with("md"));
     let doc = serde_json::json!({ "command": command, "pairings": pairings });
     output::write_atomic(

@@ -67,11 +67,7 @@ pub fn of_dir(dir: &Path, box_len: Option<f64>, bins: usize) -> Result<Transitio
 /// Writes `PREFIX.json` (with the command that made it) and `PREFIX.csv`
 /// (one row per study and box: the jump).
 pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<PathBuf>> {
-    let with = |ext: &str| {
-        let mut name = prefix.as_os_str().to_owned();
-        name.push(format!(".{ext}"));
-        PathBuf::from(name)
-    };
+    let with = |ext: &str| output::with_extension(prefix, ext);
     let (json, csv) = (with("json"), with("csv"));
     let doc = serde_json::json!({ "command": command, "transitions": all });
     output::write_atomic(

@@ -298,11 +298,7 @@ pub fn tally(all: &[SequenceRanks]) -> Vec<Tally> {
 /// Writes `PREFIX.json` (with the command that made it) and `PREFIX.csv`,
 /// one row per aspect ratio and box.
 pub fn write(prefix: &Path, tallies: &[Tally], command: &str) -> Result<Vec<PathBuf>> {
-    let with = |ext: &str| {
-        let mut name = prefix.as_os_str().to_owned();
-        name.push(format!(".{ext}"));
-        PathBuf::from(name)
-    };
+    let with = |ext: &str| output::with_extension(prefix, ext);
     let (json, csv) = (with("json"), with("csv"));
     let doc = serde_json::json!({ "command": command, "tallies": tallies });
     output::write_atomic(&json, serde_json::to_string_pretty(&doc).expect("tallies serialize"))?;

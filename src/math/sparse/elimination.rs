@@ -501,7 +501,7 @@ mod tests {
         // A first front of 240 x 300 grows the dense buffer by all of it;
         // the rows it leaves or keeps take half that again. The guard reads
         // the process's size for it (8 MiB of estimates pass unread).
-        let scratch = front::Scratch::new(Modulus::new(Q1::MODULUS), 50, 6);
+        let scratch = front::Scratch::new(Modulus::new(Q1::modulus()), 50, 6);
         let mut guard = Guard::new(None);
         admit_front(&mut guard, &scratch, (240, 300)).unwrap();
         assert_eq!(scratch.growth(240, 300), 240 * 300 * 8);
