@@ -60,16 +60,19 @@ pub fn memory_estimate(rods: usize, contacts: f64, thickness: f64) -> u64 {
 impl MemoryEstimate {
     /// Refuses the estimate and `more` bytes if they would take the
     /// process past `limit` (see [`Rods::check_memory`]).
-    fn check(&self, more: u64, limit: Option<u64>) -> Result<()> {
+    fn check(&self, runs: usize, more: u64, limit: Option<u64>) -> Result<()> {
         usage::reserve(self.bytes + more, 0, limit).map_err(|r| {
-            let what = format!(
+            let system = format!(
                 "the system of {} rods (about {:.3e} contacts)",
                 self.rods, self.contacts
             );
-            Error::Memory(format!(
-                "{}; take a smaller box or density",
-                r.describe(&what)
-            ))
+            Error::Memory(match runs {
+                0 | 1 => format!("{}; take a smaller box or density", r.describe(&system)),
+                _ => format!(
+                    "{}; take a smaller box or density, or fewer runs",
+                    r.describe(&format!("{system} with {runs} runs"))
+                ),
+            })
         })?;
         Ok(())
     }
@@ -110,7 +113,7 @@ impl Rods {
     /// line with the estimate, what the process holds and the bound,
     /// instead of an allocation failing midway.
     pub fn check_memory(&self, limit: Option<u64>) -> Result<()> {
-        self.memory_estimate().check(0, limit)
+        self.memory_estimate().check(1, 0, limit)
     }
 
     /// Each rod's id, when the rods were read from a file that numbers them.
@@ -151,7 +154,7 @@ impl SampleOptions {
         let e = self.rods.memory_estimate();
         let (n, m) = (e.rods, e.contacts as usize);
         let runs = engine::runs_memory(n, m, self.runs) - engine::runs_memory(n, m, 1);
-        e.check(runs, limit)
+        e.check(self.runs, runs, limit)
     }
 }
 

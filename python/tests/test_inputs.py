@@ -163,8 +163,8 @@ def test_rods_beyond_the_memory_available_are_a_memory_error():
         rgc.Rods.from_arrays(rgc.Box(10.0), centres, directions=centres, lengths=1.0, radii=0.01)
         """
     )
-    assert out.startswith("MemoryError: over the memory limit: 10000000 rods need about 3.73 GiB to build, more than the "), out
-    assert out.endswith("this process has available")
+    assert out.startswith("MemoryError: over the memory limit: building 10000000 rods needs about "), out
+    assert out.endswith("(ulimit -v)"), out
 
 
 def test_runs_whose_answers_pass_the_memory_available_are_a_memory_error():
@@ -178,5 +178,6 @@ def test_runs_whose_answers_pass_the_memory_available_are_a_memory_error():
     )
     first, second = out.splitlines()
     assert first == "True"
-    assert second.startswith("MemoryError: over the memory limit: 100000 runs of 2560 rods keep an estimated 3.81 GiB of answers beside the "), second
-    assert second.endswith("this process has available; take fewer runs")
+    assert second.startswith("MemoryError: over the memory limit: the system of 2560 rods (about "), second
+    assert " contacts) with 100000 runs needs about " in second, second
+    assert second.endswith("(ulimit -v); take a smaller box or density, or fewer runs"), second

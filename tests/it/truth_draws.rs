@@ -122,3 +122,29 @@ fn a_realization_with_the_generic_rank_can_lock_a_mechanism() {
     assert_eq!(four_bar(generic.0, generic.1, generic.2, true), 4, "the rocker moves");
     assert_eq!(four_bar(dead.0, dead.1, dead.2, true), 3, "the rocker is locked");
 }
+
+/// The one unlucky draw `rgc twins` met in 7,793 evaluations at gamma 23
+/// (L = 5, 6, 7; `results/truth-twins/`): the first 11,783 rods of the
+/// 66th sequence of L = 7. Its second realization loses one rank in its
+/// prime; the first and a third, each in a prime of its own, do not, and
+/// truth answers with the larger rank.
+#[test]
+fn the_unlucky_draw_found_in_the_committed_studies_is_outranked() {
+    use rgc::engine::run_seed;
+    use rgc::threshold::sequence::Sequence;
+    let (seed, n) = (2_528_998_726_754_218_708, 11_783);
+    let seq = Sequence::new(23.0, 7.0, n, seed).unwrap();
+    let graph = seq.graph(n);
+    let view = seq.view(n, &graph);
+    let opts = TruthOptions {
+        realizations: 3,
+        ..TruthOptions::seeded(run_seed(seed, n as u64))
+    };
+    let ranks = realization_ranks(&view.topology(), opts).expect("exact");
+    assert_eq!(
+        ranks,
+        [(10_455_209, 30_409), (12_408_127, 30_408), (15_300_433, 30_409)]
+    );
+    let t = truth(&view.topology(), opts);
+    assert_eq!(exact(&t).map(|e| e.0), Some(30_409));
+}
