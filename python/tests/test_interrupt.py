@@ -20,8 +20,12 @@ CALLS = {
 def test_ctrl_c_stops_a_long_call_within_a_second(name):
     script = textwrap.dedent(
         f"""
+        import signal
         import time
         import rgc
+        # A child of a shell's background job inherits SIGINT ignored, and
+        # Python then installs no handler: restore the terminal's default.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         small = rgc.generate(rgc.Box(4.0), density=40, gamma=23, seed=1)
         rgc.truth(small)
         print("started", flush=True)
