@@ -33,11 +33,11 @@
 //! * [`mod@bench`] — the speed and memory benchmarks behind `rgc bench`.
 
 pub mod error;
-pub mod usage;
 pub mod math;
 pub mod output;
 pub mod progress;
 pub mod stamp;
+pub mod usage;
 
 pub mod rods;
 

@@ -12,7 +12,6 @@ use rgc::spanning::Criterion;
 use crate::system::PyRods;
 use crate::{count, error, interrupt, value_error};
 
-
 /// The most runs one call takes: the command line's cap (`rgc sample
 /// --runs`), which also keeps the runs' answers within memory.
 pub const MAX_RUNS: u64 = 100_000;

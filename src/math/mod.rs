@@ -14,5 +14,5 @@ pub mod stats;
 pub mod vec3;
 
 pub use field::{Field, Fp, Fq, P, Q1, Q2, Scalar};
-pub use prime::{Fr, with_prime};
 pub use matrix::{Matrix, rank_exact, rank_fp, reduce_fp};
+pub use prime::{Fr, with_prime};

@@ -96,7 +96,9 @@ pub fn is_prime(n: u32) -> bool {
     if n < 2 {
         return false;
     }
-    for p in [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61] {
+    for p in [
+        2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61,
+    ] {
         if n.is_multiple_of(p) {
             return n == p;
         }
@@ -189,7 +191,11 @@ impl Mul for Fr {
         let x = u64::from(self.0) * u64::from(o.0);
         let estimate = ((u128::from(x) * u128::from(c.barrett)) >> 64) as u64;
         let r = x - estimate * u64::from(c.q);
-        Fr(if r >= u64::from(c.q) { r - u64::from(c.q) } else { r } as u32)
+        Fr(if r >= u64::from(c.q) {
+            r - u64::from(c.q)
+        } else {
+            r
+        } as u32)
     }
 }
 
@@ -244,8 +250,16 @@ mod tests {
     fn primality_agrees_with_trial_division_near_the_range() {
         // Trial division decides every number it is given; compare on a
         // window at each end of the range and on the edges of the bases.
-        let slow = |n: u32| n >= 2 && (2..).take_while(|d| d * d <= n).all(|d| !n.is_multiple_of(d));
-        for n in (0..2000).chain(LOW - 500..LOW + 500).chain(HIGH - 1000..HIGH) {
+        let slow = |n: u32| {
+            n >= 2
+                && (2..)
+                    .take_while(|d| d * d <= n)
+                    .all(|d| !n.is_multiple_of(d))
+        };
+        for n in (0..2000)
+            .chain(LOW - 500..LOW + 500)
+            .chain(HIGH - 1000..HIGH)
+        {
             assert_eq!(is_prime(n), slow(n), "{n}");
         }
         assert_eq!(
@@ -259,9 +273,16 @@ mod tests {
     fn draws_are_primes_of_the_range_and_reproducible() {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         let drawn: Vec<u32> = (0..200).map(|_| draw(&mut rng)).collect();
-        assert!(drawn.iter().all(|&q| is_prime(q) && (LOW..HIGH).contains(&q)));
+        assert!(
+            drawn
+                .iter()
+                .all(|&q| is_prime(q) && (LOW..HIGH).contains(&q))
+        );
         let mut again = ChaCha8Rng::seed_from_u64(5);
-        assert_eq!(drawn, (0..200).map(|_| draw(&mut again)).collect::<Vec<_>>());
+        assert_eq!(
+            drawn,
+            (0..200).map(|_| draw(&mut again)).collect::<Vec<_>>()
+        );
         let mut distinct = drawn.clone();
         distinct.sort_unstable();
         distinct.dedup();

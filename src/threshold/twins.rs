@@ -189,7 +189,10 @@ fn claim(path: &Path, spec: &TwinsSpec) -> Result<()> {
         }
         return Ok(());
     }
-    output::write_atomic(path, serde_json::to_string_pretty(spec).expect("spec serializes"))
+    output::write_atomic(
+        path,
+        serde_json::to_string_pretty(spec).expect("spec serializes"),
+    )
 }
 
 /// Cuts a last line that a kill left without its newline, so that what
@@ -270,7 +273,10 @@ pub fn tally(all: &[SequenceRanks]) -> Vec<Tally> {
             .expect("finite")
     });
     for s in sorted {
-        if out.last().is_none_or(|t| (t.gamma, t.box_len) != (s.gamma, s.box_len)) {
+        if out
+            .last()
+            .is_none_or(|t| (t.gamma, t.box_len) != (s.gamma, s.box_len))
+        {
             out.push(Tally {
                 gamma: s.gamma,
                 box_len: s.box_len,
@@ -301,7 +307,10 @@ pub fn write(prefix: &Path, tallies: &[Tally], command: &str) -> Result<Vec<Path
     let with = |ext: &str| output::with_extension(prefix, ext);
     let (json, csv) = (with("json"), with("csv"));
     let doc = serde_json::json!({ "command": command, "tallies": tallies });
-    output::write_atomic(&json, serde_json::to_string_pretty(&doc).expect("tallies serialize"))?;
+    output::write_atomic(
+        &json,
+        serde_json::to_string_pretty(&doc).expect("tallies serialize"),
+    )?;
     output::write_csv(&csv, tallies)?;
     Ok(vec![json, csv])
 }
@@ -338,7 +347,10 @@ mod tests {
         assert_eq!(t.len(), 2);
         let g23 = &t[0];
         assert_eq!((g23.gamma, g23.sequences, g23.evaluations), (23.0, 2, 4));
-        assert_eq!((g23.twins_differ, g23.lone_differs, g23.any_below), (2, 1, 3));
+        assert_eq!(
+            (g23.twins_differ, g23.lone_differs, g23.any_below),
+            (2, 1, 3)
+        );
         assert_eq!((t[1].evaluations, t[1].any_below), (1, 0));
     }
 

@@ -119,7 +119,11 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     for k in 1..realizations.count() {
         match realizations.check(k, &twin, &best) {
             Ok(Check::Confirmed { prime }) => out.primes.push(prime),
-            Ok(Check::Whole { prime, rank, larger }) => {
+            Ok(Check::Whole {
+                prime,
+                rank,
+                larger,
+            }) => {
                 out.primes.push(prime);
                 agree &= rank == best.rank;
                 if let Some(l) = larger {

@@ -823,7 +823,11 @@ fn plain_text_output_uses_the_command_line_names() {
         "faces",
     ];
     let out = text(&succeeds(&truth).stdout);
-    for needle in ["spanning (faces):", "method: exact in F_q for q = ", "realizations agree: true"] {
+    for needle in [
+        "spanning (faces):",
+        "method: exact in F_q for q = ",
+        "realizations agree: true",
+    ] {
         assert!(out.contains(needle), "{needle:?} in {out}");
     }
     for debug in ["Wrap", "Faces", "Sound", "Exact"] {
@@ -1017,7 +1021,10 @@ fn the_memory_check_compares_the_estimate_and_the_process_with_the_limit() {
         e.contacts
     );
     let held = rgc::usage::held().map_or(0, |h| h.resident);
-    assert!(rods.check_memory(Some(held + e.bytes + (256 << 20))).is_ok());
+    assert!(
+        rods.check_memory(Some(held + e.bytes + (256 << 20)))
+            .is_ok()
+    );
     assert!(rods.check_memory(None).is_ok());
     let err = rods.check_memory(Some(e.bytes)).unwrap_err().to_string();
     assert!(

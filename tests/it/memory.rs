@@ -105,7 +105,10 @@ fn the_peak_stays_within_the_limit_whether_refused_or_finished() {
     for r in &rows {
         assert!(r.within, "{r:?}");
         assert!(
-            within_limit((r.peak_mib * mib as f64) as u64, (r.limit_mib * mib as f64) as u64),
+            within_limit(
+                (r.peak_mib * mib as f64) as u64,
+                (r.limit_mib * mib as f64) as u64
+            ),
             "{r:?}"
         );
     }
@@ -115,7 +118,11 @@ fn the_peak_stays_within_the_limit_whether_refused_or_finished() {
         "{:?}",
         rows[0]
     );
-    assert!(reason(&rows[1]).starts_with("the dense front of "), "{:?}", rows[1]);
+    assert!(
+        reason(&rows[1]).starts_with("the dense front of "),
+        "{:?}",
+        rows[1]
+    );
     assert_eq!(rows[2].refused, None, "{:?}", rows[2]);
     assert!(rows[2].peak_mib > 20.0, "{:?}", rows[2]);
     // The rule itself: 5% or 20 MB over, the larger.
@@ -143,7 +150,10 @@ fn an_edge_list_naming_a_huge_node_is_refused_before_anything_is_allocated() {
         ],
     );
     refused(
-        &rgc_under(ulimit, &["compress", "--edges", edges, "--memory-limit", "1G"]),
+        &rgc_under(
+            ulimit,
+            &["compress", "--edges", edges, "--memory-limit", "1G"],
+        ),
         &[
             "over the memory limit: 1 compression(s) of 49999999 rods and 3 contacts needs about ",
             "over the limit of 1.00 GiB (--memory-limit)",
@@ -184,7 +194,16 @@ fn an_address_space_limit_refuses_truth_instead_of_aborting() {
         refused(&rgc_under(Some(300_000), &all), &needles);
     }
     // `sample --truth` takes the same refusal, not a report of it.
-    let sample = ["sample", "--gamma", "23", "--box", "8", "--density", "40", "--truth"];
+    let sample = [
+        "sample",
+        "--gamma",
+        "23",
+        "--box",
+        "8",
+        "--density",
+        "40",
+        "--truth",
+    ];
     for args in [&args[..], &sample[..]] {
         let out = rgc_under(Some(600_000), args);
         if rgc::usage::product_scratch() > 600_000 * 1024 {

@@ -47,7 +47,10 @@ fn draws_in_a_tiny_prime_lose_rank_and_a_large_prime_catches_them() {
             decided += 1;
             let large = ranks[realizations - 1].1;
             assert_eq!(large, true_rank, "seed {seed}: the large prime's rank");
-            assert!(ranks.iter().all(|r| r.1 <= true_rank), "only lost rank: {ranks:?}");
+            assert!(
+                ranks.iter().all(|r| r.1 <= true_rank),
+                "only lost rank: {ranks:?}"
+            );
             assert_eq!((rank, d), (true_rank, dof), "seed {seed}: {ranks:?}");
             // A later realization that lost rank still confirms a first
             // one that did not (its contracted kernel is the first's); a
@@ -57,7 +60,10 @@ fn draws_in_a_tiny_prime_lose_rank_and_a_large_prime_catches_them() {
             assert_eq!(agree, Some(!lost), "seed {seed}: ranks {ranks:?}");
         }
         assert!(decided > 100, "{primes:?}: {decided} of 300 seeds decided");
-        assert!(both > 0, "{primes:?}: no draw in F_13 lost rank in {decided}");
+        assert!(
+            both > 0,
+            "{primes:?}: no draw in F_13 lost rank in {decided}"
+        );
     }
 }
 
@@ -73,7 +79,11 @@ fn each_realization_has_a_prime_of_its_own() {
     };
     let t = truth(&topo, three);
     assert_eq!(t.primes.len(), 3);
-    assert!(t.primes.iter().all(|&q| rgc::math::prime::is_prime(q) && q > 1 << 23 && q < 1 << 24));
+    assert!(
+        t.primes
+            .iter()
+            .all(|&q| rgc::math::prime::is_prime(q) && q > 1 << 23 && q < 1 << 24)
+    );
     assert!(t.primes[0] != t.primes[1] && t.primes[1] != t.primes[2] && t.primes[0] != t.primes[2]);
     assert_eq!(truth(&topo, three).primes, t.primes);
     assert_ne!(truth(&topo, TruthOptions::seeded(8)).primes[0], t.primes[0]);
@@ -85,7 +95,11 @@ fn each_realization_has_a_prime_of_its_own() {
         },
     );
     assert_eq!(one.primes, t.primes[..1]);
-    assert_eq!(exact(&one).map(|e| e.2), Some(None), "one realization checks nothing");
+    assert_eq!(
+        exact(&one).map(|e| e.2),
+        Some(None),
+        "one realization checks nothing"
+    );
 }
 
 /// Why truth's rigid clusters need the twins as much as its flexibilities:
@@ -119,8 +133,16 @@ fn a_realization_with_the_generic_rank_can_lock_a_mechanism() {
     for (j, b, d) in [generic, dead] {
         assert_eq!(four_bar(j, b, d, false), 3, "one motion at {j:?} {b:?}");
     }
-    assert_eq!(four_bar(generic.0, generic.1, generic.2, true), 4, "the rocker moves");
-    assert_eq!(four_bar(dead.0, dead.1, dead.2, true), 3, "the rocker is locked");
+    assert_eq!(
+        four_bar(generic.0, generic.1, generic.2, true),
+        4,
+        "the rocker moves"
+    );
+    assert_eq!(
+        four_bar(dead.0, dead.1, dead.2, true),
+        3,
+        "the rocker is locked"
+    );
 }
 
 /// The one unlucky draw `rgc twins` met in 7,793 evaluations at gamma 23
@@ -143,7 +165,11 @@ fn the_unlucky_draw_found_in_the_committed_studies_is_outranked() {
     let ranks = realization_ranks(&view.topology(), opts).expect("exact");
     assert_eq!(
         ranks,
-        [(10_455_209, 30_409), (12_408_127, 30_408), (15_300_433, 30_409)]
+        [
+            (10_455_209, 30_409),
+            (12_408_127, 30_408),
+            (15_300_433, 30_409)
+        ]
     );
     let t = truth(&view.topology(), opts);
     assert_eq!(exact(&t).map(|e| e.0), Some(30_409));

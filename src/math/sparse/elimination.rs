@@ -161,7 +161,14 @@ fn reserve_product_scratch() {
     use faer::{Accum, Mat, Par, linalg::matmul::matmul};
     let a = Mat::<f64>::zeros(17, 17);
     let mut c = Mat::<f64>::zeros(17, 17);
-    matmul(c.as_mut(), Accum::Add, a.as_ref(), a.as_ref(), 1.0, Par::Seq);
+    matmul(
+        c.as_mut(),
+        Accum::Add,
+        a.as_ref(),
+        a.as_ref(),
+        1.0,
+        Par::Seq,
+    );
     PRODUCT_SCRATCH.set(true);
 }
 

@@ -291,10 +291,7 @@ fn limits_table(rows: &[bench::LimitRow], out: &mut String) {
     if rows.is_empty() {
         return;
     }
-    say!(
-        out,
-        "gamma   rho   L  limit MiB  peak MiB  within  outcome"
-    );
+    say!(out, "gamma   rho   L  limit MiB  peak MiB  within  outcome");
     for r in rows {
         say!(
             out,
@@ -305,7 +302,11 @@ fn limits_table(rows: &[bench::LimitRow], out: &mut String) {
             r.limit_mib,
             r.peak_mib,
             if r.within { "yes" } else { "NO" },
-            if r.refused.is_some() { "refused" } else { "finished" }
+            if r.refused.is_some() {
+                "refused"
+            } else {
+                "finished"
+            }
         );
     }
     let kept = rows.iter().filter(|r| r.within).count();

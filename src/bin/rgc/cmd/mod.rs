@@ -34,8 +34,8 @@ pub mod stability;
 pub mod threshold;
 pub mod tradeoff;
 pub mod transition;
-pub mod twins;
 pub mod truth;
+pub mod twins;
 pub mod workspace;
 
 /// The output files given, as (flag, path), checked before the work: each

@@ -41,7 +41,13 @@ pub fn run(a: TwinsArgs, out: &mut String) -> Result<()> {
         sequences: a.sequences,
         realizations: a.realizations as usize,
     };
-    let tallies = twins::run(&a.dirs, &spec, &a.out, a.tally.as_deref(), &Reporter::new(a.quiet))?;
+    let tallies = twins::run(
+        &a.dirs,
+        &spec,
+        &a.out,
+        a.tally.as_deref(),
+        &Reporter::new(a.quiet),
+    )?;
     say!(
         out,
         "{:>6} {:>5} {:>9} {:>11} {:>12} {:>12} {:>10}",
