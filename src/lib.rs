@@ -5,11 +5,12 @@
 //! data flow, and `src/MODEL.md` states the model that the `MODEL §n`
 //! references cite.
 //!
-//! * [`error`], [`math`] — errors; F_p, matrices, float rank, 3-vectors, statistics;
+//! * [`error`] — one error type, every message on one line;
+//! * [`usage`] — what the process used and holds (Linux), and the guard of the memory limit;
+//! * [`math`] — F_p, matrices, float rank, 3-vectors, statistics;
 //! * [`output`] — files written atomically, writable paths checked up front, CSV;
 //! * [`stamp`] — what made a results file, and the refusal to replace one made differently;
 //! * [`progress`] — how long computations report progress to their caller;
-//! * [`usage`] — what the process used and holds (Linux), and the guard of the memory limit;
 //! * [`rods`] — soft-core spherocylinders in a periodic box;
 //! * [`contacts`] — which rods touch (a fine grid of rod covers, robust segment distance);
 //! * [`graph`] — the contact graph, its statistics, graph6 and edge lists;
@@ -33,11 +34,11 @@
 //! * [`mod@bench`] — the speed and memory benchmarks behind `rgc bench`.
 
 pub mod error;
+pub mod usage;
 pub mod math;
 pub mod output;
 pub mod progress;
 pub mod stamp;
-pub mod usage;
 
 pub mod rods;
 
