@@ -35,6 +35,7 @@
 
 pub mod error;
 pub mod usage;
+
 pub mod math;
 pub mod output;
 pub mod progress;
