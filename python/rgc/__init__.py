@@ -186,7 +186,7 @@ class UndecidedMemoryError(UndecidedError, MemoryError):
     UndecidedError that is also a MemoryError."""
 
     def _message(self) -> str:
-        return f"truth refused this system: {self.reason} (raise memory_limit)"
+        return f"truth refused this system: {self.reason}"
 
 
 def truth(

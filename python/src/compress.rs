@@ -12,10 +12,6 @@ use rgc::spanning::Criterion;
 use crate::system::PyRods;
 use crate::{count, error, interrupt, value_error};
 
-/// The most runs one call takes: the command line's cap (`rgc sample
-/// --runs`), which also keeps the runs' answers within memory.
-pub const MAX_RUNS: u64 = 100_000;
-
 pub(crate) fn criterion(name: &str) -> PyResult<Criterion> {
     match name {
         "wrap" => Ok(Criterion::Wrap),
@@ -151,7 +147,7 @@ pub fn compress(
 ) -> PyResult<PyCompression> {
     let seed = crate::seed(seed)?;
     let runs = match runs {
-        Some(r) => count(r, "runs", 1, MAX_RUNS)? as usize,
+        Some(r) => count(r, "runs", 1, rgc::engine::MAX_RUNS)? as usize,
         None => 1,
     };
     let opts = options(

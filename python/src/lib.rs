@@ -29,9 +29,14 @@ pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
 /// its memory, `ValueError` for everything else (what the CLI exits 2 on).
 pub(crate) fn error(e: rgc::Error) -> PyErr {
     match e {
-        rgc::Error::Memory(_) => PyMemoryError::new_err(e.to_string()),
+        rgc::Error::Memory(_) => PyMemoryError::new_err(pythonic(&e.to_string())),
         _ => value_error(e),
     }
+}
+
+/// A library message with the command line's flag named as Python's argument.
+pub(crate) fn pythonic(message: &str) -> String {
+    message.replace("(--memory-limit)", "(memory_limit)")
 }
 
 /// How Python writes `obj`, for a message.
@@ -79,6 +84,6 @@ fn _rgc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check::check_graph6, m)?)?;
     m.add_function(wrap_pyfunction!(bench::library_seconds, m)?)?;
     pickle::register(m)?;
-    m.add("MAX_RUNS", compress::MAX_RUNS)?;
+    m.add("MAX_RUNS", rgc::engine::MAX_RUNS)?;
     Ok(())
 }

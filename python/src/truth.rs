@@ -11,7 +11,7 @@ use rgc::truth::{Truth, TruthOptions};
 
 use crate::compress::{check_memory, criterion};
 use crate::system::PyRods;
-use crate::{count, interrupt, value_error};
+use crate::{count, interrupt, pythonic, value_error};
 
 /// Rigid clusters of the exact truth and the degrees of freedom.
 #[pyclass(name = "Truth", module = "rgc", frozen)]
@@ -145,7 +145,7 @@ pub fn truth(
         dof: t.outcome.dof(),
         spanning: t.spanning,
         method: t.outcome.decision().to_string(),
-        reason: t.outcome.reason().map(str::to_string),
+        reason: t.outcome.reason().map(pythonic),
         memory_refused: t.outcome.refused().is_some(),
         report: serde_json::to_string(&t).map_err(value_error)?,
     })

@@ -59,6 +59,6 @@ pub use motif::{Motif, MotifCounts};
 pub use rule::CompiledRule;
 pub use ruleset::RuleSet;
 pub use run::{
-    Engine, Matching, check_runs_memory, compress, compress_from, compress_runs, run_seed,
-    runs_memory,
+    Engine, MAX_RUNS, Matching, check_runs_memory, compress, compress_from, compress_runs,
+    run_seed, runs_memory,
 };

@@ -497,6 +497,10 @@ pub fn run_seed(seed: u64, k: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// The most independent compressions one call makes (`rgc sample --runs`,
+/// the Python module's `runs`): it keeps the runs' answers within memory.
+pub const MAX_RUNS: u64 = 100_000;
+
 /// Bytes one run's state holds per node and per contact while it runs,
 /// and its outcome per node after (its bodies): measured at 60 to 70, 75
 /// and 13 bytes on gamma 23 graphs of 320,000 rods and on isolated nodes.

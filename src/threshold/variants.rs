@@ -313,12 +313,14 @@ pub fn study_dir(root: &Path, spec: &StudySpec) -> PathBuf {
 /// Runs (or resumes) every variant's study on the sequences of `template`
 /// (its `sequences` is ignored: each variant says how many it analyses).
 /// Variants whose records would be the same share one study, run with as
-/// many sequences as the most demanding of them analyses. Returns, per
-/// variant, the index of its study among the returned specs and directories.
+/// many sequences as the most demanding of them analyses, each step under
+/// `memory_limit` ([`RunOptions`]). Returns, per variant, the index of its
+/// study among the returned specs and directories.
 pub fn run_studies(
     template: &StudySpec,
     variants: &[Variant],
     root: &Path,
+    memory_limit: Option<u64>,
     progress: &dyn Progress,
 ) -> Result<(Vec<StudySpec>, Vec<PathBuf>, Vec<usize>)> {
     let mut specs: Vec<(StudySpec, Vec<CompiledRule>)> = Vec::new();
@@ -360,7 +362,7 @@ pub fn run_studies(
             out: dir.clone(),
             shard: Shard::WHOLE,
             extend: false,
-            memory_limit: None,
+            memory_limit,
         };
         progress.note(&format!("study {}", opts.out.display()));
         study::run(spec, rules, &opts, progress)?;
@@ -387,11 +389,12 @@ pub fn run_variants(
     template: &StudySpec,
     variants: &[Variant],
     root: &Path,
+    memory_limit: Option<u64>,
     bootstrap: usize,
     pairing: Pairing,
     progress: &dyn Progress,
 ) -> Result<Vec<VariantOutcome>> {
-    let (specs, dirs, of_variant) = run_studies(template, variants, root, progress)?;
+    let (specs, dirs, of_variant) = run_studies(template, variants, root, memory_limit, progress)?;
     let mut outcomes: Vec<VariantOutcome> = Vec::new();
     let mut analysed: Vec<Vec<Record>> = Vec::new();
     for (v, &k) in variants.iter().zip(&of_variant) {

@@ -214,3 +214,40 @@ fn an_address_space_limit_refuses_truth_instead_of_aborting() {
         }
     }
 }
+
+#[test]
+fn every_study_refuses_a_step_over_its_limit() {
+    // The process alone holds more than 8 MiB, so the first step of each
+    // study is refused: a compression for `threshold` and `compare`,
+    // truth (the first variant) for `bias`; no record is kept.
+    let dir = crate::scratch("studies-under-a-limit");
+    let study = ["--gamma", "23", "--boxes", "3,4,5", "--sequences", "5"];
+    let limit = ["--memory-limit", "8M", "--quiet"];
+    let out = |sub: &str| dir.join(sub).to_string_lossy().into_owned();
+    let th = out("th");
+    let mut threshold = vec!["threshold", "--out", &th];
+    threshold.extend(study.iter().chain(&limit));
+    let line = refused(
+        &rgc_under(None, &threshold),
+        &[
+            "1 compression(s) of ",
+            "over the limit of 8.00 MiB (--memory-limit)",
+        ],
+    );
+    assert!(
+        line.starts_with("rgc: error: over the memory limit: "),
+        "{line}"
+    );
+    let records = std::fs::read_to_string(dir.join("th/records.jsonl")).unwrap_or_default();
+    assert!(records.is_empty(), "{records}");
+    let (s, r) = (out("s"), out("r"));
+    for (sub, needle) in [
+        ("bias", "truth of the first "),
+        ("compare", "1 compression(s) of "),
+    ] {
+        let mut args = vec![sub, "--studies", &s, "--results", &r];
+        args.extend(study.iter().chain(&limit));
+        refused(&rgc_under(None, &args), &[needle, "(--memory-limit)"]);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

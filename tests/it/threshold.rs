@@ -484,7 +484,16 @@ fn variants_share_studies_and_analyse_the_first_sequences() {
         v("paper", RuleSet::Paper, 1, 12),
         v("sound K2", RuleSet::Sound, 2, 12),
     ];
-    let out = run_variants(&template, &variants, &root, 30, Pairing::First, &Silent).unwrap();
+    let out = run_variants(
+        &template,
+        &variants,
+        &root,
+        None,
+        30,
+        Pairing::First,
+        &Silent,
+    )
+    .unwrap();
     assert_eq!(out.len(), 4);
     // Each threshold relative to the first variant's.
     let t0 = out[0].threshold.value;
@@ -537,6 +546,7 @@ fn paired_differences_compare_the_same_sequences() {
         &template,
         &[v("sound", RuleSet::Sound), v("paper", RuleSet::Paper)],
         &root,
+        None,
         20,
         Pairing::Previous,
         &Silent,

@@ -14,7 +14,7 @@ use rgc::threshold::study::StudySpec;
 use rgc::{Error, Result};
 
 /// How much memory a system may use: `sample`, `render`, `truth`,
-/// `compress` and the studies that run truth.
+/// `compress`, and every study (`threshold`, `compare`, `tradeoff`, `bias`).
 #[derive(Args)]
 pub struct MemoryArgs {
     /// Refuse, before each large step, work that would take the process's resident size past this (the rods, contacts and graph up front; truth's realization and each dense front of its elimination; the compressions): bytes, or with a unit (`512M`, `4G`, `1.5GiB`). With or without it, a step is refused that the machine (free memory, a cgroup's limit) or an address-space limit (`ulimit -v`) has no room for.
@@ -67,7 +67,7 @@ pub struct EngineArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Independent compressions; a system is rigid-spanning if any finds a spanning body.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=rgc::engine::MAX_RUNS))]
     pub runs: u64,
     #[command(flatten)]
     pub rules: RuleArgs,
@@ -353,6 +353,8 @@ impl StudyArgs {
 pub struct VariantArgs {
     #[command(flatten)]
     pub study: StudyArgs,
+    #[command(flatten)]
+    pub memory: MemoryArgs,
     /// Where the studies go: one directory each, named by every parameter of its study; rerun to resume.
     #[arg(long, default_value = "results/studies")]
     pub studies: PathBuf,

@@ -27,12 +27,13 @@ pub fn measure(
     template: &StudySpec,
     design: &Design,
     root: &Path,
+    memory_limit: Option<u64>,
     bootstrap: usize,
     progress: &dyn Progress,
 ) -> Result<(Vec<VariantBias>, Vec<Record>)> {
     check_design(design)?;
     let (specs, dirs, of_variant) =
-        variants::run_studies(template, &design.variants, root, progress)?;
+        variants::run_studies(template, &design.variants, root, memory_limit, progress)?;
     let mut truth: Vec<Record> = Vec::new();
     let mut out = Vec::new();
     for (i, (v, &k)) in design.variants.iter().zip(&of_variant).enumerate() {
@@ -293,7 +294,7 @@ mod tests {
                 .collect();
             std::fs::write(dir.join("records.jsonl"), lines).unwrap();
         }
-        let (out, truth_back) = measure(&template, &design, &root, 2, &Silent).unwrap();
+        let (out, truth_back) = measure(&template, &design, &root, None, 2, &Silent).unwrap();
         assert_eq!(truth_back, truth);
         assert_eq!(out.len(), 2);
         let (t, v) = (&out[0], &out[1]);

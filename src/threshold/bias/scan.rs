@@ -45,6 +45,7 @@ pub fn scan(
     boxes: &[f64],
     sequences: u64,
     half_width: f64,
+    memory_limit: Option<u64>,
     progress: &dyn Progress,
 ) -> Result<Vec<Scan>> {
     use rayon::prelude::*;
@@ -54,7 +55,7 @@ pub fn scan(
         criterion: template.criterion,
         engine: crate::engine::Engine::base(RuleSet::Sound),
         runs: 1,
-        memory_limit: None,
+        memory_limit,
     };
     let chosen: Vec<&Record> = truth
         .iter()
@@ -204,7 +205,7 @@ mod tests {
         let spec = spec_at(3.0);
         let seed = spec.sequence_seed(3.0, 0);
         let truth = vec![nested(3.0, 0, seed, 3, 3)];
-        let err = scan(&spec, &truth, &[4.0], 1, 0.1, &Silent)
+        let err = scan(&spec, &truth, &[4.0], 1, 0.1, None, &Silent)
             .unwrap_err()
             .to_string();
         assert!(
@@ -213,7 +214,7 @@ mod tests {
         );
         // Sequences beyond the first `sequences` are not scanned either.
         let later = vec![nested(3.0, 1, seed, 3, 3)];
-        assert!(scan(&spec, &later, &[3.0], 1, 0.1, &Silent).is_err());
+        assert!(scan(&spec, &later, &[3.0], 1, 0.1, None, &Silent).is_err());
     }
 
     #[test]
@@ -223,17 +224,17 @@ mod tests {
         let spec = spec_at(3.0);
         let seed = spec.sequence_seed(3.0, 0);
         let truth = vec![nested(3.0, 0, seed, 3, 3)];
-        let s = scan(&spec, &truth, &[3.0], 1, 0.1, &Silent).unwrap();
+        let s = scan(&spec, &truth, &[3.0], 1, 0.1, None, &Silent).unwrap();
         assert_eq!(s.len(), 1);
         let s = &s[0];
         assert_eq!((s.critical, s.from, s.to), (3, 2, 4));
         assert_eq!((s.first_spanning, &s.drops[..]), (None, &[][..]));
         assert!(s.undecided.is_empty());
         let truth = vec![nested(3.0, 0, seed, 1, 1)];
-        let s = &scan(&spec, &truth, &[3.0], 1, 0.5, &Silent).unwrap()[0];
+        let s = &scan(&spec, &truth, &[3.0], 1, 0.5, None, &Silent).unwrap()[0];
         assert_eq!((s.from, s.to), (1, 2));
         let truth = vec![nested(3.0, 0, seed, 10, 10)];
-        let s = &scan(&spec, &truth, &[3.0], 1, 0.25, &Silent).unwrap()[0];
+        let s = &scan(&spec, &truth, &[3.0], 1, 0.25, None, &Silent).unwrap()[0];
         assert_eq!((s.from, s.to), (7, 13));
     }
 
@@ -250,14 +251,14 @@ mod tests {
             undecided(3.0, 0, spec.sequence_seed(3.0, 0), 3),
             nested(3.0, 1, spec.sequence_seed(3.0, 1), 3, 3),
         ];
-        let s = scan(&spec, &truth, &[3.0], 2, 0.1, &Silent).unwrap();
+        let s = scan(&spec, &truth, &[3.0], 2, 0.1, None, &Silent).unwrap();
         assert_eq!(s.iter().map(|s| s.index).collect::<Vec<_>>(), vec![1]);
         // The decided sequence scans as it does alone.
-        let alone = scan(&spec, &truth[1..], &[3.0], 2, 0.1, &Silent).unwrap();
+        let alone = scan(&spec, &truth[1..], &[3.0], 2, 0.1, None, &Silent).unwrap();
         assert_eq!(s, alone);
         // A box whose scanned sequences are all undecided scans none, without
         // error: the box is one of the study's.
-        let s = scan(&spec, &truth, &[3.0], 1, 0.1, &Silent).unwrap();
+        let s = scan(&spec, &truth, &[3.0], 1, 0.1, None, &Silent).unwrap();
         assert!(s.is_empty());
     }
 

@@ -29,6 +29,14 @@ pub(super) fn compress(
         let step = Step::new(n, spans, usize::from(spans));
         return Ok((step, vec![Vec::new(); setup.runs], false));
     }
+    // The runs follow one another; each holds its state, all their bodies.
+    engine::check_runs_memory(
+        graph.n_nodes(),
+        graph.n_edges(),
+        setup.runs,
+        0,
+        setup.memory_limit,
+    )?;
     let seed = run_seed(seq.seed, n as u64);
     // Certified compression only changes a verdict that spans (its bodies lie
     // inside the sound ones), so truth checks only the spanning runs; the
@@ -89,7 +97,7 @@ pub fn truth_spanning(setup: &Setup, seq: &Sequence, n: usize) -> Option<bool> {
 /// The error of a truth refused for the memory limit.
 pub(super) fn refusal(seq: &Sequence, n: usize, t: truth::Truth) -> Error {
     Error::Memory(format!(
-        "truth of the first {n} rods of the sequence seeded {}: {} (raise it with --memory-limit)",
+        "truth of the first {n} rods of the sequence seeded {}: {}",
         seq.seed,
         t.outcome.reason().unwrap_or_default()
     ))

@@ -76,8 +76,14 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
     let made = Stamp::new(None, &command, MadeBy::of(&template, &design));
     made.check_replace(&path("json"), "experiment", c.force)?;
     let progress = Reporter::new(c.quiet || c.json);
-    let (outcomes, truth): (Vec<VariantBias>, _) =
-        bias::measure(&template, &design, &c.studies, c.study.bootstrap, &progress)?;
+    let (outcomes, truth): (Vec<VariantBias>, _) = bias::measure(
+        &template,
+        &design,
+        &c.studies,
+        c.memory.memory_limit,
+        c.study.bootstrap,
+        &progress,
+    )?;
     let title = format!(
         "3D-RGC against the exact truth, gamma {}: paired bias of the critical density",
         c.study.gamma
@@ -95,6 +101,7 @@ pub fn run(a: BiasArgs, out: &mut String) -> Result<()> {
             &a.scan_boxes,
             a.scan_sequences,
             a.scan_width,
+            c.memory.memory_limit,
             &progress,
         )?;
         let summary = bias::scan_summary(&scans);

@@ -137,6 +137,7 @@ fn run_experiment(
         &template,
         &design.variants,
         &args.studies,
+        args.memory.memory_limit,
         args.study.bootstrap,
         design.pairing,
         &Reporter::new(args.quiet || args.json),

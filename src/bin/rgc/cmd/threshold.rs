@@ -76,9 +76,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         out: a.out.clone(),
         shard,
         extend: a.extend,
-        memory_limit: (a.kind == Kind::Truth)
-            .then_some(a.memory.memory_limit)
-            .flatten(),
+        memory_limit: a.memory.memory_limit,
     };
     let compiled: Vec<_> = rules.iter().map(rgc::engine::CompiledRule::new).collect();
     let done = study::run(&spec, &compiled, &opts, &Reporter::new(a.quiet || a.json))?;

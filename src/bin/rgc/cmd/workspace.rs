@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use rgc::threshold::fss;
-use rgc::threshold::sequence::Kind;
 use rgc::threshold::study::{self, MotifSet, RunOptions};
 use rgc::threshold::workspace::{self, Pointers};
 use rgc::{Result, rule_file};
@@ -111,9 +110,7 @@ fn slice(a: SliceArgs, out: &mut String) -> Result<()> {
         out: dir.clone(),
         shard: slice.shard,
         extend: false,
-        memory_limit: (slice.spec.kind == Kind::Truth)
-            .then_some(a.memory.memory_limit)
-            .flatten(),
+        memory_limit: a.memory.memory_limit,
     };
     let compiled: Vec<_> = rules.iter().map(rgc::engine::CompiledRule::new).collect();
     let done = study::run(&slice.spec, &compiled, &opts, &Reporter::new(a.quiet))?;
