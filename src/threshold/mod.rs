@@ -8,6 +8,8 @@ pub mod aspect;
 pub mod bias;
 pub mod experiment;
 pub mod fss;
+pub mod journal;
+pub mod locality;
 pub mod logistic;
 pub mod paired;
 pub mod planes;

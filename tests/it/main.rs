@@ -18,6 +18,7 @@ mod fss;
 mod graphio;
 mod graphml;
 mod layers;
+mod locality;
 mod memory;
 mod mine;
 mod planes;
