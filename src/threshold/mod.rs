@@ -8,6 +8,7 @@ pub mod aspect;
 pub mod bias;
 pub mod experiment;
 pub mod fss;
+pub mod horizon;
 pub mod journal;
 pub mod locality;
 pub mod logistic;

@@ -17,6 +17,7 @@ mod float;
 mod fss;
 mod graphio;
 mod graphml;
+mod horizon;
 mod layers;
 mod locality;
 mod memory;

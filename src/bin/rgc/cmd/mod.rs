@@ -23,6 +23,7 @@ pub mod check;
 pub mod compare;
 pub mod compress;
 pub mod enumerate;
+pub mod horizon;
 pub mod locality;
 pub mod merge;
 pub mod mine;
