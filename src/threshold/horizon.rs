@@ -261,7 +261,7 @@ pub fn write(
         &json,
         serde_json::to_string_pretty(&doc).expect("variants serialize"),
     )?;
-    output::write_csv(&csv, &variants.iter().map(row).collect::<Vec<_>>())?;
+    output::write_csv(&csv, variants.iter().map(row).collect::<Vec<_>>())?;
     Ok(vec![json, csv])
 }
 
