@@ -69,6 +69,11 @@ pub struct AuditOptions {
     pub runs: u64,
     /// Also audit every way a body's contacts can share its rods (mixed only).
     pub rod_sharing: bool,
+    /// Write rule files only for the sizes above the default audit's (rods
+    /// beyond 8, components beyond 4): the extended audit adds `rods-9.json`,
+    /// `rods-10.json` and `mixed-5.json` and leaves the default audit's rule
+    /// files as they are (their provenance names the default command).
+    pub extended: bool,
 }
 
 impl AuditOptions {
@@ -86,7 +91,22 @@ impl AuditOptions {
         if self.rod_sharing {
             command += " --rod-sharing";
         }
+        if self.extended {
+            command += " --extended";
+        }
         command.to_lowercase()
+    }
+
+    /// The extended audit (`rgc audit --extended`): rods-only motifs up to
+    /// 10 rods and mixed motifs up to 5 components, writing the rule files
+    /// of the sizes above the defaults only.
+    pub fn extended() -> Self {
+        AuditOptions {
+            max_rods: 10,
+            max_components: 5,
+            extended: true,
+            ..AuditOptions::default()
+        }
     }
 }
 
@@ -98,6 +118,7 @@ impl Default for AuditOptions {
             rules: RuleSet::Sound,
             runs: 8,
             rod_sharing: false,
+            extended: false,
         }
     }
 }
