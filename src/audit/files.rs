@@ -303,14 +303,37 @@ pub fn write_csv(path: &std::path::Path, rows: &[AuditRow]) -> Result<()> {
 mod tests {
     use super::*;
 
+    /// The extended audit writes only the rule files above the default
+    /// audit's sizes; any other audit, every size it audits.
+    #[test]
+    fn the_extended_audit_writes_only_the_larger_rule_files() {
+        let sizes = |o: &AuditOptions, kind| o.rule_sizes(kind).collect::<Vec<usize>>();
+        let extended = AuditOptions::extended();
+        assert_eq!(sizes(&extended, "rods"), [9, 10]);
+        assert_eq!(sizes(&extended, "mixed"), [5]);
+        assert_eq!(
+            extended.command(),
+            "rgc audit --max-rods 10 --max-components 5 --rules sound --extended"
+        );
+        let small = AuditOptions {
+            max_rods: 8,
+            max_components: 0,
+            ..AuditOptions::extended()
+        };
+        assert!(sizes(&small, "rods").is_empty() && sizes(&small, "mixed").is_empty());
+        let default = AuditOptions::default();
+        assert_eq!(sizes(&default, "rods"), (2..=8).collect::<Vec<_>>());
+        assert_eq!(sizes(&default, "mixed"), [2, 3, 4]);
+    }
+
     /// The committed tables, read back into rows, are written byte for byte.
     #[test]
     fn committed_tables_are_written_unchanged() {
         for name in [
             "audit-rods.csv",
             "audit-mixed.csv",
-            "audit-rods-10.csv",
-            "audit-mixed-5.csv",
+            "audit-extended/audit-rods.csv",
+            "audit-extended/audit-mixed.csv",
         ] {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("results")
@@ -341,7 +364,11 @@ mod tests {
                     }
                 })
                 .collect();
-            let out = std::env::temp_dir().join(format!("rgc-audit-{}-{name}", std::process::id()));
+            let out = std::env::temp_dir().join(format!(
+                "rgc-audit-{}-{}",
+                std::process::id(),
+                name.replace('/', "-")
+            ));
             write_csv(&out, &rows).unwrap();
             assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "{name}");
             std::fs::remove_file(out).unwrap();

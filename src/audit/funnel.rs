@@ -9,7 +9,7 @@ use serde::Serialize;
 use std::time::Instant;
 
 use crate::body::Body;
-use crate::engine::{CompiledRule, Engine, Motif, RuleSet};
+use crate::engine::{CompiledRule, Compression, Engine, Motif, RuleSet};
 use crate::enumerate::{
     GraphFilter, SmallGraph, TypedFilter, count_connected, par_fold_connected, typed_patterns,
 };
@@ -428,6 +428,23 @@ fn min_contacts(p: &Pattern) -> usize {
     at.into_iter().min().unwrap_or(0)
 }
 
+/// Whether the engine (`rules` with `known` added) compresses each pattern
+/// to one node, and how: the first of `runs` motif orders that does, with
+/// its compression, or `None` when it is still missed. This is what makes a
+/// missed motif reducible, in the audit and in [`super::redundant`].
+pub(super) fn reduced_by(
+    patterns: &[&Pattern],
+    rules: RuleSet,
+    known: &[CompiledRule],
+    runs: u64,
+) -> Result<Vec<Option<(u64, Compression)>>> {
+    let engine = Engine::with_rules(rules, known);
+    patterns
+        .par_iter()
+        .map(|p| engine.compressing_run(p, runs))
+        .collect()
+}
+
 /// Of the missed patterns, those the engine still misses with `known` rules
 /// added; returned as verified rules.
 fn irreducible(
@@ -437,15 +454,12 @@ fn irreducible(
     id: &str,
     enumeration: &str,
 ) -> Result<Vec<Rule>> {
-    let engine = Engine::with_rules(opts.rules, known);
-    let still: Vec<bool> = missed
-        .par_iter()
-        .map(|p| engine.compresses(p, opts.runs).map(|c| !c))
-        .collect::<Result<_>>()?;
-    let kept: Vec<&Pattern> = missed
-        .iter()
-        .zip(still)
-        .filter_map(|(p, s)| s.then_some(p))
+    let all: Vec<&Pattern> = missed.iter().collect();
+    let reduced = reduced_by(&all, opts.rules, known, opts.runs)?;
+    let kept: Vec<&Pattern> = all
+        .into_iter()
+        .zip(reduced)
+        .filter_map(|(p, r)| r.is_none().then_some(p))
         .collect();
     kept.par_iter()
         .enumerate()
