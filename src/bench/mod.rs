@@ -3,14 +3,15 @@
 //! of the paper's aspect ratios, with rule sets and networkx as
 //! references), and the truth benchmarks: how the cost of exact
 //! whole-system rigidity grows with the system, and so how large a box
-//! truth can decide. Every figure, median and ratio is made here; the
-//! command line only prints them.
+//! truth can decide; and what loading the extended rule sets costs. Every
+//! figure, median and ratio is made here; the command line only prints them.
 
 pub mod aspects;
 pub mod foundation;
 pub mod growth;
 pub mod measure;
 pub mod networkx;
+pub mod rule_load;
 pub mod truth;
 
 pub use crate::usage::{peak_rss_mib, reset_peak_rss};
@@ -25,6 +26,7 @@ pub use foundation::{
 pub use growth::Growth;
 pub use measure::one_thread;
 pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networkx_version};
+pub use rule_load::{LOAD_SETS, RuleLoadReport, RuleLoadRow, run_rule_load};
 pub use truth::{
     LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES,
     TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,
