@@ -152,7 +152,9 @@ pub fn compare_design(runs: usize, sequences: u64, extended: &[PathBuf]) -> Desi
 /// * `runs`: each count of `runs_list`; more than 10 runs analyse half the
 ///   sequences, which is where their cost puts them;
 /// * `motifs`: the audit's rule files in `rule_dir`, added size by size
-///   (`rods-6.json`, then `rods-8.json`, then `mixed-4.json`);
+///   (`rods-6.json`, then `rods-8.json`, then `mixed-4.json`; rods up to
+///   10, alone and with `mixed-4.json`), and the mined motifs
+///   (`mined.json`), alone and with all of those;
 /// * `realizations` (the family's stored name): a quarter and a half of the
 ///   sequences;
 /// * `method`: the fixed protocol with 1 and 10 runs.
@@ -173,12 +175,27 @@ pub fn tradeoff_design(runs_list: &[usize], sequences: u64, rule_dir: &Path) -> 
         });
     }
     let m = |f: &str| rule_dir.join(f);
+    let rods_10 = ["rods-6.json", "rods-8.json", "rods-9.json", "rods-10.json"].map(m);
+    let with = |more: &[&str]| -> Vec<PathBuf> {
+        rods_10
+            .iter()
+            .cloned()
+            .chain(more.iter().map(|f| m(f)))
+            .collect()
+    };
     for (label, files) in [
         ("+rods<=6 (=<=7)", vec![m("rods-6.json")]),
         ("+rods<=8", vec![m("rods-6.json"), m("rods-8.json")]),
         (
             "+rods<=8 +mixed<=4",
             vec![m("rods-6.json"), m("rods-8.json"), m("mixed-4.json")],
+        ),
+        ("+rods<=10", with(&[])),
+        ("+rods<=10 +mixed<=4", with(&["mixed-4.json"])),
+        ("+mined", vec![m("mined.json")]),
+        (
+            "+mined +rods<=10 +mixed<=4",
+            [vec![m("mined.json")], with(&["mixed-4.json"])].concat(),
         ),
     ] {
         variants.push(Variant {

@@ -371,7 +371,14 @@ fn tradeoff_measures_every_family_of_variants() {
     // six-rod rule, and two rules each of the larger sets.
     let motifs = dir.join("motifs");
     std::fs::create_dir_all(&motifs).unwrap();
-    for (name, keep) in [("rods-6", 1), ("rods-8", 2), ("mixed-4", 2)] {
+    for (name, keep) in [
+        ("rods-6", 1),
+        ("rods-8", 2),
+        ("mixed-4", 2),
+        ("rods-9", 1),
+        ("rods-10", 1),
+        ("mined", 1),
+    ] {
         let file = repo(&format!("motifs/{name}.json"));
         let mut f: Value = serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
         f["rules"].as_array_mut().unwrap().truncate(keep);
@@ -420,6 +427,10 @@ fn tradeoff_measures_every_family_of_variants() {
             "+rods<=6 (=<=7)",
             "+rods<=8",
             "+rods<=8 +mixed<=4",
+            "+rods<=10",
+            "+rods<=10 +mixed<=4",
+            "+mined",
+            "+mined +rods<=10 +mixed<=4",
             "R=5",
             "R=10",
             "fixed K=1",
@@ -429,30 +440,30 @@ fn tradeoff_measures_every_family_of_variants() {
     );
     assert_eq!(
         field("runs"),
-        [1, 1, 2, 1, 1, 1, 1, 1, 1, 10].map(Value::from)
+        [1, 1, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 10].map(Value::from)
     );
     assert_eq!(
         field("motif_rules"),
-        [0, 0, 0, 1, 3, 5, 0, 0, 0, 0].map(Value::from)
+        [0, 0, 0, 1, 3, 5, 5, 7, 1, 8, 0, 0, 0, 0].map(Value::from)
     );
     // `realizations`: the stored key of the sequences each variant analyses.
     assert_eq!(
         field("realizations"),
-        [20, 20, 20, 20, 20, 20, 5, 10, 20, 20].map(Value::from)
+        [20, 20, 20, 20, 20, 20, 20, 20, 20, 20, 5, 10, 20, 20].map(Value::from)
     );
     assert_eq!(
         field("method"),
         [
             "nested", "nested", "nested", "nested", "nested", "nested", "nested", "nested",
-            "fixed", "fixed"
+            "nested", "nested", "nested", "nested", "fixed", "fixed"
         ]
         .map(Value::from)
     );
-    // The sequence subsets read the K=1 study: eight studies for ten variants.
-    assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 8);
-    assert_eq!(v[6]["study"], v[1]["study"]);
-    assert_eq!(v[7]["study"], v[1]["study"]);
-    assert!(v[6]["cpu_seconds"].as_f64() < v[7]["cpu_seconds"].as_f64());
+    // The sequence subsets read the K=1 study: twelve studies for fourteen variants.
+    assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 12);
+    assert_eq!(v[10]["study"], v[1]["study"]);
+    assert_eq!(v[11]["study"], v[1]["study"]);
+    assert!(v[10]["cpu_seconds"].as_f64() < v[11]["cpu_seconds"].as_f64());
     // Several runs per system measure how often one run misses.
     for (k, x) in v.iter().enumerate() {
         let several = x["runs"].as_u64().unwrap() > 1;
@@ -480,7 +491,7 @@ fn tradeoff_measures_every_family_of_variants() {
         // the fixed protocol has no critical density per sequence, so only
         // its threshold is compared.
         let paired = !x["paired_difference"].is_null();
-        assert_eq!(paired, (1..=7).contains(&k), "{}", x["label"]);
+        assert_eq!(paired, (1..=11).contains(&k), "{}", x["label"]);
         assert_eq!(
             !x["threshold_difference"].is_null(),
             k > 0,
@@ -501,7 +512,7 @@ fn tradeoff_measures_every_family_of_variants() {
         assert!(records.lines().count() as u64 >= 3 * x["realizations"].as_u64().unwrap());
     }
     let csv = std::fs::read_to_string(results.join("speed-accuracy.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 11);
+    assert_eq!(csv.lines().count(), 15);
     for ext in ["md", "svg", "png"] {
         assert!(
             results.join(format!("speed-accuracy.{ext}")).exists(),
