@@ -47,7 +47,7 @@ enum Command {
     Check(cmd::check::CheckArgs),
     /// Non-isomorphic connected graphs as graph6 lines on stdout.
     Enumerate(cmd::enumerate::EnumerateArgs),
-    /// Write the base motifs as a verified rule file.
+    /// Write the base motifs as a verified rule file, or (--check) report the rules of rule files that smaller ones make redundant.
     Rules(cmd::rules::RulesArgs),
     /// Push the float ranks to failure against the exact verdict; write the report.
     Stability(cmd::stability::StabilityArgs),

@@ -226,22 +226,24 @@ fn rule_load(a: BenchArgs, out: &mut String) -> Result<()> {
     );
     say!(
         out,
-        "{:<20} {:>6} {:>8} {:>10} {:>8}",
+        "{:<20} {:>6} {:>8} {:>10} {:>8} {:>6}",
         "set",
         "rules",
         "load s",
         "compile s",
-        "total s"
+        "total s",
+        "CPU s"
     );
     for r in &report.sets {
         say!(
             out,
-            "{:<20} {:>6} {:>8.3} {:>10.3} {:>8.3}",
+            "{:<20} {:>6} {:>8.3} {:>10.3} {:>8.3} {:>6.3}",
             r.name,
             r.rules,
             r.seconds_load,
             r.seconds_compile,
-            r.seconds
+            r.seconds,
+            r.cpu_seconds
         );
     }
     Ok(())

@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use rgc::engine::CompiledRule;
@@ -93,9 +94,13 @@ fn print_json(value: &impl Serialize, out: &mut String) -> Result<()> {
     Ok(())
 }
 
-/// Loads and verifies rule files, ready for the engine.
+/// Loads and verifies rule files, ready for the engine (each rule compiled
+/// on its own: in parallel).
 fn load(paths: &[PathBuf]) -> Result<Vec<CompiledRule>> {
-    Ok(load_rules(paths)?.iter().map(CompiledRule::new).collect())
+    Ok(load_rules(paths)?
+        .par_iter()
+        .map(CompiledRule::new)
+        .collect())
 }
 
 /// Loads and verifies rule files; a file given twice or a rule repeated is
