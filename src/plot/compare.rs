@@ -12,6 +12,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::chart::{Chart, Drawn, RHO, colour, error_bars, log_ticks, render, span, tick};
 use crate::threshold::fss::Estimate;
+use crate::threshold::tradeoff::Panel;
 use crate::threshold::variants::VariantOutcome;
 use crate::{Error, Result};
 
@@ -19,6 +20,8 @@ use crate::{Error, Result};
 const COMPARE_SIZE: (u32, u32) = (1500, 800);
 /// Pixel size of the speed-accuracy chart (two panels and a legend strip).
 const TRADEOFF_SIZE: (u32, u32) = (1700, 880);
+/// Pixel size of the speed-accuracy chart across aspect ratios (a panel each).
+const GAMMAS_SIZE: (u32, u32) = (2100, 820);
 const MARGIN: i32 = 16;
 /// Width of the y label area, which the category slots must leave free.
 const Y_AREA: i32 = 85;
@@ -66,6 +69,36 @@ pub fn speed_accuracy_chart(
         families,
     };
     render(&chart, TRADEOFF_SIZE, svg, png)
+}
+
+/// Draws panel (a) of [`speed_accuracy_chart`] for several aspect ratios
+/// side by side, the bias in percent of each one's own truth threshold on
+/// one shared scale, the colours and markers of the families shared too:
+/// where motifs cannot see the rigidity, a family runs flat however much
+/// CPU it spends.
+pub fn speed_accuracy_gammas(panels: &[Panel], title: &str, svg: &Path, png: &Path) -> Result<()> {
+    if panels.is_empty() {
+        return Err(Error::Analysis("no aspect ratios to chart".into()));
+    }
+    let mut families: Vec<&str> = Vec::new();
+    for p in panels {
+        check(&p.outcomes, true)?;
+        for o in &p.outcomes {
+            if !families.contains(&o.family.as_str()) {
+                families.push(&o.family);
+            }
+        }
+    }
+    render(
+        &Gammas {
+            panels,
+            title,
+            families,
+        },
+        GAMMAS_SIZE,
+        svg,
+        png,
+    )
 }
 
 /// Refuses what would draw nothing or nonsense: no variants, an estimate
@@ -386,6 +419,60 @@ struct Tradeoff<'a> {
 }
 
 impl Tradeoff<'_> {
+    /// The CPU axis: every variant, with room on the right for the labels
+    /// of the slowest.
+    fn cpu_range(&self) -> (f64, f64) {
+        let cpu = self.outcomes.iter().map(|o| o.cpu_seconds);
+        let (c0, c1) = (
+            cpu.clone().fold(f64::INFINITY, f64::min),
+            cpu.fold(0.0, f64::max),
+        );
+        (c0 / 1.6, c1 * 2.2)
+    }
+
+    /// The white page, the title and the legend strip; the area below them.
+    fn frame<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+    ) -> Drawing<DB, DrawingArea<DB, Shift>> {
+        root.fill(&WHITE)?;
+        let body = root
+            .margin(8, 0, 0, 0)
+            .titled(self.title, ("sans-serif", 26))?;
+        let (strip, body) = body.split_vertically(40);
+        self.legend(root, &strip)?;
+        Ok(body)
+    }
+
+    /// A panel of `value` against CPU on `area`, a dashed line at zero (the
+    /// reference).
+    fn bias_panel<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        area: &DrawingArea<DB, Shift>,
+        caption: &str,
+        (y0, y1): (f64, f64),
+        y_desc: &str,
+        value: &dyn Fn(&VariantOutcome) -> Option<Estimate>,
+    ) -> Drawn<DB> {
+        let (x0, x1) = self.cpu_range();
+        let x_axis = (x0..x1).log_scale().with_key_points(log_ticks(x0, x1));
+        let mut chart = ChartBuilder::on(area)
+            .caption(caption, ("sans-serif", 22))
+            .margin(MARGIN)
+            .x_label_area_size(55)
+            .y_label_area_size(Y_AREA)
+            .build_cartesian_2d(x_axis, y0..y1)?;
+        cpu_mesh(&mut chart, y_desc, false)?;
+        chart.draw_series(DashedLineSeries::new(
+            [(x0, 0.0), (x1, 0.0)],
+            8,
+            6,
+            BLACK.mix(0.6).stroke_width(2),
+        ))?;
+        self.points(root, &mut chart, value, Some(0.0))
+    }
+
     /// What panel (a) plots: the difference to the first variant (zero for
     /// the first itself, which the dashed line marks).
     fn bias(&self, o: &VariantOutcome) -> Option<Estimate> {
@@ -583,20 +670,8 @@ where
 
 impl Chart for Tradeoff<'_> {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
-        root.fill(&WHITE)?;
-        let body = root
-            .margin(8, 0, 0, 0)
-            .titled(self.title, ("sans-serif", 26))?;
-        let (strip, body) = body.split_vertically(40);
-        self.legend(&root, &strip)?;
-        let panels = body.split_evenly((1, 2));
-        let cpu = self.outcomes.iter().map(|o| o.cpu_seconds);
-        let (c0, c1) = (
-            cpu.clone().fold(f64::INFINITY, f64::min),
-            cpu.fold(0.0, f64::max),
-        );
-        // Room on the right for the labels of the slowest variants.
-        let (x0, x1) = (c0 / 1.6, c1 * 2.2);
+        let panels = self.frame(&root)?.split_evenly((1, 2));
+        let (x0, x1) = self.cpu_range();
         let x_axis = || (x0..x1).log_scale().with_key_points(log_ticks(x0, x1));
 
         let bias = |o: &VariantOutcome| self.bias(o);
@@ -610,24 +685,8 @@ impl Chart for Tradeoff<'_> {
             "(a) ρc minus {}'s: paired per sequence (nested), of thresholds (fixed)",
             self.outcomes[0].label
         );
-        let mut chart = ChartBuilder::on(&panels[0])
-            .caption(caption, ("sans-serif", 22))
-            .margin(MARGIN)
-            .x_label_area_size(55)
-            .y_label_area_size(Y_AREA)
-            .build_cartesian_2d(x_axis(), y0..y1)?;
-        cpu_mesh(
-            &mut chart,
-            &format!("difference of critical densities ({RHO})"),
-            false,
-        )?;
-        chart.draw_series(DashedLineSeries::new(
-            [(x0, 0.0), (x1, 0.0)],
-            8,
-            6,
-            BLACK.mix(0.6).stroke_width(2),
-        ))?;
-        self.points(&root, &mut chart, &bias, Some(0.0))?;
+        let y_desc = format!("difference of critical densities ({RHO})");
+        self.bias_panel(&root, &panels[0], &caption, (y0, y1), &y_desc, &bias)?;
 
         let caption = "(b) width of the 95% interval of ρc";
         let width = |o: &VariantOutcome| o.interval_width;
@@ -676,6 +735,60 @@ impl Chart for Tradeoff<'_> {
                 )?;
             }
             self.points(&root, &mut chart, &width, None)?;
+        }
+        root.present()
+    }
+}
+
+/// The speed-accuracy panel of each aspect ratio, side by side.
+struct Gammas<'a> {
+    panels: &'a [Panel],
+    title: &'a str,
+    families: Vec<&'a str>,
+}
+
+impl Gammas<'_> {
+    fn tradeoff<'b>(&'b self, p: &'b Panel) -> Tradeoff<'b> {
+        Tradeoff {
+            outcomes: &p.outcomes,
+            title: self.title,
+            families: self.families.clone(),
+        }
+    }
+}
+
+/// A panel's variant `o` by its relative bias, in percent.
+fn percent_bias(p: &Panel, o: &VariantOutcome) -> Option<Estimate> {
+    let k = p.outcomes.iter().position(|x| std::ptr::eq(x, o))?;
+    let (value, lo, hi) = p.relative_bias(k)?;
+    Some(Estimate {
+        value: 100.0 * value,
+        lo: lo.map(|v| 100.0 * v),
+        hi: hi.map(|v| 100.0 * v),
+    })
+}
+
+impl Chart for Gammas<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
+        let body = self.tradeoff(&self.panels[0]).frame(&root)?;
+        let areas = body.split_evenly((1, self.panels.len()));
+        let values = self.panels.iter().flat_map(|p| {
+            p.outcomes
+                .iter()
+                .filter_map(|o| percent_bias(p, o))
+                .flat_map(|e| [Some(e.value), e.lo, e.hi])
+        });
+        let (y0, y1) = span(values.flatten().chain([0.0]), 0.12);
+        for (p, area) in self.panels.iter().zip(&areas) {
+            let bias = |o: &VariantOutcome| percent_bias(p, o);
+            self.tradeoff(p).bias_panel(
+                &root,
+                area,
+                &format!("γ = {}", p.gamma),
+                (y0, y1),
+                "ρc minus truth's, % of truth's threshold",
+                &bias,
+            )?;
         }
         root.present()
     }

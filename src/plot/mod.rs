@@ -17,7 +17,7 @@ mod stability;
 mod threshold;
 mod transition;
 pub use bias::bias_chart;
-pub use compare::{compare_chart, speed_accuracy_chart};
+pub use compare::{compare_chart, speed_accuracy_chart, speed_accuracy_gammas};
 pub use horizon::horizon_chart;
 pub use paired::paired_chart;
 pub use planes::forced_planes_chart;

@@ -17,6 +17,7 @@ pub mod planes;
 pub mod report;
 pub mod sequence;
 pub mod study;
+pub mod tradeoff;
 pub mod transition;
 pub mod twins;
 pub mod variants;

@@ -412,8 +412,9 @@ fn tradeoff_measures_every_family_of_variants() {
         text.starts_with("# Speed against accuracy, rigidity threshold, gamma 5"),
         "{text}"
     );
+    // Named by the aspect ratio, so those of other aspect ratios stay.
     let report: Value = serde_json::from_str(
-        &std::fs::read_to_string(results.join("speed-accuracy.json")).unwrap(),
+        &std::fs::read_to_string(results.join("speed-accuracy-g5.json")).unwrap(),
     )
     .unwrap();
     let v = report["variants"].as_array().unwrap();
@@ -511,14 +512,70 @@ fn tradeoff_measures_every_family_of_variants() {
         .unwrap();
         assert!(records.lines().count() as u64 >= 3 * x["realizations"].as_u64().unwrap());
     }
-    let csv = std::fs::read_to_string(results.join("speed-accuracy.csv")).unwrap();
+    let csv = std::fs::read_to_string(results.join("speed-accuracy-g5.csv")).unwrap();
     assert_eq!(csv.lines().count(), 15);
     for ext in ["md", "svg", "png"] {
         assert!(
-            results.join(format!("speed-accuracy.{ext}")).exists(),
+            results.join(format!("speed-accuracy-g5.{ext}")).exists(),
             "{ext}"
         );
     }
+
+    // Side by side with the committed experiment of gamma 23: each bias in
+    // percent of its own truth's threshold, each CPU over its truth's.
+    std::fs::copy(
+        repo("results/speed-accuracy.json"),
+        results.join("speed-accuracy.json"),
+    )
+    .unwrap();
+    let results_arg = results.to_str().unwrap();
+    let md = stdout_of(&["tradeoff", "--combine", "23,5", "--results", results_arg]);
+    assert!(
+        md.starts_with("# Speed against accuracy across aspect ratios"),
+        "{md}"
+    );
+    let k1 = &v[1];
+    let expected = 100.0 * k1["paired_difference"]["value"].as_f64().unwrap()
+        / v[0]["threshold"]["value"].as_f64().unwrap();
+    let row = md.lines().find(|l| l.starts_with("| K=1 |")).unwrap();
+    let cells: Vec<&str> = row.split(" | ").collect();
+    assert!(
+        cells[3].starts_with(&format!("{expected:+.1}%")),
+        "{row} against {expected}"
+    );
+    let cpu = k1["cpu_seconds"].as_f64().unwrap() / v[0]["cpu_seconds"].as_f64().unwrap();
+    assert_eq!(
+        cells[4].trim_end_matches(" |"),
+        format!("{cpu:.3}"),
+        "{row}"
+    );
+    // Variants only one aspect ratio has get a dash in the other's columns.
+    let committed: Value = serde_json::from_str(
+        &std::fs::read_to_string(repo("results/speed-accuracy.json")).unwrap(),
+    )
+    .unwrap();
+    let n23 = committed["variants"].as_array().unwrap().len();
+    let csv = std::fs::read_to_string(results.join("speed-accuracy-gammas.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + n23 + 14);
+    assert!(csv.starts_with(
+        "gamma,variant,family,sequences,bias,bias_lo,bias_hi,cpu_seconds,cpu_over_truth\n"
+    ));
+    let svg = std::fs::read_to_string(results.join("speed-accuracy-gammas.svg")).unwrap();
+    assert!(svg.contains("γ = 5") && svg.contains("γ = 23"));
+    // An aspect ratio without its experiment, or an experiment of another one.
+    fails(
+        &["tradeoff", "--combine", "23,48", "--results", results_arg],
+        "speed-accuracy-g48.json: No such file or directory (os error 2) (rgc tradeoff --gamma 48 makes it)",
+    );
+    std::fs::copy(
+        results.join("speed-accuracy.json"),
+        results.join("speed-accuracy-g48.json"),
+    )
+    .unwrap();
+    fails(
+        &["tradeoff", "--combine", "5,48", "--results", results_arg],
+        "speed-accuracy-g48.json: made at gamma 23, not 48",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
