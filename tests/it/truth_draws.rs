@@ -174,3 +174,41 @@ fn the_unlucky_draw_found_in_the_committed_studies_is_outranked() {
     let t = truth(&view.topology(), opts);
     assert_eq!(exact(&t).map(|e| e.0), Some(30_409));
 }
+
+/// The committed measurement of how often realizations disagree
+/// (`results/truth-twins/`), tallied again from its evaluations: the
+/// counts MODEL §10 and `rgc truth --help` state, and its own tally files.
+#[test]
+fn the_committed_twins_measurement_counts_as_stated() {
+    use rgc::threshold::twins::{read, tally};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("results/truth-twins");
+    let mut totals = [0; 4];
+    for (gamma, boxes, expected) in [
+        ("g23", 3, [600, 7_793, 1, 0]),
+        ("g48", 2, [200, 2_739, 0, 1]),
+        ("g98", 1, [100, 1_420, 0, 1]),
+    ] {
+        let dir = root.join(gamma);
+        let tallies = tally(&read(&dir.join("evaluations.jsonl")).unwrap());
+        assert_eq!(tallies.len(), boxes, "{gamma}");
+        let sum = |f: fn(&rgc::threshold::twins::Tally) -> usize| tallies.iter().map(f).sum();
+        let counts: [usize; 4] = [
+            sum(|t| t.sequences),
+            sum(|t| t.evaluations),
+            sum(|t| t.twins_differ),
+            sum(|t| t.lone_differs),
+        ];
+        assert_eq!(counts, expected, "{gamma}");
+        for (total, c) in totals.iter_mut().zip(counts) {
+            *total += c;
+        }
+        // Every evaluation where some rank is low is one of those two kinds.
+        assert_eq!(sum(|t| t.any_below), expected[2] + expected[3]);
+        let file: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("tally.json")).unwrap())
+                .unwrap();
+        assert_eq!(file["tallies"], serde_json::to_value(&tallies).unwrap());
+    }
+    // Three realizations per evaluation: 3 of 35,856 lost rank.
+    assert_eq!(totals, [900, 11_952, 1, 2]);
+}
