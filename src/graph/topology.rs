@@ -13,6 +13,9 @@ pub struct Topology<'a> {
     /// Per edge `[a, b]`: `a` touches the image of `b` shifted by this many
     /// box sides. `None`: a finite framework (a graph read from a file).
     pub shifts: Option<&'a [Offset]>,
+    /// Which axes are periodic (none for a finite framework): the box can
+    /// be strained only along them (MODEL §10, the strain rank).
+    pub periodic: [bool; 3],
 }
 
 impl<'a> Topology<'a> {
@@ -21,10 +24,11 @@ impl<'a> Topology<'a> {
         Topology {
             graph,
             shifts: None,
+            periodic: [false; 3],
         }
     }
 
-    /// A periodic system with a fixed box.
+    /// A system periodic along every axis, in a fixed box.
     pub fn periodic(graph: &'a ContactGraph, shifts: &'a [Offset]) -> Result<Self> {
         if shifts.len() != graph.n_edges() {
             return Err(Error::Parameter(format!(
@@ -36,6 +40,7 @@ impl<'a> Topology<'a> {
         Ok(Topology {
             graph,
             shifts: Some(shifts),
+            periodic: [true; 3],
         })
     }
 
@@ -43,9 +48,11 @@ impl<'a> Topology<'a> {
     /// finite framework when every side is a wall (the walls hold nothing).
     pub fn of_domain(graph: &'a ContactGraph, shifts: &'a [Offset], domain: &Domain) -> Self {
         debug_assert_eq!(shifts.len(), graph.n_edges(), "one shift per contact");
+        let periodic = domain.periodic != Periodic::None;
         Topology {
             graph,
-            shifts: (domain.periodic != Periodic::None).then_some(shifts),
+            shifts: periodic.then_some(shifts),
+            periodic: domain.periodic.axes(),
         }
     }
 

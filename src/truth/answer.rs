@@ -33,6 +33,99 @@ impl std::fmt::Display for Decision {
     }
 }
 
+/// A coordinate strain: a symmetric component of the box's velocity
+/// gradient `E` (for a shear, `E` has the entry at both `ij` and `ji`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Strain {
+    Xx,
+    Yy,
+    Zz,
+    Yz,
+    Xz,
+    Xy,
+}
+
+impl Strain {
+    /// The six, in the order of truth's strain columns.
+    pub const ALL: [Strain; 6] = [
+        Strain::Xx,
+        Strain::Yy,
+        Strain::Zz,
+        Strain::Yz,
+        Strain::Xz,
+        Strain::Xy,
+    ];
+
+    /// Its two axes (equal for a stretch).
+    pub fn axes(self) -> [usize; 2] {
+        match self {
+            Strain::Xx => [0, 0],
+            Strain::Yy => [1, 1],
+            Strain::Zz => [2, 2],
+            Strain::Yz => [1, 2],
+            Strain::Xz => [0, 2],
+            Strain::Xy => [0, 1],
+        }
+    }
+
+    /// Its column among the strain columns.
+    pub fn index(self) -> usize {
+        Strain::ALL
+            .iter()
+            .position(|&s| s == self)
+            .expect("one of the six")
+    }
+
+    /// The strains a box periodic along `periodic` has: those with both
+    /// axes periodic (6 in a periodic box, 3 in a slab, none in a closed
+    /// box). A component with a walled axis has no lattice vector to act
+    /// on, or only moves one the way a rigid rotation does.
+    pub fn of_box(periodic: [bool; 3]) -> Vec<Strain> {
+        Strain::ALL
+            .into_iter()
+            .filter(|s| s.axes().iter().all(|&a| periodic[a]))
+            .collect()
+    }
+}
+
+impl std::fmt::Display for Strain {
+    /// The name in files: `xx` ... `xy`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [i, j] = self.axes().map(|a| ['x', 'y', 'z'][a]);
+        write!(f, "{i}{j}")
+    }
+}
+
+/// Which strains of its box a system resists (MODEL §10, the strain rank):
+/// with the lattice free to deform (the flexible torus), how many
+/// independent strains no motion of the rods follows.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Strains {
+    /// The strains considered: those of the periodic axes.
+    pub considered: Vec<Strain>,
+    /// Resisted independent strains, 0 to `considered.len()`: 6 for a
+    /// solid, 0 for a fluid. `None` where truth does not know, for `reason`.
+    pub rank: Option<u8>,
+    /// The coordinate strains resisted alone: no motion follows the box
+    /// strained by that one alone.
+    pub resisted: Vec<Strain>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+impl Strains {
+    /// Unknown, for `reason`.
+    pub fn unknown(considered: Vec<Strain>, reason: impl Into<String>) -> Strains {
+        Strains {
+            considered,
+            rank: None,
+            resisted: Vec::new(),
+            reason: Some(reason.into()),
+        }
+    }
+}
+
 /// Options of a truth evaluation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TruthOptions {
@@ -58,6 +151,8 @@ pub struct TruthOptions {
     /// refused. What the machine has available and an address-space limit
     /// are checked without it too.
     pub memory_limit: Option<u64>,
+    /// Whether to find the strain rank (six more columns, ranked last).
+    pub strain: bool,
 }
 
 /// Bytes truth holds per rod and per contact before its realization (the
@@ -98,6 +193,7 @@ impl Default for TruthOptions {
             realizations: 2,
             primes: None,
             memory_limit: None,
+            strain: true,
         }
     }
 }
@@ -278,6 +374,9 @@ pub struct Truth {
     pub trivial_motions: usize,
     /// Rigid clusters of two or more rods, largest first.
     pub clusters: Vec<Cluster>,
+    /// The strains of the box it resists; `None` in answers older than it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strains: Option<Strains>,
     /// The largest dense front of the elimination, rows times columns: what
     /// the cost of truth grows with.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -342,12 +441,18 @@ impl Truth {
             rows: 0,
             trivial_motions,
             clusters: Vec::new(),
+            strains: None,
             largest_front: None,
             primes: Vec::new(),
             criterion: None,
             spanning: None,
             seconds: 0.0,
         }
+    }
+
+    /// The number of strains resisted, if known.
+    pub fn strain_rank(&self) -> Option<u8> {
+        self.strains.as_ref().and_then(|s| s.rank)
     }
 
     /// Rods in the largest rigid cluster (0 when there is none).

@@ -154,13 +154,17 @@ impl Contraction {
             };
             let p0 = c0 / width;
             let single = row.iter().all(|&(c, _)| c / width == p0);
-            if single && self.map[p0 as usize].1.is_some() {
+            if single && self.map.get(p0 as usize).is_some_and(|m| m.1.is_some()) {
                 continue;
             }
             acc.clear();
             for &(c, v) in row {
                 let (p, j) = ((c / width) as usize, (c % width) as usize);
-                let (new, offset) = self.map[p];
+                // Strain columns, if any, are left out: the check is of the
+                // fixed box's kernel.
+                let Some(&(new, offset)) = self.map.get(p) else {
+                    continue;
+                };
                 let slot = match acc.iter().position(|a| a.0 == new) {
                     Some(i) => i,
                     None => {

@@ -6,10 +6,11 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
-use super::answer::{Outcome, Spans, Truth, TruthOptions};
+use super::answer::{Outcome, Spans, Strain, Strains, Truth, TruthOptions};
 use super::planes::Planes;
 use super::{clusters, contract, fallback, matrix, order, planes, prune, realize};
 use crate::graph::Topology;
+use crate::math::sparse::Deferred;
 use crate::math::{Field, Fr, prime, sparse, with_prime};
 use crate::network::View;
 use crate::spanning::{Criterion, SpanChecker};
@@ -32,6 +33,47 @@ pub fn truth_in_floats(topo: &Topology, opts: TruthOptions) -> Truth {
 }
 
 fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
+    let (mut out, found) = ranked(topo, opts, floats);
+    out.strains = Some(strains(&out, topo, opts, found));
+    out
+}
+
+/// The strains of the box `out` resists: the Schur complement `found` of
+/// the strain columns of the realization kept, read against the strains of
+/// the periodic axes; unknown, with the reason, wherever that is not exact.
+fn strains(out: &Truth, topo: &Topology, opts: TruthOptions, found: Option<Deferred>) -> Strains {
+    let considered = Strain::of_box(topo.periodic);
+    if considered.is_empty() {
+        return Strains::unknown(
+            considered,
+            "no periodic axis: a finite framework has no box to strain",
+        );
+    }
+    if !opts.strain {
+        return Strains::unknown(considered, "not asked for");
+    }
+    match (&out.outcome, found) {
+        (Outcome::Exact { .. }, Some(d)) => Strains {
+            resisted: considered
+                .iter()
+                .copied()
+                .filter(|c| d.nonzero[c.index()])
+                .collect(),
+            considered,
+            rank: Some(d.rank as u8),
+            reason: None,
+        },
+        (Outcome::Float { .. }, _) => Strains::unknown(
+            considered,
+            "decided in floats: only the exact elimination ranks the strain columns",
+        ),
+        _ => Strains::unknown(considered, "truth is undecided"),
+    }
+}
+
+/// Truth without its strains, and the strain columns' Schur complement at
+/// the realization kept (exact answers only).
+fn ranked(topo: &Topology, opts: TruthOptions, floats: bool) -> (Truth, Option<Deferred>) {
     let start = Instant::now();
     let graph = topo.graph;
     let core = prune::two_core(graph);
@@ -40,7 +82,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     out.core_contacts = core.contacts(graph);
     let finish = |mut out: Truth| {
         out.seconds = start.elapsed().as_secs_f64();
-        out
+        (out, None)
     };
     let planes = match planes::forced(topo, &core.active) {
         Ok(p) => p,
@@ -109,7 +151,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
     out.primes.push(first.prime);
     if realizations.count() == 1 {
         out.decide(first.rank, pruned, first.clusters, exact(None));
-        return finish(out);
+        return (finish(out).0, first.strain);
     }
     // Each later realization, in a prime of its own, checks the kernel's
     // dimension with the best clusters so far contracted: that is all it
@@ -122,6 +164,7 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
             Ok(Check::Whole {
                 prime,
                 rank,
+                strain,
                 larger,
             }) => {
                 out.primes.push(prime);
@@ -129,6 +172,10 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
                 if let Some(l) = larger {
                     out.largest_front = Some(l.largest_front);
                     best = l;
+                } else if rank == best.rank {
+                    // Both realizations have the rank kept: each strain
+                    // rank is a lower bound, so the larger is kept.
+                    best.strain = larger_strain(best.strain.take(), strain);
                 }
             }
             Err(stop) => {
@@ -138,7 +185,15 @@ fn evaluate(topo: &Topology, opts: TruthOptions, floats: bool) -> Truth {
         }
     }
     out.decide(best.rank, pruned, best.clusters, exact(Some(agree)));
-    finish(out)
+    (finish(out).0, best.strain)
+}
+
+/// The Schur complement of the larger strain rank.
+fn larger_strain(a: Option<Deferred>, b: Option<Deferred>) -> Option<Deferred> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(if b.rank > a.rank { b } else { a }),
+        (a, b) => a.or(b),
+    }
 }
 
 /// The whole rank of each of `opts.realizations` exact realizations of
@@ -196,16 +251,20 @@ struct Best {
     rows: usize,
     largest_front: (usize, usize),
     clusters: Vec<Vec<u32>>,
+    /// The strain columns' Schur complement, if they were ranked.
+    strain: Option<Deferred>,
 }
 
 /// What a later realization found.
 enum Check {
     /// Its contracted matrix has the kernel the best rank predicts.
     Confirmed { prime: u32 },
-    /// It did not: its whole rank, and what it found if that is larger.
+    /// It did not: its whole rank with its strain columns' Schur
+    /// complement, and what it found if that is larger.
     Whole {
         prime: u32,
         rank: usize,
+        strain: Option<Deferred>,
         larger: Option<Best>,
     },
 }
@@ -253,6 +312,7 @@ impl Realizations {
                 rows: r.rows.len(),
                 largest_front: r.elim.largest_front,
                 clusters: clusters::clusters(twin.topo, twin.parts, &r.real, &r.elim.kernel),
+                strain: r.elim.deferred,
             })
         })
     }
@@ -266,13 +326,9 @@ impl Realizations {
         with_prime(prime, || {
             let (real, rows) = twin.realize::<Fr>(&mut rng)?;
             let contracted = contraction.rows(&real, &rows);
-            let checked = sparse::rank(
-                &contracted,
-                contraction.count,
-                matrix::WIDTH,
-                twin.memory_limit,
-            )
-            .map_err(Stop::Memory)?;
+            let layout = sparse::Layout::plain(contraction.count, matrix::WIDTH);
+            let checked =
+                sparse::rank(&contracted, layout, twin.memory_limit).map_err(Stop::Memory)?;
             if kernel(checked.rank, contraction.count) == kernel(best.rank, twin.parts.count) {
                 return Ok(Check::Confirmed { prime });
             }
@@ -285,6 +341,7 @@ impl Realizations {
                     rows: rows.len(),
                     largest_front: elim.largest_front,
                     clusters: clusters::clusters(twin.topo, twin.parts, &real, &elim.kernel),
+                    strain: elim.deferred,
                 })
             } else {
                 None
@@ -292,6 +349,7 @@ impl Realizations {
             Ok(Check::Whole {
                 prime,
                 rank: whole.rank,
+                strain: whole.deferred,
                 larger,
             })
         })
@@ -323,6 +381,8 @@ struct Twin<'a> {
     attempts: usize,
     /// Bytes an elimination may use.
     memory_limit: Option<u64>,
+    /// The strains with columns (none unless asked for in a periodic box).
+    strains: Vec<Strain>,
 }
 
 /// Why a twin stopped short of an elimination.
@@ -372,6 +432,11 @@ impl<'a> Twin<'a> {
             parts,
             attempts: opts.attempts.max(1),
             memory_limit: opts.memory_limit,
+            strains: if opts.strain {
+                Strain::of_box(topo.periodic)
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -402,7 +467,8 @@ impl<'a> Twin<'a> {
         for _ in 0..self.attempts {
             match realize::build::<F>(self.topo, self.planes, self.active, self.order, rng) {
                 Ok(real) => {
-                    let rows = matrix::rows(self.topo, self.planes, self.parts, &real);
+                    let strain = matrix::StrainColumns::new(self.parts, &self.strains);
+                    let rows = matrix::rows(self.topo, self.planes, self.parts, &real, &strain);
                     return Ok((real, rows));
                 }
                 Err(realize::Failure::Degenerate(w)) => why = w,
@@ -435,9 +501,15 @@ impl<'a> Twin<'a> {
         draws: Option<&mut ChaCha8Rng>,
     ) -> std::result::Result<sparse::Elimination<F>, sparse::Refused> {
         let (width, groups, limit) = (matrix::WIDTH, self.parts.count, self.memory_limit);
+        // The strain columns, one group after the parts', ranked last.
+        let layout = if self.strains.is_empty() {
+            sparse::Layout::plain(groups, width)
+        } else {
+            sparse::Layout::deferring(groups + 1, width)
+        };
         match draws {
-            Some(d) => sparse::eliminate(rows, groups, width, KERNEL_VECTORS, d, limit),
-            None => sparse::rank(rows, groups, width, limit),
+            Some(d) => sparse::eliminate(rows, layout, KERNEL_VECTORS, d, limit),
+            None => sparse::rank(rows, layout, limit),
         }
     }
 }

@@ -118,7 +118,7 @@ fn rank(
     parts: &Parts,
     real: &Realization<f64>,
 ) -> Result<Ranked, String> {
-    let rows = matrix::rows(topo, planes, parts, real);
+    let rows = matrix::rows(topo, planes, parts, real, &matrix::StrainColumns::none());
     let cols = parts.count * WIDTH;
     let mut m = Matrix::zeros(rows.len(), cols);
     for (i, row) in rows.iter().enumerate() {

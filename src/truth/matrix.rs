@@ -14,7 +14,29 @@
 //!
 //! In a periodic box the velocities of a part's images equal its own (the
 //! box is fixed), so a point is always taken in its part's frame.
+//!
+//! **Strain columns** (MODEL §10, the strain rank). Let the box deform too
+//! (the flexible torus): its lattice vectors move as `L' = E L` for a
+//! velocity gradient `E`, and the image of a part shifted by the lattice
+//! vector `s` moves as the part plus `E s`. Only the symmetric part of `E`
+//! is a strain (an antisymmetric one with every part turning alike is a
+//! rigid rotation of everything), so six more columns, one per coordinate
+//! strain ([`Strain::ALL`]), after every part's. Each row kind in turn:
+//! * a contact or a hinge equates the velocities of one physical point
+//!   `x = y_a + s_a = y_b + s_b` seen from two part frames: the two images
+//!   differ by `E (s_a - s_b) = E (y_b - y_a)`, added to the row;
+//! * a spin row `omega . d = 0` only fixes a part's own gauge: no image, no
+//!   term;
+//! * a class wrapping along `w` is one rigid body that contains its own
+//!   image shifted by `W = side w`: that image moves as the body at
+//!   `y + W`, and as the body's image, `v(y) + E W`. So `omega x W = E W`:
+//!   the row `omega x w = 0` gains `- E w` (it is `omega x W - E W` over
+//!   `side`). Its component along `w` is `-w.E w = 0` whatever `omega`: a
+//!   plane wrapping along x resists `e_xx` by itself.
+//!
+//! Only the strains of periodic axes get columns ([`Strain::of_box`]).
 
+use super::answer::Strain;
 use super::planes::Planes;
 use super::realize::Realization;
 use crate::contacts::Offset;
@@ -91,9 +113,62 @@ fn velocity<S: Scalar>(y: V3<S>) -> [[S; WIDTH]; 3] {
     ]
 }
 
-/// Three rows: velocity of part `a` at `ya` minus that of part `b` at `yb`.
-fn equal_velocity<S: Scalar>(a: u32, ya: V3<S>, b: u32, yb: V3<S>, rows: &mut Vec<SparseRow<S>>) {
+/// The strain columns of one matrix: the coordinate strains that have
+/// columns, after the `parts` parts' columns.
+#[derive(Clone, Copy, Debug)]
+pub struct StrainColumns<'a> {
+    pub strains: &'a [Strain],
+    /// The first strain column: strain `c` is column `first + c.index()`.
+    pub first: u32,
+}
+
+impl<'a> StrainColumns<'a> {
+    /// `strains` after the columns of `parts`; no columns when empty.
+    pub fn new(parts: &Parts, strains: &'a [Strain]) -> Self {
+        StrainColumns {
+            strains,
+            first: (parts.count * WIDTH) as u32,
+        }
+    }
+
+    /// None.
+    pub fn none() -> StrainColumns<'static> {
+        StrainColumns {
+            strains: &[],
+            first: 0,
+        }
+    }
+
+    /// Appends to `row` the terms of component `k` of `E s` (`sign` times):
+    /// strain `ij` contributes `s_j` to component `i` and `s_i` to `j`.
+    fn push<S: Scalar>(&self, row: &mut SparseRow<S>, k: usize, s: V3<S>, sign: S) {
+        for &c in self.strains {
+            let [i, j] = c.axes();
+            let v = match (k == i, k == j) {
+                (true, true) => s[i],
+                (true, false) => s[j],
+                (false, true) => s[i],
+                (false, false) => continue,
+            } * sign;
+            if !zero(v) {
+                row.push((self.first + c.index() as u32, v));
+            }
+        }
+    }
+}
+
+/// Three rows: velocity of part `a` at `ya` minus that of part `b` at `yb`,
+/// the same point in two frames, with the strain terms `E (yb - ya)`.
+fn equal_velocity<S: Scalar>(
+    a: u32,
+    ya: V3<S>,
+    b: u32,
+    yb: V3<S>,
+    strain: &StrainColumns,
+    rows: &mut Vec<SparseRow<S>>,
+) {
     let (va, vb) = (velocity(ya), velocity(yb));
+    let s = sub(yb, ya);
     for k in 0..3 {
         let mut row: SparseRow<S> = Vec::with_capacity(2 * WIDTH);
         let mut push = |part: u32, coef: &[S; WIDTH], sign: S| {
@@ -111,6 +186,7 @@ fn equal_velocity<S: Scalar>(a: u32, ya: V3<S>, b: u32, yb: V3<S>, rows: &mut Ve
             push(b, &vb[k], -S::one());
             push(a, &va[k], S::one());
         }
+        strain.push(&mut row, k, s, S::one());
         rows.push(row);
     }
 }
@@ -120,12 +196,14 @@ fn zero<S: Scalar>(v: S) -> bool {
     v.vanishes(0.0, 0.0)
 }
 
-/// The rows of the rigidity matrix, over F_p or in floats.
+/// The rows of the rigidity matrix, over F_p or in floats, with the terms
+/// of the strain columns `strain`.
 pub fn rows<S: Scalar>(
     topo: &Topology,
     planes: &Planes,
     parts: &Parts,
     real: &Realization<S>,
+    strain: &StrainColumns,
 ) -> Vec<SparseRow<S>> {
     let graph = topo.graph;
     let mut rows = Vec::new();
@@ -142,7 +220,7 @@ pub fn rows<S: Scalar>(
             sub(x, real.lattice(topo.seen(e as u32, a))),
             real.lattice(ob),
         );
-        equal_velocity(pa, ya, pb, yb, &mut rows);
+        equal_velocity(pa, ya, pb, yb, strain, &mut rows);
     }
     for (r, owner) in parts.owner.iter().enumerate() {
         let Some((part, _)) = *owner else { continue };
@@ -161,7 +239,7 @@ pub fn rows<S: Scalar>(
             for &(other, o2) in &classes[1..] {
                 for y in [line.p, add(line.p, line.d)] {
                     let (y1, y2) = (add(y, real.lattice(o1)), add(y, real.lattice(o2)));
-                    equal_velocity(first, y1, other, y2, &mut rows);
+                    equal_velocity(first, y1, other, y2, strain, &mut rows);
                 }
             }
         }
@@ -170,19 +248,20 @@ pub fn rows<S: Scalar>(
         let base = (c * WIDTH) as u32;
         for w in &class.wraps {
             let w = w.map(|k| S::from_i64(k as i64));
-            // omega x w, one row per component.
+            // omega x w - E w, one row per component.
             let comps = [
                 [(1, w[2]), (2, -w[1])],
                 [(2, w[0]), (0, -w[2])],
                 [(0, w[1]), (1, -w[0])],
             ];
-            for comp in comps {
+            for (k, comp) in comps.into_iter().enumerate() {
                 let mut row: SparseRow<S> = comp
                     .iter()
                     .filter(|&&(_, v)| !zero(v))
                     .map(|&(k, v)| (base + k, v))
                     .collect();
                 row.sort_unstable_by_key(|&(k, _)| k);
+                strain.push(&mut row, k, w, -S::one());
                 if !row.is_empty() {
                     rows.push(row);
                 }
@@ -252,7 +331,7 @@ mod tests {
         )
         .unwrap();
         let parts = parts(&planes, &core.active);
-        let rows = rows(topo, &planes, &parts, &real);
+        let rows = rows(topo, &planes, &parts, &real, &StrainColumns::none());
         (parts, real, rows)
     }
 

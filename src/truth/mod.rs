@@ -47,5 +47,5 @@ pub mod realize;
 
 pub use crate::contacts::Offset;
 pub use crate::graph::Topology;
-pub use answer::{Cluster, Decision, Outcome, Spans, Truth, TruthOptions};
+pub use answer::{Cluster, Decision, Outcome, Spans, Strain, Strains, Truth, TruthOptions};
 pub use decide::{MAX_REALIZATIONS, of_system, realization_ranks, truth, truth_in_floats};

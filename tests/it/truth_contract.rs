@@ -47,14 +47,25 @@ fn kernels(
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let real = realize::build::<Q2>(&topo, &planes, &core.active, &order, &mut rng).unwrap();
     let parts = matrix::parts(&planes, &core.active);
-    let rows = matrix::rows(&topo, &planes, &parts, &real);
-    let whole = sparse::rank(&rows, parts.count, WIDTH, None).unwrap();
+    let rows = matrix::rows(
+        &topo,
+        &planes,
+        &parts,
+        &real,
+        &matrix::StrainColumns::none(),
+    );
+    let whole = sparse::rank(&rows, sparse::Layout::plain(parts.count, WIDTH), None).unwrap();
     assert_eq!(
         parts.count * WIDTH - whole.rank + core.pruned_motions(),
         c.dof + 3
     );
     let k = contracted(&topo, &parts);
-    let small = sparse::rank(&k.rows(&real, &rows), k.count, WIDTH, None).unwrap();
+    let small = sparse::rank(
+        &k.rows(&real, &rows),
+        sparse::Layout::plain(k.count, WIDTH),
+        None,
+    )
+    .unwrap();
     (
         parts.count * WIDTH - whole.rank,
         k.count * WIDTH - small.rank,

@@ -32,7 +32,7 @@ fn build(topo: &Topology, seed: u64) -> (Planes, Parts, Realization, Vec<Row>) {
     )
     .expect("a generic realization");
     let parts = matrix::parts(&planes, &core.active);
-    let rows = matrix::rows(topo, &planes, &parts, &real);
+    let rows = matrix::rows(topo, &planes, &parts, &real, &matrix::StrainColumns::none());
     (planes, parts, real, rows)
 }
 

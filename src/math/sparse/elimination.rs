@@ -29,6 +29,55 @@ pub struct Elimination<F = Fp> {
     pub work: f64,
     /// How often each path of the elimination ran.
     pub counts: Counts,
+    /// With a deferred group ([`Layout::deferring`]): its Schur complement.
+    /// `rank` then counts the pivots of the other groups only.
+    pub deferred: Option<Deferred>,
+}
+
+/// How the columns are grouped: `groups * width` columns, column `c` in
+/// group `c / width`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    pub groups: usize,
+    pub width: usize,
+    /// Whether the last group is deferred: eliminated after all the others
+    /// ([`super::quotient`]).
+    pub deferred: bool,
+}
+
+impl Layout {
+    pub fn plain(groups: usize, width: usize) -> Layout {
+        Layout {
+            groups,
+            width,
+            deferred: false,
+        }
+    }
+
+    /// The last of `groups` deferred.
+    pub fn deferring(groups: usize, width: usize) -> Layout {
+        Layout {
+            deferred: true,
+            ..Layout::plain(groups, width)
+        }
+    }
+
+    /// Columns before the deferred group (all of them without one).
+    fn leading(self) -> usize {
+        (self.groups - usize::from(self.deferred && self.groups > 0)) * self.width
+    }
+}
+
+/// The deferred group's columns once every other group is eliminated: the
+/// rows left over them alone (their Schur complement, up to row
+/// operations). With `R` the other columns and `B` the deferred ones,
+/// `rank = rank([R | B]) - rank(R)`, and column `k` is nonzero exactly when
+/// `B e_k` is not in the column space of `R`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Deferred {
+    pub rank: usize,
+    /// Per deferred column, whether it is nonzero.
+    pub nonzero: Vec<bool>,
 }
 
 /// How often each path of the elimination ran: the tests make sure every
@@ -47,39 +96,40 @@ pub struct Counts {
     pub pinned: usize,
 }
 
-/// The rank of the matrix of `rows` over `groups * width` columns, column
-/// `c` belonging to group `c / width`; no pivot row is kept. With a
-/// `limit` in bytes, it stops before any front that would pass it.
+/// The rank of the matrix of `rows` over the columns of `layout`; no pivot
+/// row is kept. With a `limit` in bytes, it stops before any front that
+/// would pass it.
 pub fn rank<F: Field>(
     rows: &[SparseRow<F>],
-    groups: usize,
-    width: usize,
+    layout: Layout,
     limit: Option<u64>,
 ) -> Result<Elimination<F>, Refused> {
-    Ok(factorize(rows, groups, width, false, limit)?.0)
+    Ok(factorize(rows, layout, false, limit)?.0)
 }
 
-/// [`rank`], and `kernel_vectors` random kernel vectors drawn from `rng`.
-/// Every kernel vector is checked against the original rows; a failure is
-/// a bug and panics.
+/// [`rank`], and `kernel_vectors` random kernel vectors drawn from `rng`:
+/// with a deferred group, vectors of the kernel of the other columns alone
+/// (the deferred columns held at zero, and left out). Every kernel vector
+/// is checked against the original rows; a failure is a bug and panics.
 pub fn eliminate<F: Field>(
     rows: &[SparseRow<F>],
-    groups: usize,
-    width: usize,
+    layout: Layout,
     kernel_vectors: usize,
     rng: &mut impl Rng,
     limit: Option<u64>,
 ) -> Result<Elimination<F>, Refused> {
-    let (mut out, factors) = factorize(rows, groups, width, true, limit)?;
+    let (mut out, factors) = factorize(rows, layout, true, limit)?;
+    let free = layout.leading();
     out.kernel = (0..kernel_vectors)
         .map(|_| {
-            let x = front::kernel_vector::<F>(&factors, out.cols, rng);
+            let mut x = front::kernel_vector::<F>(&factors, out.cols, free, rng);
             for (i, r) in rows.iter().enumerate() {
                 let s = r
                     .iter()
                     .fold(F::zero(), |acc, &(c, v)| acc + v * x[c as usize]);
                 assert!(s == F::zero(), "kernel vector violates row {i}");
             }
+            x.truncate(free);
             x
         })
         .collect();
@@ -180,11 +230,11 @@ fn reserve_product_scratch() {
 /// process's size read now and then ([`Guard`]).
 fn factorize<F: Field>(
     rows: &[SparseRow<F>],
-    groups: usize,
-    width: usize,
+    layout: Layout,
     keep: bool,
     limit: Option<u64>,
 ) -> Result<(Elimination<F>, Vec<front::Factor>), Refused> {
+    let Layout { groups, width, .. } = layout;
     assert!(
         F::modulus() < MAX_MODULUS,
         "the dense kernel needs a prime below 2^24, not {}",
@@ -205,7 +255,7 @@ fn factorize<F: Field>(
             refusal,
             step: Step::Elements,
         })?;
-    let mut quotient = Quotient::new(rows, groups, width);
+    let mut quotient = Quotient::new(rows, groups, width, layout.deferred);
     let mut scratch = front::Scratch::new(Modulus::new(F::modulus()), groups, width);
     let mut factors = Vec::new();
     let mut out = Elimination {
@@ -216,6 +266,7 @@ fn factorize<F: Field>(
         fronts: 0,
         work: 0.0,
         counts: Counts::default(),
+        deferred: None,
     };
     for e in quotient.take_single() {
         admit_front(&mut guard, &scratch, (e.rows, width))?;
@@ -245,10 +296,26 @@ fn factorize<F: Field>(
             out.largest_front = done.size;
         }
         factors.extend(done.factor);
+        if quotient.aside_rows() > ASIDE_ROWS {
+            let aside = quotient.take_aside();
+            quotient.put_aside(front::reduce(&aside, &mut scratch).0);
+        }
     }
     out.counts.rescored = quotient.rescored();
+    if layout.deferred {
+        let (rows, rank) = front::reduce(&quotient.take_aside(), &mut scratch);
+        let nonzero = (0..width)
+            .map(|k| rows.chunks_exact(width).any(|r| r[k] != 0.0))
+            .collect();
+        out.deferred = Some(Deferred { rank, nonzero });
+    }
     Ok((out, factors))
 }
+
+/// Rows set aside over the deferred group are brought back to at most
+/// `width` rows once they pass this many (a rigid region leaves one per
+/// redundant row).
+const ASIDE_ROWS: usize = 256;
 
 #[cfg(test)]
 mod tests {
@@ -381,7 +448,14 @@ mod tests {
         let rank = rank_exact(&dense(rows, cols));
         let nullity = cols - rank;
         let k = nullity + 2;
-        let e = eliminate(rows, groups, 6, k, &mut ChaCha8Rng::seed_from_u64(5), None).unwrap();
+        let e = eliminate(
+            rows,
+            Layout::plain(groups, 6),
+            k,
+            &mut ChaCha8Rng::seed_from_u64(5),
+            None,
+        )
+        .unwrap();
         assert_eq!(e.rank, rank, "rank");
         let mut m = Matrix::zeros(0, cols);
         for x in &e.kernel {
@@ -470,7 +544,7 @@ mod tests {
                 .collect();
             rows.push(sum);
         }
-        let e = eliminate(&rows, groups, width, 1, &mut rng, None).unwrap();
+        let e = eliminate(&rows, Layout::plain(groups, width), 1, &mut rng, None).unwrap();
         assert_eq!(e.rank, 180);
         assert_eq!(e.rank, rank_exact(&dense(&rows, groups * width)));
         assert_eq!((e.counts.tail, e.fronts), (groups, 1), "{:?}", e.counts);
@@ -494,12 +568,18 @@ mod tests {
         let Some(held) = usage::held() else {
             return;
         };
-        let refused = rank(&rows, groups, width, Some(held.resident / 2)).unwrap_err();
+        let refused =
+            rank(&rows, Layout::plain(groups, width), Some(held.resident / 2)).unwrap_err();
         assert_eq!(refused.step, Step::Elements);
         assert_eq!(refused.refusal.bound, usage::Bound::Limit);
         assert_eq!(refused.refusal.need, 240 * 300 * 8 + 240 * 48);
         assert!(refused.refusal.held >= held.resident / 2, "{refused:?}");
-        let e = rank(&rows, groups, width, Some(held.resident + (1 << 30))).expect("within");
+        let e = rank(
+            &rows,
+            Layout::plain(groups, width),
+            Some(held.resident + (1 << 30)),
+        )
+        .expect("within");
         assert_eq!(e.rank, 240);
     }
 
@@ -534,10 +614,77 @@ mod tests {
                 .collect();
             rows.push(row);
         }
-        let e = eliminate(&rows, groups, 6, 1, &mut rng, None).unwrap();
+        let e = eliminate(&rows, Layout::plain(groups, 6), 1, &mut rng, None).unwrap();
         assert_eq!(e.rank, groups, "one independent bar per link");
         assert_eq!(e.counts.tail, 0, "{:?}", e.counts);
         assert!(e.largest_front.1 <= 3 * 6, "{:?}", e.largest_front);
+    }
+
+    #[test]
+    fn a_deferred_group_leaves_its_schur_complement() {
+        // Frameworks of 40 to 150 parts with a seventh group of six columns
+        // touched by a third of the rows (and two rows over it alone): the
+        // rank of the other columns, rank([R | B]) - rank(R), and which
+        // columns of B leave the column space of R, all as dense
+        // elimination finds them; kernel vectors of R alone.
+        let mut seen = [false; 2];
+        for (seed, groups, contacts) in [(21, 40, 30), (22, 60, 90), (23, 150, 400)] {
+            let mut rows = framework(seed, groups, contacts);
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let d = (groups * 6) as u32;
+            // Column 5 is in no row: in R's span (zero).
+            for r in rows.iter_mut() {
+                if rng.random_range(0..3) == 0 {
+                    for k in 0..5 {
+                        r.push((d + k, Q1::random_nonzero(&mut rng)));
+                    }
+                }
+            }
+            rows.push(vec![(d + 1, Q1::ONE)]);
+            rows.push(vec![(d + 1, Q1::new(3)), (d + 2, Q1::ONE)]);
+            let cols = (groups + 1) * 6;
+            let (r, rb) = (
+                rank_exact(&dense(
+                    &rows
+                        .iter()
+                        .map(|r| r.iter().copied().filter(|&(c, _)| c < d).collect())
+                        .collect::<Vec<_>>(),
+                    cols,
+                )),
+                rank_exact(&dense(&rows, cols)),
+            );
+            let layout = Layout::deferring(groups + 1, 6);
+            let mut draws = ChaCha8Rng::seed_from_u64(3);
+            let e = eliminate(&rows, layout, 2, &mut draws, None).unwrap();
+            let deferred = e.deferred.clone().expect("a deferred group");
+            assert_eq!((e.rank, deferred.rank), (r, rb - r), "seed {seed}");
+            for k in 0..6 {
+                let only: Vec<SparseRow<Q1>> = rows
+                    .iter()
+                    .map(|row| {
+                        row.iter()
+                            .copied()
+                            .filter(|&(c, _)| c < d || c == d + k)
+                            .collect()
+                    })
+                    .collect();
+                let outside = rank_exact(&dense(&only, cols)) > r;
+                assert_eq!(
+                    deferred.nonzero[k as usize], outside,
+                    "seed {seed}, column {k}"
+                );
+                seen[usize::from(outside)] = true;
+            }
+            assert!(e.kernel.iter().all(|x| x.len() == groups * 6));
+            // The same rank without the deferred columns' rows ranked last.
+            assert_eq!(
+                rank(&rows, Layout::plain(groups + 1, 6), None)
+                    .unwrap()
+                    .rank,
+                rb
+            );
+        }
+        assert_eq!(seen, [true, true], "columns inside and outside R's span");
     }
 
     proptest! {
@@ -548,7 +695,7 @@ mod tests {
         fn rank_matches_dense(seed in 0u64..1_000_000, groups in 1usize..12, width in 1usize..4, n in 0usize..40) {
             let rows = random_rows(seed, groups, width, n);
             let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 7);
-            let e = eliminate(&rows, groups, width, 2, &mut rng, None).unwrap();
+            let e = eliminate(&rows, Layout::plain(groups, width), 2, &mut rng, None).unwrap();
             prop_assert_eq!(e.rank, rank_exact(&dense(&rows, groups * width)));
             prop_assert_eq!(e.kernel.len(), 2);
         }
@@ -564,7 +711,14 @@ mod tests {
             vec![(0, one), (2, one)],
             vec![(3, one)],
         ];
-        let e = eliminate(&rows, 2, 2, 1, &mut ChaCha8Rng::seed_from_u64(1), None).unwrap();
+        let e = eliminate(
+            &rows,
+            Layout::plain(2, 2),
+            1,
+            &mut ChaCha8Rng::seed_from_u64(1),
+            None,
+        )
+        .unwrap();
         assert_eq!(e.rank, 4);
         assert!(e.kernel[0].iter().all(|v| v.is_zero()));
     }

@@ -267,11 +267,35 @@ pub fn pin(e: Element, keep: bool, scratch: &mut Scratch) -> Pinned {
     }
 }
 
+/// Rows over one group's `width` columns (row-major) brought to echelon
+/// form: the independent rows, and how many.
+pub fn reduce(rows: &[f32], scratch: &mut Scratch) -> (Vec<f32>, usize) {
+    let width = scratch.width;
+    let mut data: Vec<f64> = rows.iter().map(|&v| v as f64).collect();
+    let mut block = Block {
+        data: &mut data,
+        rows: rows.len() / width,
+        cols: width,
+        modulus: scratch.modulus,
+    };
+    let top = block.echelon_in(0, 0, width, &mut Vec::new(), &mut scratch.panel);
+    let kept = data[..top * width].iter().map(|&x| x as f32).collect();
+    (kept, top)
+}
+
 /// A uniformly random vector of the kernel of the factorized matrix over
-/// `cols` columns: random values on the columns without a pivot, the
-/// pivot columns solved from the last front back to the first.
-pub fn kernel_vector<F: Field>(factors: &[Factor], cols: usize, rng: &mut impl Rng) -> Vec<F> {
-    let mut x: Vec<F> = (0..cols).map(|_| F::random(rng)).collect();
+/// `cols` columns with every column from `free` on held at zero: random
+/// values on the other columns without a pivot, the pivot columns solved
+/// from the last front back to the first.
+pub fn kernel_vector<F: Field>(
+    factors: &[Factor],
+    cols: usize,
+    free: usize,
+    rng: &mut impl Rng,
+) -> Vec<F> {
+    let mut x: Vec<F> = (0..cols)
+        .map(|c| if c < free { F::random(rng) } else { F::zero() })
+        .collect();
     for f in factors.iter().rev() {
         let n = f.cols.len();
         for (t, &p) in f.pivots.iter().enumerate().rev() {

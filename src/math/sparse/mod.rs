@@ -19,5 +19,5 @@ pub mod elimination;
 pub mod front;
 pub mod quotient;
 
-pub use elimination::{Counts, Elimination, Refused, Step, eliminate, rank};
+pub use elimination::{Counts, Deferred, Elimination, Layout, Refused, Step, eliminate, rank};
 pub use quotient::SparseRow;

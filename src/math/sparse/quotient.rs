@@ -19,6 +19,13 @@
 //! has no row outside the front, so eliminating it there adds no column
 //! (mass elimination, and a supernodal amalgamation), and a network that
 //! has become one dense block is eliminated in one front.
+//!
+//! The last group may be *deferred*: eliminated after all the others. It
+//! never counts in a degree, is never a front's own group and never pulls
+//! an element into a front, so the order and the fronts are those of the
+//! matrix without it; rows left over it alone are set aside, and what
+//! remains of them at the end is its Schur complement (truth's strain
+//! columns, MODEL §10).
 
 use rustc_hash::FxHashMap;
 use std::cmp::Reverse;
@@ -80,18 +87,30 @@ pub struct Quotient {
     stamp: u32,
     rescored: usize,
     modulus: Modulus,
+    /// The deferred group, if any, and the rows set aside over it alone
+    /// (row-major over its `width` columns).
+    deferred: Option<u32>,
+    width: usize,
+    aside: Vec<f32>,
 }
 
 impl Quotient {
     /// The elements of the original rows: rows over the same groups form
-    /// one element, in the order they first appear.
-    pub fn new<F: Field>(rows: &[SparseRow<F>], groups: usize, width: usize) -> Quotient {
+    /// one element, in the order they first appear. With `deferred`, the
+    /// last group is deferred.
+    pub fn new<F: Field>(
+        rows: &[SparseRow<F>],
+        groups: usize,
+        width: usize,
+        deferred: bool,
+    ) -> Quotient {
         let modulus = Modulus::new(F::modulus());
+        let deferred = (deferred && groups > 0).then(|| groups as u32 - 1);
         let mut q = Quotient {
             elements: Vec::new(),
             adjacent: vec![Vec::new(); groups],
             done: vec![false; groups],
-            remaining: groups,
+            remaining: groups - usize::from(deferred.is_some()),
             live_rows: 0,
             live_blocks: 0,
             dirty: vec![false; groups],
@@ -101,6 +120,9 @@ impl Quotient {
             stamp: 0,
             rescored: 0,
             modulus,
+            deferred,
+            width,
+            aside: Vec::new(),
         };
         let mut index: FxHashMap<Vec<u32>, usize> = FxHashMap::default();
         let mut built: Vec<Element> = Vec::new();
@@ -134,9 +156,33 @@ impl Quotient {
             q.insert(e);
         }
         for g in 0..groups as u32 {
-            q.requeue(g);
+            if Some(g) != deferred {
+                q.requeue(g);
+            }
         }
         q
+    }
+
+    /// Groups of `e` that count in degrees and densities: all but the
+    /// deferred one.
+    fn counted(&self, e: &Element) -> usize {
+        e.groups.len() - usize::from(self.deferred.is_some_and(|d| e.groups.contains(&d)))
+    }
+
+    /// The rows set aside over the deferred group alone, row-major over
+    /// its columns (empty without a deferred group).
+    pub fn take_aside(&mut self) -> Vec<f32> {
+        std::mem::take(&mut self.aside)
+    }
+
+    /// Sets `rows` aside over the deferred group (after a reduction).
+    pub fn put_aside(&mut self, rows: Vec<f32>) {
+        self.aside.extend(rows);
+    }
+
+    /// Rows set aside so far.
+    pub fn aside_rows(&self) -> usize {
+        self.aside.len() / self.width
     }
 
     /// Takes out every element over one group only: rows that constrain a
@@ -193,16 +239,23 @@ impl Quotient {
         self.stamp
     }
 
-    fn insert(&mut self, e: Element) -> u32 {
+    /// Adds a live element; one over the deferred group alone is set aside.
+    fn insert(&mut self, e: Element) {
+        if e.groups.len() == 1 && Some(e.groups[0]) == self.deferred {
+            debug_assert_eq!(e.data.len(), e.rows * self.width);
+            self.aside.extend_from_slice(&e.data);
+            return;
+        }
         let id = self.elements.len() as u32;
         self.live_rows += e.rows;
-        self.live_blocks += e.rows * e.groups.len();
+        self.live_blocks += e.rows * self.counted(&e);
         for &g in &e.groups {
-            self.adjacent[g as usize].push(id);
+            if Some(g) != self.deferred {
+                self.adjacent[g as usize].push(id);
+            }
         }
         self.elements.push(Some(e));
         self.element_mark.push(0);
-        id
     }
 
     /// Adds what a front left; the groups its absorbed elements touched
@@ -228,6 +281,9 @@ impl Quotient {
         self.adjacent[g as usize].retain(|&e| elements[e as usize].is_some());
         let stamp = self.next_stamp();
         self.mark[g as usize] = stamp;
+        if let Some(d) = self.deferred {
+            self.mark[d as usize] = stamp;
+        }
         let mut n = 0;
         for &e in &self.adjacent[g as usize] {
             for &h in &self.elements[e as usize].as_ref().expect("live").groups {
@@ -294,6 +350,10 @@ impl Quotient {
         let mut ids = ids;
         let mut extra = Vec::new();
         for h in union {
+            if Some(h) == self.deferred {
+                pattern.push(h);
+                continue;
+            }
             // h is eliminated here too when each of its rows is in the front
             // already or lies inside the front's groups: absorbing those
             // adds rows but no column, and spares a later front that would
@@ -339,7 +399,7 @@ impl Quotient {
             .collect::<Vec<_>>();
         for e in &elements {
             self.live_rows -= e.rows;
-            self.live_blocks -= e.rows * e.groups.len();
+            self.live_blocks -= e.rows * self.counted(e);
         }
         Gathered {
             own,
@@ -356,7 +416,7 @@ impl Quotient {
     /// products instead.
     fn gather_all(&mut self) -> Gathered {
         let own: Vec<u32> = (0..self.done.len() as u32)
-            .filter(|&h| !self.done[h as usize])
+            .filter(|&h| !self.done[h as usize] && Some(h) != self.deferred)
             .collect();
         for &h in &own {
             self.done[h as usize] = true;
@@ -367,7 +427,7 @@ impl Quotient {
         self.live_blocks = 0;
         Gathered {
             own,
-            pattern: Vec::new(),
+            pattern: self.deferred.into_iter().collect(),
             elements: self.elements.iter_mut().filter_map(Option::take).collect(),
             tail: true,
         }

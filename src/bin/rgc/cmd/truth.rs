@@ -12,7 +12,7 @@ use rgc::graph::io as graphio;
 use rgc::network::Network;
 use rgc::sample::Rods;
 use rgc::spanning::Criterion;
-use rgc::truth::{self, Decision, Outcome, Topology, Truth, TruthOptions};
+use rgc::truth::{self, Decision, Outcome, Strain, Strains, Topology, Truth, TruthOptions};
 use rgc::{Error, Result, output};
 
 #[derive(Args)]
@@ -194,6 +194,42 @@ pub fn run(a: TruthArgs, out: &mut String) -> Result<()> {
     Ok(())
 }
 
+/// The strain rank: how many of the box's strains it resists, over which
+/// strains, and which it resists alone; or why it is unknown.
+fn strains(s: &Strains, out: &mut String) {
+    let names = |v: &[Strain]| {
+        v.iter()
+            .map(Strain::to_string)
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let over = if s.considered.len() == 6 {
+        "of the 6 strains of the periodic box".to_string()
+    } else {
+        format!(
+            "of the {} strains of the periodic axes ({})",
+            s.considered.len(),
+            names(&s.considered)
+        )
+    };
+    match s.rank {
+        Some(r) => say!(
+            out,
+            "strain rank {r} {over}; resisted alone: {}",
+            if s.resisted.is_empty() {
+                "none".to_string()
+            } else {
+                names(&s.resisted)
+            }
+        ),
+        None => say!(
+            out,
+            "strain rank unknown: {}",
+            s.reason.as_deref().unwrap_or_default()
+        ),
+    }
+}
+
 fn finite(graph: &ContactGraph, opts: TruthOptions) -> Truth {
     truth::truth(&Topology::finite(graph), opts)
 }
@@ -235,6 +271,9 @@ fn summary(t: &Truth, out: &mut String) {
             ", rigid motions of a finite framework"
         }
     );
+    if let Some(s) = &t.strains {
+        strains(s, out);
+    }
     let sizes: Vec<String> = t
         .clusters
         .iter()
