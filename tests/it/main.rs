@@ -41,6 +41,7 @@ mod truth;
 mod truth_contract;
 mod truth_draws;
 mod truth_motions;
+mod truth_strain;
 mod vtk;
 mod workspaces;
 
