@@ -140,6 +140,13 @@ class Truth:
     reason: Optional[str]
     memory_refused: bool
     report: str
+    strain_rank: Optional[int]
+    """Strains of the box resisted (6: a solid), over ``strains_considered``; None where unknown."""
+    strains_resisted: list[str]
+    """The coordinate strains resisted alone: 'xx', 'yy', 'zz', 'yz', 'xz', 'xy'."""
+    strains_considered: list[str]
+    """The strains of the periodic axes."""
+    strain_reason: Optional[str]
 
 def generate(
     box: Box,

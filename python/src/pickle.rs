@@ -131,8 +131,14 @@ fn _truth(
     reason: Option<String>,
     memory_refused: bool,
     report: String,
+    strains: (Option<u8>, Vec<String>, Vec<String>, Option<String>),
 ) -> PyTruth {
+    let (strain_rank, strains_resisted, strains_considered, strain_reason) = strains;
     PyTruth {
+        strain_rank,
+        strains_resisted,
+        strains_considered,
+        strain_reason,
         cluster_idx,
         clusters,
         dof,

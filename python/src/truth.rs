@@ -37,6 +37,20 @@ pub struct PyTruth {
     /// The whole answer as `rgc truth --json` prints it, as JSON text.
     #[pyo3(get)]
     pub report: String,
+    /// How many strains of the box the rods resist (6: a solid, 0: a
+    /// fluid), over the strains of the periodic axes; None where unknown
+    /// (`strain_reason` says why).
+    #[pyo3(get)]
+    pub strain_rank: Option<u8>,
+    /// The coordinate strains resisted alone, by name ('xx' ... 'xy').
+    #[pyo3(get)]
+    pub strains_resisted: Vec<String>,
+    /// The strains considered: those of the periodic axes.
+    #[pyo3(get)]
+    pub strains_considered: Vec<String>,
+    /// Why the strain rank is unknown, if it is.
+    #[pyo3(get)]
+    pub strain_reason: Option<String>,
 }
 
 #[pymethods]
@@ -78,14 +92,23 @@ impl PyTruth {
             self.reason.clone(),
             self.memory_refused,
             self.report.clone(),
+            (
+                self.strain_rank,
+                self.strains_resisted.clone(),
+                self.strains_considered.clone(),
+                self.strain_reason.clone(),
+            ),
         );
         crate::pickle::reduce(py, "_truth", state)
     }
 
     fn __repr__(&self) -> String {
         let dof = self.dof.map_or("None".to_string(), |d| d.to_string());
+        let strain = self
+            .strain_rank
+            .map_or("None".to_string(), |r| r.to_string());
         format!(
-            "Truth(method={:?}, dof={dof}, clusters={})",
+            "Truth(method={:?}, dof={dof}, clusters={}, strain_rank={strain})",
             self.method,
             self.clusters.len()
         )
@@ -139,7 +162,13 @@ pub fn truth(
             cluster_idx[r as usize] = k as i64;
         }
     }
+    let strains = t.strains.clone().expect("truth reports its strains");
+    let names = |v: &[rgc::truth::Strain]| v.iter().map(ToString::to_string).collect();
     Ok(PyTruth {
+        strain_rank: strains.rank,
+        strains_resisted: names(&strains.resisted),
+        strains_considered: names(&strains.considered),
+        strain_reason: strains.reason.as_deref().map(pythonic),
         cluster_idx,
         clusters: t.clusters.iter().map(|c| c.rods.clone()).collect(),
         dof: t.outcome.dof(),

@@ -60,6 +60,8 @@ def same_truth(a, b):
         and [c.tolist() for c in a.clusters] == [c.tolist() for c in b.clusters]
         and (a.dof, a.spanning, a.method, a.reason, a.memory_refused, facts(a.report))
         == (b.dof, b.spanning, b.method, b.reason, b.memory_refused, facts(b.report))
+        and (a.strain_rank, a.strains_resisted, a.strains_considered, a.strain_reason)
+        == (b.strain_rank, b.strains_resisted, b.strains_considered, b.strain_reason)
     )
 
 

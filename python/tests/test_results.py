@@ -66,6 +66,10 @@ def test_truth_matches_the_command_line(system, cli):
     assert t.dof == theirs["dof"]
     assert t.spanning == theirs["spanning"]
     assert [c.tolist() for c in t.clusters] == [c["rods"] for c in theirs["clusters"]]
+    # A spanning cluster at rho 40 resists every strain of the box.
+    assert t.strain_rank == theirs["strains"]["rank"] == 6
+    assert t.strains_resisted == theirs["strains"]["resisted"] == ["xx", "yy", "zz", "yz", "xz", "xy"]
+    assert t.strains_considered == t.strains_resisted and t.strain_reason is None
     # Every rod's label is the largest cluster holding it.
     assert t.cluster_idx.dtype == np.int64 and t.cluster_idx.shape == (len(system),)
     for k, c in enumerate(t.clusters):

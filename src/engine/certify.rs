@@ -29,9 +29,10 @@ use crate::truth::{self, Topology, TruthOptions};
 pub fn certify(topo: &Topology, mut run: Compression, seed: u64) -> Compression {
     let graph = topo.graph;
     // One realization proves what it finds rigid, and certification only
-    // needs that.
+    // needs that; nor does it need the strains.
     let opts = TruthOptions {
         realizations: 1,
+        strain: false,
         ..TruthOptions::seeded(seed)
     };
     let t = truth::truth(topo, opts);

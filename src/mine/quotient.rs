@@ -94,6 +94,7 @@ impl<'a> Probe<'a> {
             q,
             opts: TruthOptions {
                 realizations: 1,
+                strain: false,
                 ..TruthOptions::seeded(seed)
             },
             local: vec![u32::MAX; topo.graph.n_nodes()],

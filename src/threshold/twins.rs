@@ -137,6 +137,7 @@ fn rank_sequence(gamma: f64, r: &Record, realizations: usize) -> Result<Sequence
             let view = seq.view(n, &graph);
             let opts = TruthOptions {
                 realizations,
+                strain: false,
                 ..TruthOptions::seeded(run_seed(r.seed, n as u64))
             };
             let ranked = realization_ranks(&view.topology(), opts).unwrap_or_default();

@@ -40,6 +40,7 @@ pub fn nested(setup: &Setup, seq: &mut Sequence, record: &mut Record) -> Result<
             };
             record.steps.push(Step {
                 largest: Some(t.largest_cluster()),
+                strain_rank: t.strain_rank(),
                 ..Step::new(n, spans, usize::from(spans))
             });
             search.record(n, spans);

@@ -21,6 +21,11 @@ pub struct Step {
     /// `None` for compressions, and in records older than the field.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub largest: Option<usize>,
+    /// Truth kind: how many strains of the box the first `n` rods resist
+    /// (MODEL §10, the strain rank; 6 is a solid). `None` for compressions,
+    /// where truth does not know it, and in records older than the field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strain_rank: Option<u8>,
 }
 
 impl Step {
@@ -31,6 +36,7 @@ impl Step {
             runs_spanning,
             undecided: false,
             largest: None,
+            strain_rank: None,
         }
     }
 
@@ -40,5 +46,28 @@ impl Step {
             undecided: true,
             ..Step::new(n, false, 0)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_step_keeps_its_strain_rank_and_reads_records_without_it() {
+        let old = r#"{"n":120,"spans":true,"runs_spanning":1,"largest":80}"#;
+        let step: Step = serde_json::from_str(old).unwrap();
+        assert_eq!((step.largest, step.strain_rank), (Some(80), None));
+        assert_eq!(serde_json::to_string(&step).unwrap(), old);
+        let solid = Step {
+            strain_rank: Some(6),
+            ..step
+        };
+        let text = serde_json::to_string(&solid).unwrap();
+        assert_eq!(
+            text,
+            r#"{"n":120,"spans":true,"runs_spanning":1,"largest":80,"strain_rank":6}"#
+        );
+        assert_eq!(serde_json::from_str::<Step>(&text).unwrap(), solid);
     }
 }
