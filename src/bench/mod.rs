@@ -28,7 +28,7 @@ pub use measure::one_thread;
 pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networkx_version};
 pub use rule_load::{LOAD_SETS, RuleLoadReport, RuleLoadRow, run_rule_load};
 pub use truth::{
-    LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES,
-    TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,
-    predict_largest_box, run_truth, truth_in_child, within_limit,
+    LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, StrainCost, TAIL_BOXES,
+    TRUTH_DENSITIES, TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth,
+    measure_truth_at, predict_largest_box, run_truth, truth_in_child, within_limit,
 };

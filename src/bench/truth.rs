@@ -99,6 +99,25 @@ pub struct TruthRow {
     /// Whether the peak was reset before truth ran. Where it was not, both
     /// figures are the process's high-water mark, which only ever rises.
     pub peak_reset: bool,
+    /// What the strain rank costs: CPU seconds of truth again without the
+    /// strain columns, then with them, after the run above in the same
+    /// process (both warm, so neither pays the first run's page faults).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strain_cost: Option<StrainCost>,
+}
+
+/// CPU seconds of truth on one system without and with the strain columns.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct StrainCost {
+    pub without: f64,
+    pub with: f64,
+}
+
+impl StrainCost {
+    /// With over without.
+    pub fn ratio(&self) -> f64 {
+        self.with / self.without
+    }
 }
 
 /// Truth on the system of `density`, box side `l` and `seed`, on a pool of
@@ -125,6 +144,18 @@ pub fn measure_truth_at(gamma: f64, density: f64, l: usize, seed: u64) -> crate:
         let seconds = start.elapsed().as_secs_f64();
         let cpu_seconds = thread_cpu_seconds().zip(cpu_before).map(|(b, a)| b - a);
         let peak_mib = peak_rss_mib();
+        let cpu = |strain: bool| {
+            let before = thread_cpu_seconds();
+            let opts = TruthOptions {
+                strain,
+                ..TruthOptions::seeded(seed)
+            };
+            truth::of_system(network.view(), Criterion::Wrap, opts);
+            thread_cpu_seconds().zip(before).map(|(b, a)| b - a)
+        };
+        let strain_cost = cpu(false)
+            .zip(cpu(true))
+            .map(|(without, with)| StrainCost { without, with });
         TruthRow {
             gamma,
             density,
@@ -143,6 +174,7 @@ pub fn measure_truth_at(gamma: f64, density: f64, l: usize, seed: u64) -> crate:
             peak_mib,
             truth_mib: (peak_mib - before).max(0.0),
             peak_reset,
+            strain_cost,
         }
     }))
 }

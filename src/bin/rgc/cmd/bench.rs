@@ -292,12 +292,12 @@ fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
     }
     say!(
         out,
-        "gamma   rho   L    rods  core     front       CPU s  truth MiB"
+        "gamma   rho   L    rods  core     front       CPU s  truth MiB  strain"
     );
     for r in &report.rows {
         say!(
             out,
-            "{:>5} {:>5} {:>3} {:>7} {:>5} {:>11} {:>9.2} {:>10.1}",
+            "{:>5} {:>5} {:>3} {:>7} {:>5} {:>11} {:>9.2} {:>10.1} {:>7}",
             r.gamma,
             r.density,
             r.box_len,
@@ -306,7 +306,22 @@ fn truth_aspects(a: BenchArgs, out: &mut String) -> Result<()> {
             r.largest_front
                 .map_or("-".into(), |(rows, cols)| format!("{rows}x{cols}")),
             r.cpu_seconds.unwrap_or(r.seconds),
-            r.truth_mib
+            r.truth_mib,
+            r.strain_cost.map_or("-".into(), |c| format!(
+                "{:+.1}%",
+                100.0 * (c.ratio() - 1.0)
+            ))
+        );
+    }
+    let costs: Vec<_> = report.rows.iter().filter_map(|r| r.strain_cost).collect();
+    if !costs.is_empty() {
+        let (with, without) = costs
+            .iter()
+            .fold((0.0, 0.0), |(a, b), c| (a + c.with, b + c.without));
+        say!(
+            out,
+            "strain columns (the strain rank): CPU {with:.2} s with, {without:.2} s without, {:+.1}% over all systems (each run again warm, in its child)",
+            100.0 * (with / without - 1.0)
         );
     }
     for s in &report.scaling {
