@@ -40,6 +40,11 @@ fn tiny_plan_in_process_gives_consistent_rows() {
     let r = &report.rows[0];
     assert_consistent(r);
     assert_eq!((r.density, r.box_len, r.seed, r.n_rods), (34.0, 3, 1, 918));
+    // Truth again without and with the strain columns, where CPU time is read.
+    if rgc::usage::thread_cpu_seconds().is_some() {
+        let c = r.strain_cost.expect("measured");
+        assert!(c.with >= 0.0 && c.without >= 0.0, "{c:?}");
+    }
     assert!(report.scaling[0].time.is_none(), "one size fits no law");
     assert!(report.scaling[0].time_tail.is_none());
     assert_eq!(report.predicted_largest_box, None);
@@ -124,6 +129,7 @@ fn fake_row(density: f64, l: usize, seed: u64, seconds: f64) -> TruthRow {
         peak_mib: 2.0,
         truth_mib: 1.0,
         peak_reset: true,
+        strain_cost: None,
     }
 }
 
