@@ -198,7 +198,10 @@ def truth(
 ) -> Truth:
     """The exact generic rigidity of ``rods`` (the same answer as ``rgc
     truth`` with that seed): degrees of freedom, rigid clusters and
-    spanning under 'wrap' or 'faces'. ``memory_limit`` (bytes, positive)
+    spanning under 'wrap' or 'faces', and the strain rank (``strain_rank``:
+    how many strains of the box the rods resist, 6 for a solid;
+    ``strains_resisted``: the coordinate strains resisted alone, 'xx' to
+    'xy'; None with ``strain_reason`` where unknown). ``memory_limit`` (bytes, positive)
     refuses a system whose elimination would pass it.
 
     An undecided answer raises UndecidedError (UndecidedMemoryError, also a

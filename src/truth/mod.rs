@@ -13,8 +13,11 @@
 //! * [`planes`] — the forced plane classes, each also a rigid body;
 //! * [`order`] — an order in which every line can be placed rationally;
 //! * [`realize`] — an exact realization over F_p in that order;
-//! * [`matrix`] — the rigidity matrix in body frames, six columns per part;
-//! * [`crate::math::sparse`] — its exact rank and random kernel vectors;
+//! * [`matrix`] — the rigidity matrix in body frames, six columns per part,
+//!   and six strain columns where the box may deform;
+//! * [`crate::math::sparse`] — its exact rank and random kernel vectors,
+//!   the strain columns ranked last (the strain rank: how many strains of
+//!   the box the system resists, 6 for a solid);
 //! * [`clusters`] — the rigid clusters those vectors imply;
 //! * [`contract`] — those clusters contracted, for the second twin's check.
 //!

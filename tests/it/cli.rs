@@ -477,6 +477,55 @@ fn truth_json_has_the_contract_fields() {
     assert!(first["rods"].as_array().unwrap().len() > 100);
     assert_eq!(v["spanning"], first["spans"]["wrap"]);
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    // It resists every strain of its box, each alone too.
+    let six = serde_json::json!(["xx", "yy", "zz", "yz", "xz", "xy"]);
+    assert_eq!(
+        v["strains"],
+        serde_json::json!({"considered": six, "rank": 6, "resisted": six})
+    );
+}
+
+#[test]
+fn truth_prints_the_strain_rank_or_why_it_has_none() {
+    let text = stdout_of(&[
+        "truth",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "42",
+        "--seed",
+        "2",
+    ]);
+    assert!(
+        text.contains(
+            "strain rank 6 of the 6 strains of the periodic box; resisted alone: xx yy zz yz xz xy\n"
+        ),
+        "{text}"
+    );
+    let text = stdout_of(&[
+        "truth",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "20",
+        "--seed",
+        "2",
+    ]);
+    assert!(
+        text.contains("strain rank 0 of the 6 strains of the periodic box; resisted alone: none\n"),
+        "{text}"
+    );
+    let text = stdout_of(&["truth", "--graph6", "F?~v_"]);
+    assert!(
+        text.contains(
+            "strain rank unknown: no periodic axis: a finite framework has no box to strain\n"
+        ),
+        "{text}"
+    );
 }
 
 #[test]
