@@ -487,34 +487,19 @@ fn truth_json_has_the_contract_fields() {
 
 #[test]
 fn truth_prints_the_strain_rank_or_why_it_has_none() {
-    let text = stdout_of(&[
-        "truth",
-        "--gamma",
-        "23",
-        "--box",
-        "3",
-        "--density",
-        "42",
-        "--seed",
-        "2",
-    ]);
+    // The generated system above, and one too sparse to resist anything.
+    let generated = |density| {
+        let args = ["--gamma", "23", "--box", "3", "--density", density];
+        stdout_of(&[&["truth", "--seed", "2"][..], &args].concat())
+    };
+    let text = generated("42");
     assert!(
         text.contains(
             "strain rank 6 of the 6 strains of the periodic box; resisted alone: xx yy zz yz xz xy\n"
         ),
         "{text}"
     );
-    let text = stdout_of(&[
-        "truth",
-        "--gamma",
-        "23",
-        "--box",
-        "3",
-        "--density",
-        "20",
-        "--seed",
-        "2",
-    ]);
+    let text = generated("20");
     assert!(
         text.contains("strain rank 0 of the 6 strains of the periodic box; resisted alone: none\n"),
         "{text}"
