@@ -1,7 +1,7 @@
 //! The benchmarks behind `rgc bench`: the foundation benchmark (contact
 //! detection and one compression, single threaded, on the reference systems
 //! of the paper's aspect ratios, with rule sets and networkx as
-//! references), and the truth benchmarks: how the cost of exact
+//! references), the rule sets' cost against the base engine, and the truth benchmarks: how the cost of exact
 //! whole-system rigidity grows with the system, and so how large a box
 //! truth can decide. Every figure, median and ratio is made here; the
 //! command line only prints them.
@@ -11,6 +11,7 @@ pub mod foundation;
 pub mod growth;
 pub mod measure;
 pub mod networkx;
+pub mod rules;
 pub mod truth;
 
 pub use crate::usage::{peak_rss_mib, reset_peak_rss};
@@ -25,6 +26,10 @@ pub use foundation::{
 pub use growth::Growth;
 pub use measure::one_thread;
 pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networkx_version};
+pub use rules::{
+    LoadRow, LoadedSet, RULE_SYSTEMS, RuleSetFiles, RulesReport, SetRow, default_rule_sets,
+    load_set,
+};
 pub use truth::{
     LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES,
     TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,

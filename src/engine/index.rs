@@ -17,17 +17,17 @@
 //! plain matcher finds.
 
 use crate::body::BodyClass;
+use crate::graph::ContactGraph;
 
 use super::ball::{Ball, Bits, MAX_BALL, MAX_CORE, MAX_DEGREE, Search};
+use super::cores::FreeCores;
+use super::sieve::{MAX_RADIUS, Sieve, THRESHOLDS};
 use super::demand::{Common, CommonNeeds, Needs, Profile, accepts, class_index};
 use super::rule::{CompiledRule, Step};
 use super::state::State;
 
 /// Bodies with more neighbours than this are not profiled.
 const LARGE: usize = 256;
-
-/// The largest pattern eccentricity whose ball a rod task measures.
-pub(super) const MAX_RADIUS: usize = 4;
 
 /// A neighbouring node as the index caches it.
 #[derive(Clone, Copy, Debug)]
@@ -81,6 +81,8 @@ pub(super) struct Index {
     entries: Vec<[Vec<PairEntry>; 9]>,
     /// By class pair, the distinct conditions of the entries.
     shared: [Vec<Shared>; 9],
+    /// Whether some rule has a body.
+    has_pair_rules: bool,
     /// Per pair task: the rules some entry of which passes the conditions, as bits.
     candidates: Vec<u64>,
     /// Distinct [`Needs`] and [`CommonNeeds`] of all entries.
@@ -91,32 +93,28 @@ pub(super) struct Index {
     said_x: Vec<u8>,
     said_y: Vec<u8>,
     said_common: Vec<u8>,
-    /// The largest ball a rod task measures.
-    radius: usize,
-    /// The rods-only rules, by number.
-    rods_only: Vec<usize>,
-    /// Each rod's core number (up to the rods-only rules' largest least
-    /// degree) among the rods free when the index was made: rods only
-    /// leave the free rods, so a core of theirs now lies in that core.
-    core: Vec<u8>,
-    /// The least core order of the rods-only rules.
-    min_core: u8,
-    /// Per rod task: the rod, its free neighbours' numbers of free
-    /// neighbours (largest first), and, once measured, the cyclomatic
-    /// number (contacts − rods + 1) of the free rods of the least core
-    /// within each distance of it there (0 to [`MAX_RADIUS`]): a match
-    /// lies in that core, at most its pattern distances apart.
+    /// The rods-only rules' attempts and the masks that select them.
+    sieve: Sieve,
+    /// The free rods' cores of the orders the rods-only rules need.
+    cores: Option<FreeCores>,
+    /// Per rod task: the rod; its neighbours in each core by their degree
+    /// there; the keys and attempts the sieve admits; and the cyclomatic
+    /// number (contacts − rods + 1) of the rods of the least core within
+    /// each distance of it (0 to the sieve's radius): a match lies in that
+    /// core, at most its pattern distances apart.
     rod: u32,
-    free_degrees: Vec<u32>,
-    cycles: Option<[i64; MAX_RADIUS + 1]>,
+    counts: Vec<[u32; THRESHOLDS]>,
+    keys: Vec<u64>,
+    marked: Vec<u64>,
+    cycles: [i64; MAX_RADIUS + 1],
     /// Per rod task: each rod's distance from the task's rod when `seen` is
-    /// the task's stamp, and the rods by distance.
+    /// the task's stamp.
     distance: Vec<u8>,
     /// Each rod's place in the rod task's [`Ball`], when built.
     slot: Vec<u8>,
     seen: Vec<u32>,
     stamp: u32,
-    /// A rod task's rod, then the free rods of the least core around it in
+    /// A rod task's rod, then the rods of the least core around it in
     /// breadth-first order.
     around: Vec<u32>,
     ball: Ball,
@@ -143,12 +141,9 @@ fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
 impl Index {
     pub fn new(state: &mut State, rules: &[CompiledRule], audit: bool) -> Self {
         let n_rods = state.g.n_nodes();
-        let max_core = rules
-            .iter()
-            .filter(|r| r.rods_only())
-            .map(|r| r.min_degree)
-            .max()
-            .unwrap_or(0);
+        let sieve = Sieve::new(rules);
+        let cores = (!sieve.is_empty()).then(|| FreeCores::new(state, sieve.low, sieve.high));
+        let orders = usize::from(sieve.high - sieve.low) + 1;
         let (mut needs, mut commons) = (Vec::new(), Vec::new());
         let entries = rules
             .iter()
@@ -235,24 +230,14 @@ impl Index {
             said_common: vec![0; commons.len()],
             needs,
             commons,
-            radius: rules
-                .iter()
-                .filter(|r| r.rods_only())
-                .flat_map(|r| r.eccentricity.iter().copied())
-                .filter(|&e| e <= MAX_RADIUS)
-                .max()
-                .unwrap_or(0),
-            rods_only: (0..rules.len()).filter(|&k| rules[k].rods_only()).collect(),
-            core: free_cores(state, max_core.min(u8::MAX as usize) as u8),
-            min_core: rules
-                .iter()
-                .filter(|r| r.rods_only())
-                .map(|r| r.min_degree.min(u8::MAX as usize) as u8)
-                .min()
-                .unwrap_or(0),
+            has_pair_rules: rules.iter().any(|r| !r.rods_only()),
             rod: 0,
-            free_degrees: Vec::new(),
-            cycles: None,
+            counts: vec![[0; THRESHOLDS]; orders],
+            keys: vec![0; sieve.key_words()],
+            marked: vec![0; sieve.attempt_words()],
+            cycles: [0; MAX_RADIUS + 1],
+            sieve,
+            cores,
             distance: vec![0; n_rods],
             slot: vec![0; n_rods],
             seen: vec![0; n_rods],
@@ -346,70 +331,75 @@ impl Index {
         self.adjacency[x as usize][i]
     }
 
-    /// Starts rod task `r` (a free rod): its free neighbours' numbers of
-    /// free neighbours; the ball around it is measured when first needed.
-    pub fn start_rod(&mut self, state: &mut State, r: u32) {
-        self.refresh(state, r);
+    /// Rod `r`, free until now, joins a body.
+    pub fn leave(&mut self, state: &State, r: u32) {
+        if let Some(cores) = self.cores.as_mut() {
+            cores.remove(state, r);
+        }
+    }
+
+    /// Starts rod task `r` (a free rod): which attempts of the rods-only
+    /// rules its surroundings admit; whether any.
+    pub fn start_rod(&mut self, state: &State, r: u32) -> bool {
+        let Some(cores) = &self.cores else {
+            return false;
+        };
         self.rod = r;
-        self.cycles = None;
         self.ball.built = false;
-        let mut free = std::mem::take(&mut self.free_degrees);
-        free.clear();
-        for i in 0..self.adjacency[r as usize].len() {
-            let n = self.adjacency[r as usize][i];
-            if n.class == 0 {
-                free.push(self.profile(state, n.node).free_rods());
+        let low = cores.low();
+        let level = cores.level(r);
+        if level < low {
+            return false;
+        }
+        let top = level.min(self.sieve.high);
+        let g = state.g;
+        for (i, m) in (low..=top).enumerate() {
+            let counts = &mut self.counts[i];
+            *counts = [0; THRESHOLDS];
+            for &(w, _) in g.neighbors(r) {
+                if cores.level(w) >= m {
+                    let d = (cores.degree(m, w) as usize).min(THRESHOLDS);
+                    for c in &mut counts[..d] {
+                        *c += 1;
+                    }
+                }
             }
         }
-        free.sort_unstable_by(|a, b| b.cmp(a));
-        self.free_degrees = free;
+        if !self.sieve.admit(level, &self.counts, &mut self.keys) {
+            return false;
+        }
+        self.measure_cycles(state);
+        if !self.sieve.admit_cycles(&self.cycles, &mut self.keys) {
+            return false;
+        }
+        self.sieve.mark(&self.keys, &mut self.marked);
+        true
     }
 
     /// Whether some rule has a body: only those are matched on pairs.
     pub fn has_pair_rules(&self) -> bool {
-        self.rods_only.len() < self.entries.len()
+        self.has_pair_rules
     }
 
-    /// The rods-only rules, from rule `start` on, cyclically.
-    pub fn rods_only_from(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
-        let split = self.rods_only.partition_point(|&k| k < start);
-        self.rods_only[split..]
-            .iter()
-            .chain(&self.rods_only[..split])
-            .copied()
+    /// The attempts (rule, pattern node) the started rod task admits, from
+    /// rule `start` on, cyclically, in the plain matcher's order.
+    pub fn rod_attempts(&self, start: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.sieve.marked_from(&self.marked, start)
     }
 
-    /// Whether the started rod task's rod can carry pattern node `v` of
-    /// rods-only `rule`: its free neighbours, by their own free neighbours,
-    /// can carry `v`'s neighbours, and the free rods of the least core
-    /// within `v`'s eccentricity have at least the pattern's independent cycles (checked
-    /// up to [`MAX_RADIUS`]).
-    pub fn rod_could_match(&mut self, state: &mut State, rule: &CompiledRule, v: usize) -> bool {
-        if (self.core[self.rod as usize] as usize) < rule.min_degree {
-            return false;
-        }
-        let want = &rule.neighbour_degrees[v];
-        let f = &self.free_degrees;
-        if want.len() > f.len() || want.iter().zip(f).any(|(w, f)| w > f) {
-            return false;
-        }
-        let e = rule.eccentricity[v];
-        e > MAX_RADIUS || self.cycles(state)[e] >= rule.cycles
-    }
-
-    /// The started rod task's cycles by distance, measured now if not yet.
-    fn cycles(&mut self, state: &mut State) -> [i64; MAX_RADIUS + 1] {
-        if let Some(c) = self.cycles {
-            return c;
-        }
+    /// The cycles of the started rod task's surroundings by distance:
+    /// breadth first through the rods of the least core, a contact
+    /// counting at the larger distance of its rods, once.
+    fn measure_cycles(&mut self, state: &State) {
+        let cores = self.cores.as_ref().expect("rods-only rules");
+        let (low, radius) = (cores.low(), self.sieve.radius);
+        let g = state.g;
         let r = self.rod;
-        // Breadth first through free rods; a contact counts at the larger
-        // distance of its rods, once.
         self.stamp += 1;
         let stamp = self.stamp;
         self.seen[r as usize] = stamp;
         self.distance[r as usize] = 0;
-        let mut ball = std::mem::take(&mut self.around);
+        let ball = &mut self.around;
         ball.clear();
         ball.push(r);
         let (mut rods, mut contacts) = ([0i64; MAX_RADIUS + 1], [0i64; MAX_RADIUS + 1]);
@@ -419,16 +409,13 @@ impl Index {
             next += 1;
             let d = self.distance[u as usize] as usize;
             rods[d] += 1;
-            self.refresh(state, u);
-            for i in 0..self.adjacency[u as usize].len() {
-                let w = self.adjacency[u as usize][i];
-                // Rods outside the least core a rule needs are in no match.
-                if w.class != 0 || self.core[w.node as usize] < self.min_core {
+            for &(w, _) in g.neighbors(u) {
+                if cores.level(w) < low {
                     continue;
                 }
-                let w = w.node as usize;
+                let w = w as usize;
                 if self.seen[w] != stamp {
-                    if d < self.radius {
+                    if d < radius {
                         self.seen[w] = stamp;
                         self.distance[w] = d as u8 + 1;
                         ball.push(w as u32);
@@ -440,20 +427,17 @@ impl Index {
                 }
             }
         }
-        self.around = ball;
-        let mut cycles = [0; MAX_RADIUS + 1];
         let (mut n, mut e) = (0, 0);
         for k in 0..=MAX_RADIUS {
             n += rods[k];
             e += contacts[k];
-            cycles[k] = e - n + 1;
+            self.cycles[k] = e - n + 1;
         }
-        self.cycles = Some(cycles);
-        cycles
     }
 
     /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
-    fn build_ball(&mut self) -> bool {
+    fn build_ball(&mut self, g: &ContactGraph) -> bool {
+        let radius = self.sieve.radius;
         let ball = &mut self.ball;
         if ball.built {
             return true;
@@ -466,7 +450,7 @@ impl Index {
         ball.rods.sort_unstable();
         ball.rows.clear();
         ball.near.clear();
-        ball.near.resize(self.radius + 1, 0);
+        ball.near.resize(radius + 1, 0);
         ball.wide = [0; MAX_DEGREE + 1];
         // Ball rods by host rod, as `distance` (stamped by `seen`) is kept.
         for (i, &u) in ball.rods.iter().enumerate() {
@@ -474,13 +458,13 @@ impl Index {
         }
         for (i, &u) in ball.rods.iter().enumerate() {
             let mut row: Bits = 0;
-            for nb in &self.adjacency[u as usize] {
-                if nb.class == 0 && self.seen[nb.node as usize] == self.stamp {
-                    row |= 1 << self.slot[nb.node as usize];
+            for &(w, _) in g.neighbors(u) {
+                if self.seen[w as usize] == self.stamp {
+                    row |= 1 << self.slot[w as usize];
                 }
             }
             ball.rows.push(row);
-            for d in self.distance[u as usize] as usize..=self.radius {
+            for d in self.distance[u as usize] as usize..=radius {
                 ball.near[d] |= 1 << i;
             }
             for k in 0..=(row.count_ones() as usize).min(MAX_DEGREE) {
@@ -488,7 +472,7 @@ impl Index {
             }
         }
         ball.core.clear();
-        ball.core.resize(self.radius + 1, [None; MAX_CORE + 1]);
+        ball.core.resize(radius + 1, [None; MAX_CORE + 1]);
         ball.root = self.slot[self.around[0] as usize] as usize;
         ball.built = true;
         true
@@ -498,8 +482,10 @@ impl Index {
     /// pattern node `start` on the task's rod (`plan`), calling `complete`
     /// on each complete map until it returns true. `None` when the ball is
     /// too large to build or narrower than the pattern.
+    #[allow(clippy::too_many_arguments)]
     pub fn search_ball(
         &mut self,
+        g: &ContactGraph,
         start: usize,
         eccentricity: usize,
         min_degree: usize,
@@ -507,7 +493,7 @@ impl Index {
         n: usize,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> Option<bool> {
-        if eccentricity > self.radius || self.cycles.is_none() || !self.build_ball() {
+        if eccentricity > self.sieve.radius || !self.build_ball(g) {
             return None;
         }
         let (d, k) = (eccentricity, min_degree.min(MAX_CORE));
@@ -629,52 +615,6 @@ impl Index {
             self.commons[k].admitted_by(&self.common)
         })
     }
-}
-
-/// Each rod's core number among the free rods, up to `max`.
-fn free_cores(state: &State, max: u8) -> Vec<u8> {
-    let g = state.g;
-    let n = g.n_nodes();
-    let mut core = vec![0u8; n];
-    if max == 0 {
-        return core;
-    }
-    let mut alive: Vec<bool> = (0..n as u32).map(|r| state.is_free_rod(r)).collect();
-    // The contact graph is simple: a rod's free neighbours are its degree.
-    let mut degree: Vec<u32> = (0..n as u32)
-        .map(|r| {
-            g.neighbors(r)
-                .iter()
-                .filter(|&&(x, _)| alive[x as usize])
-                .count() as u32
-        })
-        .collect();
-    let mut stack = Vec::new();
-    for k in 1..=max {
-        stack.extend((0..n).filter(|&r| alive[r] && degree[r] < u32::from(k)));
-        while let Some(r) = stack.pop() {
-            if !alive[r] {
-                continue;
-            }
-            alive[r] = false;
-            core[r] = k - 1;
-            for &(x, _) in g.neighbors(r as u32) {
-                let x = x as usize;
-                if alive[x] {
-                    degree[x] -= 1;
-                    if degree[x] < u32::from(k) {
-                        stack.push(x);
-                    }
-                }
-            }
-        }
-    }
-    for (c, a) in core.iter_mut().zip(alive) {
-        if a {
-            *c = max;
-        }
-    }
-    core
 }
 
 /// Condition `k`'s answer for the current task, asking `answer` once

@@ -40,6 +40,7 @@ mod ball;
 mod base;
 pub mod certify;
 mod compression;
+mod cores;
 mod demand;
 pub mod examples;
 mod index;
@@ -51,6 +52,7 @@ mod rule;
 mod ruleset;
 mod run;
 pub mod shapes;
+mod sieve;
 mod sound;
 mod state;
 
@@ -60,5 +62,5 @@ pub use rule::CompiledRule;
 pub use ruleset::RuleSet;
 pub use run::{
     Engine, MAX_RUNS, Matching, check_runs_memory, compress, compress_from, compress_runs,
-    run_seed, runs_memory,
+    run_seed, runs_memory, Work,
 };

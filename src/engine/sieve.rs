@@ -1,0 +1,266 @@
+//! Which attempts of the rods-only rules a rod task can carry, decided for
+//! all rules at once.
+//!
+//! An attempt puts pattern node `v` of a rule on the task's rod. It can
+//! only succeed where the free rods' cores ([`super::cores`]) around the rod
+//! hold what the pattern needs there: the rod lies in the core of the
+//! pattern's least degree, its neighbours in that core have at least the
+//! degrees of `v`'s neighbours (compared as counts over degree thresholds),
+//! and the core's rods within `v`'s eccentricity of it have at least the
+//! pattern's independent cycles. Attempts with the same requirements share
+//! a *key*; a rod task tests its numbers against precomputed bit masks over
+//! the keys (one AND per threshold), then marks the attempts of the keys
+//! left, in the plain matcher's order.
+
+use super::rule::CompiledRule;
+
+/// Degrees are compared at thresholds 1 to this; larger ones count as it.
+pub(super) const THRESHOLDS: usize = 8;
+
+/// The largest eccentricity whose cycles a rod task measures.
+pub(super) const MAX_RADIUS: usize = 4;
+
+/// What an attempt needs of the rod task.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+struct Key {
+    /// The rule's least pattern degree: the core the match lies in.
+    order: u8,
+    /// The pattern node's eccentricity, and the pattern's cycles.
+    eccentricity: u8,
+    cycles: u8,
+    /// By threshold `t` (from 1): `v`'s neighbours of at least `t` neighbours.
+    want: [u8; THRESHOLDS],
+}
+
+/// A set of keys or attempts, as bits.
+type Words = Vec<u64>;
+
+fn set(bits: &mut [u64], i: usize) {
+    bits[i / 64] |= 1 << (i % 64);
+}
+
+/// The attempts of the rods-only rules and the masks that select them.
+pub(super) struct Sieve {
+    /// Attempts (rule, pattern node) by rule, then node; automorphic
+    /// repeats of a node tried before are left out (they fail alike).
+    pub attempts: Vec<(u32, u8)>,
+    /// Each rule's first attempt (`rules + 1` entries).
+    first: Vec<u32>,
+    /// The attempts of each key.
+    by_key: Vec<Vec<u32>>,
+    /// Words in a set of keys.
+    words: usize,
+    /// The least and highest core order of the rules.
+    pub low: u8,
+    pub high: u8,
+    /// The largest eccentricity (up to [`MAX_RADIUS`]) whose cycles are checked.
+    pub radius: usize,
+    /// By level `l` (from `low`): the keys of order at most `l`.
+    level: Vec<Words>,
+    /// By order `m` (from `low`), threshold `t` and count `c`: the keys
+    /// not of order `m`, or wanting at most `c` neighbours of degree `t`.
+    want: Vec<Vec<Vec<Words>>>,
+    /// By eccentricity `e` and cycles `y`: the keys not of eccentricity
+    /// `e`, or needing at most `y` cycles.
+    cycles: Vec<Vec<Words>>,
+}
+
+impl Sieve {
+    pub fn new(rules: &[CompiledRule]) -> Self {
+        let mut attempts = Vec::new();
+        let mut first = Vec::with_capacity(rules.len() + 1);
+        let mut keys: Vec<Key> = Vec::new();
+        for (k, rule) in rules.iter().enumerate() {
+            first.push(attempts.len() as u32);
+            if !rule.rods_only() {
+                continue;
+            }
+            for v in 0..rule.n_nodes() {
+                if rule.orbit[v] < v {
+                    continue;
+                }
+                let mut want = [0u8; THRESHOLDS];
+                for &d in &rule.neighbour_degrees[v] {
+                    for w in want.iter_mut().take((d as usize).min(THRESHOLDS)) {
+                        *w += 1;
+                    }
+                }
+                keys.push(Key {
+                    order: rule.min_degree.min(u8::MAX as usize) as u8,
+                    eccentricity: rule.eccentricity[v].min(u8::MAX as usize) as u8,
+                    cycles: rule.cycles.clamp(0, u8::MAX as i64) as u8,
+                    want,
+                });
+                attempts.push((k as u32, v as u8));
+            }
+        }
+        first.push(attempts.len() as u32);
+        let mut distinct: Vec<Key> = keys.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        let mut by_key = vec![Vec::new(); distinct.len()];
+        for (i, key) in keys.iter().enumerate() {
+            let at = distinct.binary_search(key).expect("a key of its own");
+            by_key[at].push(i as u32);
+        }
+        let low = distinct.iter().map(|k| k.order).min().unwrap_or(1).max(1);
+        let high = distinct.iter().map(|k| k.order).max().unwrap_or(1).max(low);
+        let radius = distinct
+            .iter()
+            .map(|k| k.eccentricity as usize)
+            .filter(|&e| e <= MAX_RADIUS)
+            .max()
+            .unwrap_or(0);
+        let words = distinct.len().div_ceil(64);
+        let mask = |keep: &dyn Fn(&Key) -> bool| {
+            let mut bits = vec![0u64; words];
+            for (i, key) in distinct.iter().enumerate() {
+                if keep(key) {
+                    set(&mut bits, i);
+                }
+            }
+            bits
+        };
+        let level = (low..=high).map(|l| mask(&|k| k.order <= l)).collect();
+        let most = distinct
+            .iter()
+            .flat_map(|k| k.want)
+            .max()
+            .unwrap_or(0);
+        let want = (low..=high)
+            .map(|m| {
+                (0..THRESHOLDS)
+                    .map(|t| {
+                        (0..=most)
+                            .map(|c| mask(&|k| k.order != m || k.want[t] <= c))
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        let most_cycles = distinct.iter().map(|k| k.cycles).max().unwrap_or(0);
+        let cycles = (0..=radius)
+            .map(|e| {
+                (0..=most_cycles)
+                    .map(|y| mask(&|k| k.eccentricity as usize != e || k.cycles <= y))
+                    .collect()
+            })
+            .collect();
+        Sieve {
+            attempts,
+            first,
+            by_key,
+            words,
+            low,
+            high,
+            radius,
+            level,
+            want,
+            cycles,
+        }
+    }
+
+    /// Whether there is any rods-only rule.
+    pub fn is_empty(&self) -> bool {
+        self.attempts.is_empty()
+    }
+
+    /// Words in a set of keys.
+    pub fn key_words(&self) -> usize {
+        self.words
+    }
+
+    /// Words in a set of attempts.
+    pub fn attempt_words(&self) -> usize {
+        self.attempts.len().div_ceil(64)
+    }
+
+    /// The keys a rod at core level `level` (at least `low`) admits, given
+    /// `counts[m - low][t]`: its neighbours in the `m`-core with at least
+    /// `t + 1` neighbours there (for each order `m` up to `level`), into
+    /// `keys`; whether any is left.
+    pub fn admit(&self, level: u8, counts: &[[u32; THRESHOLDS]], keys: &mut [u64]) -> bool {
+        let level = level.min(self.high);
+        keys.copy_from_slice(&self.level[(level - self.low) as usize]);
+        for (m, counts) in counts
+            .iter()
+            .enumerate()
+            .take((level - self.low) as usize + 1)
+        {
+            let tables = &self.want[m];
+            for (t, &c) in counts.iter().enumerate() {
+                let table = &tables[t];
+                let mask = &table[(c as usize).min(table.len() - 1)];
+                for (k, m) in keys.iter_mut().zip(mask) {
+                    *k &= m;
+                }
+            }
+        }
+        keys.iter().any(|&k| k != 0)
+    }
+
+    /// Keeps the keys whose cycles the rod's surroundings hold: `cycles[e]`
+    /// independent cycles among the core's rods within `e` of it; whether
+    /// any is left.
+    pub fn admit_cycles(&self, cycles: &[i64], keys: &mut [u64]) -> bool {
+        for (e, table) in self.cycles.iter().enumerate() {
+            let y = cycles[e].clamp(0, table.len() as i64 - 1) as usize;
+            for (k, m) in keys.iter_mut().zip(&table[y]) {
+                *k &= m;
+            }
+        }
+        keys.iter().any(|&k| k != 0)
+    }
+
+    /// Marks the attempts of `keys` in `attempts` (cleared first).
+    pub fn mark(&self, keys: &[u64], attempts: &mut [u64]) {
+        attempts.fill(0);
+        for (w, &word) in keys.iter().enumerate() {
+            let mut word = word;
+            while word != 0 {
+                let b = word.trailing_zeros() as usize;
+                word &= word - 1;
+                for &a in &self.by_key[64 * w + b] {
+                    set(attempts, a as usize);
+                }
+            }
+        }
+    }
+
+    /// The marked attempts from rule `start` on, cyclically: the plain
+    /// matcher's order.
+    pub fn marked_from<'a>(
+        &'a self,
+        marked: &'a [u64],
+        start: usize,
+    ) -> impl Iterator<Item = (usize, usize)> + 'a {
+        let split = self.first[start] as usize;
+        let n = self.attempts.len();
+        bits(marked, split, n)
+            .chain(bits(marked, 0, split))
+            .map(|a| {
+                let (k, v) = self.attempts[a];
+                (k as usize, v as usize)
+            })
+    }
+}
+
+/// The set bits of `words` in `from..to`, in order.
+fn bits(words: &[u64], from: usize, to: usize) -> impl Iterator<Item = usize> + '_ {
+    (from / 64..to.div_ceil(64)).flat_map(move |w| {
+        let mut word = words[w];
+        if w == from / 64 {
+            word &= u64::MAX << (from % 64);
+        }
+        if w + 1 == to.div_ceil(64) && to % 64 != 0 {
+            word &= u64::MAX >> (64 - to % 64);
+        }
+        std::iter::from_fn(move || {
+            (word != 0).then(|| {
+                let b = word.trailing_zeros() as usize;
+                word &= word - 1;
+                64 * w + b
+            })
+        })
+    })
+}
