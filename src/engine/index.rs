@@ -22,6 +22,7 @@ use crate::graph::ContactGraph;
 use super::ball::{Ball, Bits, MAX_BALL, MAX_CORE, MAX_DEGREE, Search};
 use super::cores::FreeCores;
 use super::sieve::{MAX_RADIUS, Sieve, THRESHOLDS};
+use super::trie::{Trie, Walk};
 use super::demand::{Common, CommonNeeds, Needs, Profile, accepts, class_index};
 use super::rule::{CompiledRule, Step};
 use super::state::State;
@@ -107,6 +108,11 @@ pub(super) struct Index {
     keys: Vec<u64>,
     marked: Vec<u64>,
     cycles: [i64; MAX_RADIUS + 1],
+    /// The rods-only plans as one trie, and the state of its search.
+    trie: Trie,
+    walk: Walk,
+    /// Per rod task: the attempts that can match, in the plain order.
+    found: Vec<u32>,
     /// Per rod task: each rod's distance from the task's rod when `seen` is
     /// the task's stamp.
     distance: Vec<u8>,
@@ -114,6 +120,10 @@ pub(super) struct Index {
     slot: Vec<u8>,
     seen: Vec<u32>,
     stamp: u32,
+    /// Per rod task: each ball rod's neighbours in the ball as it is
+    /// peeled, and the rods to peel.
+    inner: Vec<u32>,
+    peeled: Vec<u32>,
     /// A rod task's rod, then the rods of the least core around it in
     /// breadth-first order.
     around: Vec<u32>,
@@ -130,6 +140,15 @@ pub(super) struct Index {
     maps: Vec<Option<u32>>,
 }
 
+/// What became of a rod task's ball.
+enum Built {
+    Ball,
+    /// Its rod is not in the least core of the rods around it: no match.
+    Empty,
+    /// Too many rods for one set of bits.
+    TooLarge,
+}
+
 /// Finds `item` in `list`, appending it if new; its position.
 fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
     list.iter().position(|x| x == item).unwrap_or_else(|| {
@@ -141,7 +160,9 @@ fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
 impl Index {
     pub fn new(state: &mut State, rules: &[CompiledRule], audit: bool) -> Self {
         let n_rods = state.g.n_nodes();
-        let sieve = Sieve::new(rules);
+        let mut sieve = Sieve::new(rules);
+        let trie = Trie::new(rules, &sieve.attempts);
+        sieve.renumber(&trie.slot_of);
         let cores = (!sieve.is_empty()).then(|| FreeCores::new(state, sieve.low, sieve.high));
         let orders = usize::from(sieve.high - sieve.low) + 1;
         let (mut needs, mut commons) = (Vec::new(), Vec::new());
@@ -236,12 +257,17 @@ impl Index {
             keys: vec![0; sieve.key_words()],
             marked: vec![0; sieve.attempt_words()],
             cycles: [0; MAX_RADIUS + 1],
+            trie,
+            walk: Walk::default(),
+            found: Vec::new(),
             sieve,
             cores,
             distance: vec![0; n_rods],
             slot: vec![0; n_rods],
             seen: vec![0; n_rods],
             stamp: 0,
+            inner: vec![0; n_rods],
+            peeled: Vec::new(),
             around: Vec::new(),
             ball: Ball::default(),
             search: Search::default(),
@@ -338,9 +364,47 @@ impl Index {
         }
     }
 
-    /// Starts rod task `r` (a free rod): which attempts of the rods-only
-    /// rules its surroundings admit; whether any.
-    pub fn start_rod(&mut self, state: &State, r: u32) -> bool {
+    /// Starts rod task `r` (a free rod), whose rules start at rule
+    /// `start`: which attempts of the rods-only rules can match there, in
+    /// the plain matcher's order ([`Index::rod_attempts`]); whether any.
+    pub fn start_rod(&mut self, state: &State, r: u32, start: usize) -> bool {
+        self.found.clear();
+        if !self.admit_rod(state, r) {
+            return false;
+        }
+        // The ball as far as the admitted attempts reach; where it is too
+        // large, every admitted attempt is searched on its own.
+        let radius = self.sieve.reach(&self.keys).min(self.sieve.radius);
+        match self.build_ball(state.g, radius) {
+            Built::Ball => self.trie.search(
+                &mut self.ball,
+                radius,
+                &mut self.marked,
+                &mut self.found,
+                &mut self.walk,
+            ),
+            Built::Empty => {}
+            Built::TooLarge => {
+            for (w, &word) in self.marked.iter().enumerate() {
+                let mut word = word;
+                while word != 0 {
+                    let b = word.trailing_zeros();
+                    word &= word - 1;
+                    self.found.push(64 * w as u32 + b);
+                }
+            }
+            }
+        }
+        for s in &mut self.found {
+            *s = self.trie.attempt_of[*s as usize];
+        }
+        self.sieve.sort_from(start, &mut self.found);
+        !self.found.is_empty()
+    }
+
+    /// Which attempts of the rods-only rules rod `r`'s surroundings admit
+    /// ([`Sieve`]), marked by slot; whether any.
+    fn admit_rod(&mut self, state: &State, r: u32) -> bool {
         let Some(cores) = &self.cores else {
             return false;
         };
@@ -381,10 +445,13 @@ impl Index {
         self.has_pair_rules
     }
 
-    /// The attempts (rule, pattern node) the started rod task admits, from
-    /// rule `start` on, cyclically, in the plain matcher's order.
-    pub fn rod_attempts(&self, start: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.sieve.marked_from(&self.marked, start)
+    /// The attempts (rule, pattern node) of the started rod task that can
+    /// match, in the plain matcher's order.
+    pub fn rod_attempts(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.found.iter().map(|&a| {
+            let (k, v) = self.sieve.attempts[a as usize];
+            (k as usize, v as usize)
+        })
     }
 
     /// The cycles of the started rod task's surroundings by distance:
@@ -435,57 +502,98 @@ impl Index {
         }
     }
 
-    /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
-    fn build_ball(&mut self, g: &ContactGraph) -> bool {
-        let radius = self.sieve.radius;
+    /// Builds the rod task's [`Ball`] of the rods within `radius` of its
+    /// rod, peeled to the least core the rules need (a match lies there).
+    fn build_ball(&mut self, g: &ContactGraph, radius: usize) -> Built {
+        let stamp = self.stamp;
+        // `around` is in breadth-first order.
+        let size = self
+            .around
+            .partition_point(|&u| self.distance[u as usize] as usize <= radius);
+        let low = u32::from(self.sieve.low);
+        let inside = |seen: &[u32], distance: &[u8], w: u32| {
+            seen[w as usize] == stamp && distance[w as usize] as usize <= radius
+        };
+        self.peeled.clear();
+        for &u in &self.around[..size] {
+            let d = g
+                .neighbors(u)
+                .iter()
+                .filter(|&&(w, _)| inside(&self.seen, &self.distance, w))
+                .count() as u32;
+            self.inner[u as usize] = d;
+            if d < low {
+                self.peeled.push(u);
+            }
+        }
+        while let Some(u) = self.peeled.pop() {
+            if self.seen[u as usize] != stamp {
+                continue;
+            }
+            self.seen[u as usize] = 0;
+            for &(w, _) in g.neighbors(u) {
+                if inside(&self.seen, &self.distance, w) {
+                    self.inner[w as usize] -= 1;
+                    if self.inner[w as usize] < low {
+                        self.peeled.push(w);
+                    }
+                }
+            }
+        }
+        if self.seen[self.rod as usize] != stamp {
+            return Built::Empty;
+        }
         let ball = &mut self.ball;
-        if ball.built {
-            return true;
-        }
-        if self.around.len() > MAX_BALL {
-            return false;
-        }
         ball.rods.clear();
-        ball.rods.extend_from_slice(&self.around);
+        ball.rods.extend(
+            self.around[..size]
+                .iter()
+                .filter(|&&u| self.seen[u as usize] == stamp),
+        );
+        if ball.rods.len() > MAX_BALL {
+            return Built::TooLarge;
+        }
+        ball.radius = radius;
+        ball.radius = radius;
         ball.rods.sort_unstable();
         ball.rows.clear();
         ball.near.clear();
-        ball.near.resize(radius + 1, 0);
-        ball.wide = [0; MAX_DEGREE + 1];
+        ball.near.resize(radius + 1, Bits::default());
+        ball.wide = [Bits::default(); MAX_DEGREE + 1];
         // Ball rods by host rod, as `distance` (stamped by `seen`) is kept.
         for (i, &u) in ball.rods.iter().enumerate() {
             self.slot[u as usize] = i as u8;
         }
         for (i, &u) in ball.rods.iter().enumerate() {
-            let mut row: Bits = 0;
+            let mut row = Bits::default();
             for &(w, _) in g.neighbors(u) {
-                if self.seen[w as usize] == self.stamp {
-                    row |= 1 << self.slot[w as usize];
+                if self.seen[w as usize] == self.stamp
+                    && self.distance[w as usize] as usize <= radius
+                {
+                    row.insert(self.slot[w as usize] as usize);
                 }
             }
             ball.rows.push(row);
             for d in self.distance[u as usize] as usize..=radius {
-                ball.near[d] |= 1 << i;
+                ball.near[d].insert(i);
             }
-            for k in 0..=(row.count_ones() as usize).min(MAX_DEGREE) {
-                ball.wide[k] |= 1 << i;
+            for k in 0..=(row.count() as usize).min(MAX_DEGREE) {
+                ball.wide[k].insert(i);
             }
         }
         ball.core.clear();
         ball.core.resize(radius + 1, [None; MAX_CORE + 1]);
         ball.root = self.slot[self.around[0] as usize] as usize;
         ball.built = true;
-        true
+        Built::Ball
     }
 
     /// Searches the rod task's ball as the plain matcher would search from
     /// pattern node `start` on the task's rod (`plan`), calling `complete`
     /// on each complete map until it returns true. `None` when the ball is
     /// too large to build or narrower than the pattern.
-    #[allow(clippy::too_many_arguments)]
     pub fn search_ball(
         &mut self,
-        g: &ContactGraph,
         start: usize,
         eccentricity: usize,
         min_degree: usize,
@@ -493,20 +601,10 @@ impl Index {
         n: usize,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> Option<bool> {
-        if eccentricity > self.sieve.radius || !self.build_ball(g) {
+        if !self.ball.built || eccentricity > self.ball.radius {
             return None;
         }
-        let (d, k) = (eccentricity, min_degree.min(MAX_CORE));
-        let ball = &mut self.ball;
-        let within = match ball.core[d][k] {
-            Some(core) => core,
-            None => {
-                let core = ball.peel(ball.near[d], k as u32);
-                ball.core[d][k] = Some(core);
-                core
-            }
-        };
-        self.search.within = within;
+        self.search.within = self.ball.within(eccentricity, min_degree.min(MAX_CORE));
         Some(self.ball.search(start, plan, n, &mut self.search, complete))
     }
 

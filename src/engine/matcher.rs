@@ -129,9 +129,7 @@ impl State<'_> {
             return Some(None);
         };
         let mut found = None;
-        let g = self.g;
         let searched = ix.search_ball(
-            g,
             v,
             rule.eccentricity[v],
             rule.min_degree,

@@ -55,6 +55,7 @@ pub mod shapes;
 mod sieve;
 mod sound;
 mod state;
+mod trie;
 
 pub use compression::Compression;
 pub use motif::{Motif, MotifCounts};

@@ -405,14 +405,14 @@ fn rod_rules(
         }
         return None;
     };
-    let admitted = ix.start_rod(state, r);
+    let admitted = ix.start_rod(state, r, start);
     if ix.audit {
         return audited_rod_rules(state, engine, r, start, ix, admitted);
     }
     if !admitted {
         return None;
     }
-    let attempts: Vec<(usize, usize)> = ix.rod_attempts(start).collect();
+    let attempts: Vec<(usize, usize)> = ix.rod_attempts().collect();
     for (k, v) in attempts {
         let rule = &engine.extra[k];
         work.attempts += 1;
@@ -440,7 +440,7 @@ fn audited_rod_rules(
 ) -> Option<Found> {
     let n = engine.extra.len();
     let attempts: Vec<(usize, usize)> = if admitted {
-        ix.rod_attempts(start).collect()
+        ix.rod_attempts().collect()
     } else {
         Vec::new()
     };

@@ -63,6 +63,8 @@ pub(super) struct Sieve {
     /// By eccentricity `e` and cycles `y`: the keys not of eccentricity
     /// `e`, or needing at most `y` cycles.
     cycles: Vec<Vec<Words>>,
+    /// By eccentricity `e`: the keys of eccentricity `e` or more.
+    reach: Vec<Words>,
 }
 
 impl Sieve {
@@ -146,7 +148,12 @@ impl Sieve {
                     .collect()
             })
             .collect();
+        let deepest = distinct.iter().map(|k| k.eccentricity).max().unwrap_or(0);
+        let reach = (0..=deepest)
+            .map(|e| mask(&|k| k.eccentricity >= e))
+            .collect();
         Sieve {
+            reach,
             attempts,
             first,
             by_key,
@@ -212,55 +219,43 @@ impl Sieve {
         keys.iter().any(|&k| k != 0)
     }
 
-    /// Marks the attempts of `keys` in `attempts` (cleared first).
-    pub fn mark(&self, keys: &[u64], attempts: &mut [u64]) {
-        attempts.fill(0);
+    /// The largest eccentricity of `keys`.
+    pub fn reach(&self, keys: &[u64]) -> usize {
+        (0..self.reach.len())
+            .rev()
+            .find(|&e| keys.iter().zip(&self.reach[e]).any(|(k, m)| k & m != 0))
+            .unwrap_or(0)
+    }
+
+    /// Numbers the attempts by their slots (`slot_of`) in [`Sieve::mark`].
+    pub fn renumber(&mut self, slot_of: &[u32]) {
+        for list in &mut self.by_key {
+            for a in list.iter_mut() {
+                *a = slot_of[*a as usize];
+            }
+        }
+    }
+
+    /// Marks the attempts of `keys` (by their numbers) in `marked`, cleared first.
+    pub fn mark(&self, keys: &[u64], marked: &mut [u64]) {
+        marked.fill(0);
         for (w, &word) in keys.iter().enumerate() {
             let mut word = word;
             while word != 0 {
                 let b = word.trailing_zeros() as usize;
                 word &= word - 1;
                 for &a in &self.by_key[64 * w + b] {
-                    set(attempts, a as usize);
+                    set(marked, a as usize);
                 }
             }
         }
     }
 
-    /// The marked attempts from rule `start` on, cyclically: the plain
-    /// matcher's order.
-    pub fn marked_from<'a>(
-        &'a self,
-        marked: &'a [u64],
-        start: usize,
-    ) -> impl Iterator<Item = (usize, usize)> + 'a {
-        let split = self.first[start] as usize;
-        let n = self.attempts.len();
-        bits(marked, split, n)
-            .chain(bits(marked, 0, split))
-            .map(|a| {
-                let (k, v) = self.attempts[a];
-                (k as usize, v as usize)
-            })
+    /// Sorts `attempts` in the plain matcher's order from rule `start` on:
+    /// by rule cyclically, then by node.
+    pub fn sort_from(&self, start: usize, attempts: &mut [u32]) {
+        let split = self.first[start];
+        let n = self.attempts.len() as u32;
+        attempts.sort_unstable_by_key(|&a| (a + n - split) % n.max(1));
     }
-}
-
-/// The set bits of `words` in `from..to`, in order.
-fn bits(words: &[u64], from: usize, to: usize) -> impl Iterator<Item = usize> + '_ {
-    (from / 64..to.div_ceil(64)).flat_map(move |w| {
-        let mut word = words[w];
-        if w == from / 64 {
-            word &= u64::MAX << (from % 64);
-        }
-        if w + 1 == to.div_ceil(64) && to % 64 != 0 {
-            word &= u64::MAX >> (64 - to % 64);
-        }
-        std::iter::from_fn(move || {
-            (word != 0).then(|| {
-                let b = word.trailing_zeros() as usize;
-                word &= word - 1;
-                64 * w + b
-            })
-        })
-    })
 }
