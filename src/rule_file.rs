@@ -3,7 +3,9 @@
 //! rank when it is loaded, and a rule that is not rigid on every
 //! realization component is refused: it would create false rigidity.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
 use crate::pattern::{NodeKind, Pattern};
 use crate::{Error, Result};
@@ -135,14 +137,150 @@ fn verify(pattern: &Pattern, id: &str) -> Result<RuleVerdict> {
     })
 }
 
+/// Rules loaded from files, and what loading left out as loaded already.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadedRules {
+    /// Each distinct rule once, in the order of the files and of each file.
+    pub rules: Vec<Rule>,
+    /// What was left out, in the order met: the caller says so (the CLI
+    /// prints one warning line each).
+    pub dropped: Vec<Dropped>,
+}
+
+/// What [`load`] left out because it had it already.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Dropped {
+    /// A file given again, itself or inside a directory given: read once.
+    File { path: PathBuf, first: PathBuf },
+    /// A rule whose pattern an earlier rule has (the same canonical form
+    /// under another id).
+    Rule {
+        id: String,
+        file: PathBuf,
+        kept: String,
+        kept_file: PathBuf,
+    },
+}
+
+impl std::fmt::Display for Dropped {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Dropped::File { path, first } if path.as_os_str() == first.as_os_str() => write!(
+                f,
+                "rule file {} is given twice: its rules are loaded once",
+                path.display()
+            ),
+            Dropped::File { path, first } => write!(
+                f,
+                "rule file {} is {} given again: its rules are loaded once",
+                path.display(),
+                first.display()
+            ),
+            Dropped::Rule {
+                id,
+                file,
+                kept,
+                kept_file,
+            } => write!(
+                f,
+                "rule {id} ({}) has the pattern of rule {kept} ({}): dropped",
+                file.display(),
+                kept_file.display()
+            ),
+        }
+    }
+}
+
 /// Reads rule files (a file, or every `*.json` in a directory, in name
 /// order), checking each rule: well formed, canonical form matching its
-/// pattern, unique id, and rigid by exact rank.
-pub fn load_rules(paths: &[std::path::PathBuf]) -> Result<Vec<Rule>> {
+/// pattern, unique id, and rigid by exact rank. The rules are checked in
+/// parallel (exact rank is almost all the time, and rules are independent);
+/// the error returned is the one a check in file order meets first.
+///
+/// A rule set loaded twice, or a rule repeated, is dropped, not refused,
+/// and returned in [`LoadedRules::dropped`]: sets from different sources
+/// overlap by nature (the committed `base.json` holds three patterns under
+/// two variant ids each, and the mined rule `mined-11` is base
+/// `3D2A-2-11`), and a repeated pattern matches exactly where its first
+/// copy does, so it adds nothing the engine can compress, only the cost of
+/// matching it again. A file is the same file by its canonical path; a rule
+/// the same rule by its canonical form. Two rules with one id are refused:
+/// ids name rules in reports.
+pub fn load(paths: &[PathBuf]) -> Result<LoadedRules> {
+    let mut loaded = LoadedRules::default();
+    let mut files: Vec<(PathBuf, PathBuf)> = Vec::new();
+    for file in rule_file_paths(paths)? {
+        let real = std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
+        match files.iter().find(|(_, r)| *r == real) {
+            Some((first, _)) => loaded.dropped.push(Dropped::File {
+                path: file,
+                first: first.clone(),
+            }),
+            None => files.push((file, real)),
+        }
+    }
+    // Read in order up to the first file that cannot be read: its error
+    // comes after those of the rules read before it.
+    let mut read: Vec<(&Path, Vec<Rule>)> = Vec::new();
+    let mut unread = None;
+    for (file, _) in &files {
+        match read_rule_file(file) {
+            Ok(rules) => read.push((file, rules)),
+            Err(e) => {
+                unread = Some(e);
+                break;
+            }
+        }
+    }
+    let all: Vec<(&Path, &Rule)> = read
+        .iter()
+        .flat_map(|(file, rules)| rules.iter().map(move |r| (*file, r)))
+        .collect();
+    let checked: Vec<Result<()>> = all.par_iter().map(|&(f, r)| check_rule(f, r)).collect();
+    let mut ids = std::collections::HashMap::new();
+    let mut patterns = std::collections::HashMap::new();
+    for ((file, rule), check) in all.into_iter().zip(checked) {
+        if let Some(prev) = ids.insert(rule.id.as_str(), file) {
+            return Err(Error::Parameter(format!(
+                "rule file {}: duplicate rule id {:?} (also in {})",
+                file.display(),
+                rule.id,
+                prev.display()
+            )));
+        }
+        check?;
+        match patterns.get(rule.canonical.as_str()) {
+            Some(&(kept, kept_file)) => loaded.dropped.push(Dropped::Rule {
+                id: rule.id.clone(),
+                file: file.to_path_buf(),
+                kept: String::from(kept),
+                kept_file: Path::to_path_buf(kept_file),
+            }),
+            None => {
+                patterns.insert(rule.canonical.as_str(), (rule.id.as_str(), file));
+                loaded.rules.push(rule.clone());
+            }
+        }
+    }
+    match unread {
+        Some(e) => Err(e),
+        None => Ok(loaded),
+    }
+}
+
+/// [`load`]'s rules alone, for callers that report nothing of what it
+/// dropped (the dropped repeats add nothing the engine can compress).
+pub fn load_rules(paths: &[PathBuf]) -> Result<Vec<Rule>> {
+    Ok(load(paths)?.rules)
+}
+
+/// The files `paths` name: each file, and every `*.json` in each directory
+/// in name order.
+fn rule_file_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for path in paths {
         if path.is_dir() {
-            let mut inside: Vec<std::path::PathBuf> = std::fs::read_dir(path)
+            let mut inside: Vec<PathBuf> = std::fs::read_dir(path)
                 .map_err(|e| Error::io(path, e))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| p.extension().is_some_and(|x| x == "json"))
@@ -153,49 +291,47 @@ pub fn load_rules(paths: &[std::path::PathBuf]) -> Result<Vec<Rule>> {
             files.push(path.clone());
         }
     }
-    let mut rules: Vec<Rule> = Vec::new();
-    let mut ids = std::collections::HashMap::new();
-    for file in &files {
-        let bad = |m: String| Error::Parameter(format!("rule file {}: {m}", file.display()));
-        let size = std::fs::metadata(file)
-            .map_err(|e| Error::io(file, e))?
-            .len();
-        if size > MAX_RULE_FILE_BYTES {
-            return Err(bad(format!(
-                "{size} bytes is larger than the {MAX_RULE_FILE_BYTES} a rule file may have"
-            )));
-        }
-        let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
-        let parsed: RuleFile = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-        if parsed.format != RULE_FORMAT {
-            return Err(bad(format!(
-                "format {:?} is not {RULE_FORMAT:?}",
-                parsed.format
-            )));
-        }
-        for rule in parsed.rules {
-            if let Some(prev) = ids.insert(rule.id.clone(), file.clone()) {
-                return Err(bad(format!(
-                    "duplicate rule id {:?} (also in {})",
-                    rule.id,
-                    prev.display()
-                )));
-            }
-            rule.pattern
-                .validate()
-                .map_err(|e| bad(format!("rule {}: {}", rule.id, detail(&e))))?;
-            let canonical = canonical_form(&rule.pattern);
-            if canonical != rule.canonical {
-                return Err(bad(format!(
-                    "rule {}: canonical form {:?} does not match its pattern ({canonical:?})",
-                    rule.id, rule.canonical
-                )));
-            }
-            verify(&rule.pattern, &rule.id).map_err(|e| bad(detail(&e)))?;
-            rules.push(rule);
-        }
+    Ok(files)
+}
+
+/// The rules of one file, parsed, not yet checked.
+fn read_rule_file(file: &Path) -> Result<Vec<Rule>> {
+    let bad = |m: String| Error::Parameter(format!("rule file {}: {m}", file.display()));
+    let size = std::fs::metadata(file)
+        .map_err(|e| Error::io(file, e))?
+        .len();
+    if size > MAX_RULE_FILE_BYTES {
+        return Err(bad(format!(
+            "{size} bytes is larger than the {MAX_RULE_FILE_BYTES} a rule file may have"
+        )));
     }
-    Ok(rules)
+    let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+    let parsed: RuleFile = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    if parsed.format != RULE_FORMAT {
+        return Err(bad(format!(
+            "format {:?} is not {RULE_FORMAT:?}",
+            parsed.format
+        )));
+    }
+    Ok(parsed.rules)
+}
+
+/// Checks one rule of `file`: a valid pattern, its canonical form the one
+/// stored, and rigid by exact rank.
+fn check_rule(file: &Path, rule: &Rule) -> Result<()> {
+    let bad = |m: String| Error::Parameter(format!("rule file {}: {m}", file.display()));
+    rule.pattern
+        .validate()
+        .map_err(|e| bad(format!("rule {}: {}", rule.id, detail(&e))))?;
+    let canonical = canonical_form(&rule.pattern);
+    if canonical != rule.canonical {
+        return Err(bad(format!(
+            "rule {}: canonical form {:?} does not match its pattern ({canonical:?})",
+            rule.id, rule.canonical
+        )));
+    }
+    verify(&rule.pattern, &rule.id).map_err(|e| bad(detail(&e)))?;
+    Ok(())
 }
 
 /// An error's message without the "invalid parameter" prefix, for nesting.
@@ -207,7 +343,7 @@ fn detail(e: &Error) -> String {
 }
 
 /// Writes rules as one rule file.
-pub fn write_rules(path: &std::path::Path, rules: &[Rule]) -> Result<()> {
+pub fn write_rules(path: &Path, rules: &[Rule]) -> Result<()> {
     let file = RuleFile {
         format: RULE_FORMAT.into(),
         rules: rules.to_vec(),

@@ -32,6 +32,17 @@ impl AuditOptions {
     fn sizes(&self, kind: &str) -> std::ops::RangeInclusive<usize> {
         2..=self.part(kind).max_size
     }
+
+    /// The sizes whose rule files one part may write: every size it audits,
+    /// or, for the extended audit, those above the default audit's.
+    pub fn rule_sizes(&self, kind: &str) -> std::ops::RangeInclusive<usize> {
+        let sizes = self.sizes(kind);
+        if !self.extended {
+            return sizes;
+        }
+        let default = AuditOptions::default().part(kind).max_size;
+        (*sizes.start()).max(default + 1)..=*sizes.end()
+    }
 }
 
 /// What made one part's table, written beside it (`audit-rods.json`) so
@@ -141,7 +152,7 @@ pub fn check_outputs(opts: &AuditOptions, results: &Path, motifs: &Path) -> Resu
             }
             Err(e) => return Err(Error::io(&beside, e)),
         }
-        for n in sizes {
+        for n in opts.rule_sizes(kind) {
             let path = motifs.join(format!("{kind}-{n}.json"));
             match rule_file_commands(&path)? {
                 Some(commands) if commands.iter().all(|c| *c == opts.command()) => {}
@@ -209,8 +220,9 @@ fn rule_file_commands(path: &Path) -> Result<Option<Vec<String>>> {
 /// Writes what an audit found: per part that ran, its table, the JSON
 /// beside it and (rods only) `falsely-compressed-rods.g6`, one graph6 line
 /// per falsely compressed pattern, into `results`; the irreducible missed
-/// motifs as rule files `rods-n.json` and `mixed-k.json` into `motifs`. A
-/// part that did not run keeps its previous files.
+/// motifs as rule files `rods-n.json` and `mixed-k.json` into `motifs`
+/// (the extended audit: only those of [`AuditOptions::rule_sizes`]). A part
+/// that did not run keeps its previous files.
 pub fn write_outputs(
     audit: &Audit,
     opts: &AuditOptions,
@@ -267,7 +279,11 @@ pub fn write_outputs(
         }
     }
     for (kind, sets) in [("rods", &audit.rod_rules), ("mixed", &audit.mixed_rules)] {
-        for (size, rules) in sets.iter().filter(|(_, r)| !r.is_empty()) {
+        let written = opts.rule_sizes(kind);
+        for (size, rules) in sets
+            .iter()
+            .filter(|(size, r)| !r.is_empty() && written.contains(size))
+        {
             let path = motifs.join(format!("{kind}-{size}.json"));
             crate::rule_file::write_rules(&path, rules)?;
             files.rule_files.push(path);
@@ -287,14 +303,37 @@ pub fn write_csv(path: &std::path::Path, rows: &[AuditRow]) -> Result<()> {
 mod tests {
     use super::*;
 
+    /// The extended audit writes only the rule files above the default
+    /// audit's sizes; any other audit, every size it audits.
+    #[test]
+    fn the_extended_audit_writes_only_the_larger_rule_files() {
+        let sizes = |o: &AuditOptions, kind| o.rule_sizes(kind).collect::<Vec<usize>>();
+        let extended = AuditOptions::extended();
+        assert_eq!(sizes(&extended, "rods"), [9, 10]);
+        assert_eq!(sizes(&extended, "mixed"), [5]);
+        assert_eq!(
+            extended.command(),
+            "rgc audit --max-rods 10 --max-components 5 --rules sound --extended"
+        );
+        let small = AuditOptions {
+            max_rods: 8,
+            max_components: 0,
+            ..AuditOptions::extended()
+        };
+        assert!(sizes(&small, "rods").is_empty() && sizes(&small, "mixed").is_empty());
+        let default = AuditOptions::default();
+        assert_eq!(sizes(&default, "rods"), (2..=8).collect::<Vec<_>>());
+        assert_eq!(sizes(&default, "mixed"), [2, 3, 4]);
+    }
+
     /// The committed tables, read back into rows, are written byte for byte.
     #[test]
     fn committed_tables_are_written_unchanged() {
         for name in [
             "audit-rods.csv",
             "audit-mixed.csv",
-            "audit-rods-10.csv",
-            "audit-mixed-5.csv",
+            "audit-extended/audit-rods.csv",
+            "audit-extended/audit-mixed.csv",
         ] {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("results")
@@ -325,7 +364,11 @@ mod tests {
                     }
                 })
                 .collect();
-            let out = std::env::temp_dir().join(format!("rgc-audit-{}-{name}", std::process::id()));
+            let out = std::env::temp_dir().join(format!(
+                "rgc-audit-{}-{}",
+                std::process::id(),
+                name.replace('/', "-")
+            ));
             write_csv(&out, &rows).unwrap();
             assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "{name}");
             std::fs::remove_file(out).unwrap();

@@ -9,7 +9,7 @@ use serde::Serialize;
 use std::time::Instant;
 
 use crate::body::Body;
-use crate::engine::{CompiledRule, Engine, Motif, RuleSet};
+use crate::engine::{CompiledRule, Compression, Engine, Motif, RuleSet};
 use crate::enumerate::{
     GraphFilter, SmallGraph, TypedFilter, count_connected, par_fold_connected, typed_patterns,
 };
@@ -69,6 +69,11 @@ pub struct AuditOptions {
     pub runs: u64,
     /// Also audit every way a body's contacts can share its rods (mixed only).
     pub rod_sharing: bool,
+    /// Write rule files only for the sizes above the default audit's (rods
+    /// beyond 8, components beyond 4): the extended audit adds `rods-9.json`,
+    /// `rods-10.json` and `mixed-5.json` and leaves the default audit's rule
+    /// files as they are (their provenance names the default command).
+    pub extended: bool,
 }
 
 impl AuditOptions {
@@ -86,7 +91,22 @@ impl AuditOptions {
         if self.rod_sharing {
             command += " --rod-sharing";
         }
+        if self.extended {
+            command += " --extended";
+        }
         command.to_lowercase()
+    }
+
+    /// The extended audit (`rgc audit --extended`): rods-only motifs up to
+    /// 10 rods and mixed motifs up to 5 components, writing the rule files
+    /// of the sizes above the defaults only.
+    pub fn extended() -> Self {
+        AuditOptions {
+            max_rods: 10,
+            max_components: 5,
+            extended: true,
+            ..AuditOptions::default()
+        }
     }
 }
 
@@ -98,6 +118,7 @@ impl Default for AuditOptions {
             rules: RuleSet::Sound,
             runs: 8,
             rod_sharing: false,
+            extended: false,
         }
     }
 }
@@ -407,6 +428,23 @@ fn min_contacts(p: &Pattern) -> usize {
     at.into_iter().min().unwrap_or(0)
 }
 
+/// Whether the engine (`rules` with `known` added) compresses each pattern
+/// to one node, and how: the first of `runs` motif orders that does, with
+/// its compression, or `None` when it is still missed. This is what makes a
+/// missed motif reducible, in the audit and in [`super::redundant`].
+pub(super) fn reduced_by(
+    patterns: &[&Pattern],
+    rules: RuleSet,
+    known: &[CompiledRule],
+    runs: u64,
+) -> Result<Vec<Option<(u64, Compression)>>> {
+    let engine = Engine::with_rules(rules, known);
+    patterns
+        .par_iter()
+        .map(|p| engine.compressing_run(p, runs))
+        .collect()
+}
+
 /// Of the missed patterns, those the engine still misses with `known` rules
 /// added; returned as verified rules.
 fn irreducible(
@@ -416,15 +454,12 @@ fn irreducible(
     id: &str,
     enumeration: &str,
 ) -> Result<Vec<Rule>> {
-    let engine = Engine::with_rules(opts.rules, known);
-    let still: Vec<bool> = missed
-        .par_iter()
-        .map(|p| engine.compresses(p, opts.runs).map(|c| !c))
-        .collect::<Result<_>>()?;
-    let kept: Vec<&Pattern> = missed
-        .iter()
-        .zip(still)
-        .filter_map(|(p, s)| s.then_some(p))
+    let all: Vec<&Pattern> = missed.iter().collect();
+    let reduced = reduced_by(&all, opts.rules, known, opts.runs)?;
+    let kept: Vec<&Pattern> = all
+        .into_iter()
+        .zip(reduced)
+        .filter_map(|(p, r)| r.is_none().then_some(p))
         .collect();
     kept.par_iter()
         .enumerate()

@@ -10,10 +10,14 @@
 //!   ([`AuditOptions`], [`AuditRow`], [`run`]);
 //! * `files` — the tables, the JSON beside them, the rule files, and the
 //!   check that an audit replaces only an equal audit's ([`write_outputs`],
-//!   [`check_outputs`]).
+//!   [`check_outputs`]);
+//! * `redundant` — the rules of any rule files that smaller rules among
+//!   them make redundant, by the audit's own test ([`redundant()`]).
 
 mod files;
 mod funnel;
+mod redundant;
 
 pub use files::{AuditFiles, check_outputs, write_csv, write_outputs};
 pub use funnel::{Audit, AuditOptions, AuditRow, FalseRigidity, run, self_check, table};
+pub use redundant::{Redundant, redundant};

@@ -1,10 +1,11 @@
 //! The benchmarks behind `rgc bench`: the foundation benchmark (contact
 //! detection and one compression, single threaded, on the reference systems
 //! of the paper's aspect ratios, with rule sets and networkx as
-//! references), the rule sets' cost against the base engine, and the truth benchmarks: how the cost of exact
-//! whole-system rigidity grows with the system, and so how large a box
-//! truth can decide. Every figure, median and ratio is made here; the
-//! command line only prints them.
+//! references), the rule sets' cost against the base engine, and the
+//! truth benchmarks: how the cost of exact whole-system rigidity grows
+//! with the system, and so how large a box truth can decide; and what
+//! loading the extended rule sets costs. Every
+//! figure, median and ratio is made here; the command line only prints them.
 
 pub mod aspects;
 pub mod foundation;
@@ -12,6 +13,7 @@ pub mod growth;
 pub mod measure;
 pub mod networkx;
 pub mod rules;
+pub mod rule_load;
 pub mod truth;
 
 pub use crate::usage::{peak_rss_mib, reset_peak_rss};
@@ -30,6 +32,7 @@ pub use rules::{
     LoadRow, LoadedSet, RULE_SYSTEMS, RuleSetFiles, RulesReport, SetRow, default_rule_sets,
     load_set,
 };
+pub use rule_load::{LOAD_SETS, RuleLoadReport, RuleLoadRow, run_rule_load};
 pub use truth::{
     LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES,
     TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,

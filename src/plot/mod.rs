@@ -9,6 +9,7 @@
 mod bias;
 mod chart;
 mod compare;
+mod horizon;
 mod paired;
 mod planes;
 pub mod rods;
@@ -17,6 +18,7 @@ mod threshold;
 mod transition;
 pub use bias::bias_chart;
 pub use compare::{compare_chart, speed_accuracy_chart};
+pub use horizon::horizon_chart;
 pub use paired::paired_chart;
 pub use planes::forced_planes_chart;
 pub use stability::stability_chart;

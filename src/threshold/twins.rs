@@ -10,18 +10,15 @@
 //! third, lone one against the larger of the two.
 //!
 //! Each sequence's evaluations go to `evaluations.jsonl` as one line once
-//! all are ranked, so a killed run resumes where it stopped, and the tally
-//! reads the lines in study order whatever the thread count.
+//! all are ranked (a [`journal`]).
 
 use std::collections::BTreeSet;
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 use serde::{Deserialize, Serialize};
 
-use super::sequence::{Kind, Record, Sequence};
-use super::study;
+use super::journal;
+use super::sequence::{Record, Sequence};
 use crate::engine::run_seed;
 use crate::progress::Progress;
 use crate::truth::{MAX_REALIZATIONS, TruthOptions, realization_ranks};
@@ -94,145 +91,37 @@ pub fn run(
     tally_prefix: Option<&Path>,
     progress: &dyn Progress,
 ) -> Result<Vec<Tally>> {
-    use rayon::prelude::*;
     if !(2..=MAX_REALIZATIONS).contains(&spec.realizations) {
         return Err(Error::Parameter(format!(
             "--realizations {}: a disagreement needs 2 to {MAX_REALIZATIONS} realizations",
             spec.realizations
         )));
     }
-    let mut chosen: Vec<(f64, Record)> = Vec::new();
-    for dir in dirs {
-        let s = study::read_spec(dir)?;
-        if s.kind != Kind::Truth {
-            return Err(Error::Parameter(format!(
-                "{} is a {:?} study: the realizations' ranks need a truth study (--kind truth)",
-                dir.display(),
-                s.kind
-            )));
-        }
-        for l in &spec.boxes {
-            if !s.boxes.contains(l) {
-                return Err(Error::Parameter(format!(
-                    "box {l} is not one of {}'s boxes {:?}",
-                    dir.display(),
-                    s.boxes
-                )));
-            }
-        }
-        let records = study::read_records(dir, &s)?;
-        chosen.extend(
-            records
-                .into_values()
-                .filter(|r| spec.boxes.is_empty() || spec.boxes.contains(&r.box_len))
-                .filter(|r| r.index < spec.sequences)
-                .map(|r| (s.gamma, r)),
-        );
-    }
+    let chosen = journal::truth_records(
+        dirs,
+        &spec.boxes,
+        spec.sequences,
+        "ranking realizations again",
+    )?;
     output::check_dir(out)?;
     if let Some(prefix) = tally_prefix {
         output::check_file(prefix)?;
     }
     let (spec_file, lines) = files(out);
-    claim(&spec_file, spec)?;
-    drop_cut_line(&lines)?;
-    let done: BTreeSet<(u64, u64, u64)> = read(&lines)?
-        .iter()
-        .map(|s| (s.gamma.to_bits(), s.box_len.to_bits(), s.index))
-        .collect();
-    let todo: Vec<&(f64, Record)> = chosen
-        .iter()
-        .filter(|(g, r)| !done.contains(&(g.to_bits(), r.box_len.to_bits(), r.index)))
-        .collect();
-    progress.start("sequences ranked again", todo.len() as u64);
-    let file = Mutex::new(
-        std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&lines)
-            .map_err(|e| Error::io(&lines, e))?,
-    );
-    todo.par_iter()
-        .map(|(gamma, r)| {
-            let ranked = rank_sequence(*gamma, r, spec.realizations)?;
-            let mut line = serde_json::to_string(&ranked).expect("ranks serialize");
-            line.push('\n');
-            file.lock()
-                .expect("no writer panicked")
-                .write_all(line.as_bytes())
-                .map_err(|e| Error::io(&lines, e))?;
-            progress.advance(1);
-            Ok(())
-        })
-        .collect::<Result<()>>()?;
-    progress.finish();
-    Ok(tally(&read(&lines)?))
-}
-
-/// Writes the spec into a new directory, or checks that the one there is
-/// the same: another measurement never appends to this one's lines.
-fn claim(path: &Path, spec: &TwinsSpec) -> Result<()> {
-    if path.exists() {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let there: TwinsSpec = serde_json::from_str(&text).map_err(|e| Error::Malformed {
-            format: "twins spec",
-            path: path.to_path_buf(),
-            line: e.line(),
-            reason: e.to_string(),
-        })?;
-        if &there != spec {
-            return Err(Error::Parameter(format!(
-                "{} holds another measurement ({:?}): write elsewhere",
-                path.display(),
-                there
-            )));
-        }
-        return Ok(());
-    }
-    output::write_atomic(
-        path,
-        serde_json::to_string_pretty(spec).expect("spec serializes"),
-    )
-}
-
-/// Cuts a last line that a kill left without its newline, so that what
-/// is appended next starts a line of its own.
-fn drop_cut_line(lines: &Path) -> Result<()> {
-    let Ok(text) = std::fs::read(lines) else {
-        return Ok(());
-    };
-    if text.last().is_some_and(|&b| b != b'\n') {
-        let keep = text.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .open(lines)
-            .map_err(|e| Error::io(lines, e))?;
-        file.set_len(keep as u64).map_err(|e| Error::io(lines, e))?;
-    }
-    Ok(())
+    let all = journal::measure(
+        (&spec_file, spec, "twins spec"),
+        &lines,
+        &chosen,
+        progress,
+        |gamma, r| rank_sequence(gamma, r, spec.realizations),
+    )?;
+    Ok(tally(&all))
 }
 
 /// The sequences already ranked; a last line cut short by a kill is left
 /// out (it is ranked again).
 pub fn read(lines: &Path) -> Result<Vec<SequenceRanks>> {
-    let text = match std::fs::read_to_string(lines) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(Error::io(lines, e)),
-    };
-    let complete = text.rfind('\n').map_or("", |end| &text[..end]);
-    complete
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            serde_json::from_str(l).map_err(|e| Error::Malformed {
-                format: "ranks",
-                path: lines.to_path_buf(),
-                line: i + 1,
-                reason: e.to_string(),
-            })
-        })
-        .collect()
+    journal::read(lines, "ranks")
 }
 
 /// Every step of one record, each evaluation once, ranked as truth's
@@ -261,6 +150,12 @@ fn rank_sequence(gamma: f64, r: &Record, realizations: usize) -> Result<Sequence
         index: r.index,
         evaluations,
     })
+}
+
+impl journal::Line for SequenceRanks {
+    fn key(&self) -> (f64, f64, u64) {
+        (self.gamma, self.box_len, self.index)
+    }
 }
 
 /// The disagreements per aspect ratio and box, in that order.

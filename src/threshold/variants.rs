@@ -327,7 +327,11 @@ pub fn run_studies(
     let mut of_variant = Vec::new();
     check_variants(template, variants)?;
     for v in variants {
-        let rules = rule_file::load_rules(&v.motifs)?;
+        let loaded = rule_file::load(&v.motifs)?;
+        for d in &loaded.dropped {
+            progress.note(&format!("warning: {d}"));
+        }
+        let rules = loaded.rules;
         let spec = StudySpec {
             kind: v.kind,
             rules: v.rules,

@@ -199,3 +199,163 @@ fn the_default_audit_rewrites_the_committed_files_byte_for_byte() {
     );
     std::fs::remove_dir_all(&copy).unwrap();
 }
+
+/// A rule and a larger one it makes redundant: the irreducible six-rod
+/// motif, and it with a seventh rod touching two of its rods (which 3D2B
+/// joins to the body the smaller rule makes). The larger is reported, the
+/// smaller not, whatever the order of the file; alone the larger is
+/// missed by the base engine, so it is the smaller rule that reduces it.
+#[test]
+fn a_rule_made_redundant_by_a_smaller_one_is_reported() {
+    use rgc::pattern::PatternContact;
+    use rgc::progress::Silent;
+    use rgc::rule_file::{Provenance, Rule, load_rules, write_rules};
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let six = load_rules(&[repo.join("motifs/rods-6.json")])
+        .unwrap()
+        .remove(0);
+    let mut seven = six.pattern.clone();
+    seven.kinds.push(rgc::pattern::NodeKind::Rod);
+    // Rods 0 and 3 of the six share no contact: no new triangle.
+    assert!(
+        !seven
+            .contacts
+            .iter()
+            .any(|c| c.nodes == [0, 3] || c.nodes == [3, 0])
+    );
+    for end in [0, 3] {
+        seven.contacts.push(PatternContact {
+            nodes: [end, 6],
+            rods: [0, 0],
+        });
+    }
+    let seven = Rule::new("seven".into(), seven, Provenance::default()).unwrap();
+    let base = rgc::engine::RuleSet::Sound;
+    assert_eq!(
+        rgc::audit::redundant(&[seven.clone()], base, 8, &Silent).unwrap(),
+        []
+    );
+    let found = rgc::audit::redundant(&[seven.clone(), six.clone()], base, 8, &Silent).unwrap();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(
+        (found[0].id.as_str(), found[0].nodes, found[0].contacts),
+        ("seven", 7, 10)
+    );
+    assert_eq!(
+        found[0].sequence,
+        [rgc::engine::Motif::Rule, rgc::engine::Motif::D2B]
+    );
+    // From the command line, the file's rules in the other order.
+    let dir = crate::scratch("rules-check");
+    let file = dir.join("rules.json");
+    write_rules(&file, &[six, seven]).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(["rules", "--check"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        format!(
+            "2 rules of {}, rules sound, 8 motif orders: 1 redundant:\n  seven (7 nodes, 10 contacts): one node in motif order {} by rule, 3D2B\n",
+            file.display(),
+            found[0].run
+        )
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--extended` writes its tables where it is told and only the rule files
+/// above the default audit's sizes: a default audit's rule file in the
+/// same directory is neither refused nor rewritten (without `--extended`
+/// the same sizes are refused: that file was made by another command).
+#[test]
+fn the_extended_audit_leaves_the_default_rule_files_alone() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = crate::scratch("cli-audit-extended");
+    let six = dir.join("rods-6.json");
+    std::fs::copy(repo.join("motifs/rods-6.json"), &six).unwrap();
+    let before = std::fs::metadata(&six).unwrap().modified().unwrap();
+    let small = ["--max-rods", "6", "--max-components", "3"];
+    let text = audit_into(&dir, &[&small[..], &["--extended"]].concat(), None);
+    assert!(
+        text.ends_with(&format!(
+            "Rule files: none (none missed above the default audit's sizes).\nFalsely compressed patterns, with the motifs that compressed each: {d}/audit-rods.json, {d}/falsely-compressed-rods.g6, {d}/audit-mixed.json.\n",
+            d = dir.display()
+        )),
+        "{text}"
+    );
+    assert_eq!(
+        lines(&std::fs::read_to_string(dir.join("audit-rods.csv")).unwrap()),
+        committed("audit-rods.csv")[..6]
+    );
+    assert_eq!(std::fs::metadata(&six).unwrap().modified().unwrap(), before);
+    assert_eq!(
+        std::fs::read(&six).unwrap(),
+        std::fs::read(repo.join("motifs/rods-6.json")).unwrap()
+    );
+    let d = dir.to_str().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(["audit", "--results", d, "--rules-dir", d])
+        .args(small)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains(&format!(
+            "{} was made by `rgc audit --max-rods 8 --max-components 4 --rules sound`",
+            six.display()
+        )),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The committed extended audit (`rgc audit --extended`): its tables repeat
+/// the default audit's up to the default sizes, its rule files are the
+/// sizes above them and name its command, and rerunning it would replace
+/// only its own files.
+#[test]
+fn the_committed_extended_audit_extends_the_default_one() {
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let extended = rgc::audit::AuditOptions::extended();
+    for (kind, rows) in [("rods", 10), ("mixed", 5)] {
+        let table = committed(&format!("audit-extended/audit-{kind}.csv"));
+        let default = committed(&format!("audit-{kind}.csv"));
+        assert_eq!(table.len(), rows, "{kind}: header and sizes 2..");
+        assert_eq!(table[..default.len()], default[..], "{kind}");
+    }
+    for (file, size) in [("rods-9", 9), ("rods-10", 10), ("mixed-5", 5)] {
+        let text = std::fs::read_to_string(repo.join(format!("motifs/{file}.json"))).unwrap();
+        let rules: rgc::rule_file::RuleFile = serde_json::from_str(&text).unwrap();
+        let irreducible: u64 = committed(if file.starts_with("rods") {
+            "audit-extended/audit-rods.csv"
+        } else {
+            "audit-extended/audit-mixed.csv"
+        })
+        .iter()
+        .find(|row| row.split(',').nth(1) == Some(&size.to_string()))
+        .and_then(|row| row.split(',').nth(11).map(|n| n.parse().unwrap()))
+        .unwrap();
+        assert_eq!(rules.rules.len() as u64, irreducible, "{file}");
+        assert!(
+            rules
+                .rules
+                .iter()
+                .all(|r| r.provenance.command.as_deref() == Some(&extended.command())),
+            "{file}"
+        );
+    }
+    rgc::audit::check_outputs(
+        &extended,
+        &repo.join("results/audit-extended"),
+        &repo.join("motifs"),
+    )
+    .unwrap();
+}

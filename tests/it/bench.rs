@@ -142,3 +142,48 @@ fn the_rule_sets_load_from_the_project_motifs_and_a_missing_file_is_named() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--rule-load` times the extended rule sets from the project's motifs:
+/// the 1,569 rules of rods-6, rods-8, mixed-4, rods-9 and rods-10, the
+/// 1,738 of mixed-5 and all 3,307; a set with a file missing is named.
+#[test]
+fn rule_load_times_the_extended_sets_and_names_a_missing_file() {
+    let out = rgc(&["bench", "--rule-load", "--repeat", "1", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let sets = report["sets"].as_array().unwrap();
+    let rows: Vec<(&str, u64)> = sets
+        .iter()
+        .map(|s| (s["name"].as_str().unwrap(), s["rules"].as_u64().unwrap()))
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            ("rods<=10+mixed<=4", 1569),
+            ("mixed-5", 1738),
+            ("all extended", 3307)
+        ]
+    );
+    for s in sets {
+        let (load, compile, total) = (
+            s["seconds_load"].as_f64().unwrap(),
+            s["seconds_compile"].as_f64().unwrap(),
+            s["seconds"].as_f64().unwrap(),
+        );
+        assert!(load > 0.0 && compile > 0.0, "{s}");
+        assert!((load + compile - total).abs() < 1e-9, "{s}");
+    }
+    let dir = crate::scratch("bench-rule-load");
+    let motifs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs");
+    std::fs::copy(motifs.join("rods-6.json"), dir.join("rods-6.json")).unwrap();
+    let out = rgc(&["bench", "--rule-load", "--motifs", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr).trim_end(),
+        format!(
+            "rgc: error: invalid parameter: rule file {} not found (--motifs names the directory of the project's rule files)",
+            dir.join("rods-8.json").display()
+        )
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

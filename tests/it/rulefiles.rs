@@ -1,12 +1,13 @@
 //! Rule files: round trips, and clear errors for malformed or hostile files
 //! (wrong types, huge sizes, duplicate ids, forged canonical forms, patterns
-//! that are not rigid); a fuzz of the reader that must never panic.
+//! that are not rigid); files given twice and rules repeated, dropped with
+//! a message; a fuzz of the reader that must never panic.
 
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 
 use rgc::pattern::{NodeKind, Pattern, PatternContact};
-use rgc::rule_file::{Provenance, Rule, load_rules, write_rules};
+use rgc::rule_file::{Dropped, Provenance, Rule, load, load_rules, write_rules};
 
 fn dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("rgc-rulefiles-{name}-{}", std::process::id()));
@@ -37,7 +38,11 @@ fn error_of(path: &Path) -> String {
 fn rules_round_trip_through_files_and_directories() {
     let d = dir("roundtrip");
     write_rules(&d.join("a.json"), &[rule("a")]).unwrap();
-    write_rules(&d.join("b.json"), &[rule("b")]).unwrap();
+    write_rules(
+        &d.join("b.json"),
+        &[Rule::new("b".into(), k4(), Provenance::default()).unwrap()],
+    )
+    .unwrap();
     std::fs::write(d.join("notes.txt"), "not a rule file").unwrap();
     let loaded = load_rules(std::slice::from_ref(&d)).unwrap();
     assert_eq!(
@@ -45,6 +50,177 @@ fn rules_round_trip_through_files_and_directories() {
         ["a", "b"]
     );
     assert_eq!(loaded[0], rule("a"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Four rods pairwise in contact: rigid, and another pattern than the triangle.
+fn k4() -> Pattern {
+    rods_pattern(&[(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)])
+}
+
+#[test]
+fn a_rule_set_loaded_twice_is_read_once() {
+    let d = dir("twice");
+    let (a, b) = (d.join("a.json"), d.join("b.json"));
+    write_rules(&a, &[rule("a")]).unwrap();
+    write_rules(
+        &b,
+        &[Rule::new("b".into(), k4(), Provenance::default()).unwrap()],
+    )
+    .unwrap();
+    let ids = |rules: &[Rule]| rules.iter().map(|r| r.id.clone()).collect::<Vec<_>>();
+    // A directory and a file in it: the file is read once, where the
+    // directory lists it.
+    let loaded = load(&[d.clone(), a.clone()]).unwrap();
+    assert_eq!(ids(&loaded.rules), ["a", "b"]);
+    assert_eq!(
+        loaded.dropped,
+        [Dropped::File {
+            path: a.clone(),
+            first: a.clone()
+        }]
+    );
+    assert_eq!(
+        loaded.dropped[0].to_string(),
+        format!(
+            "rule file {} is given twice: its rules are loaded once",
+            a.display()
+        )
+    );
+    // The same file by another path.
+    let again = d.join(".").join("a.json");
+    let loaded = load(&[a.clone(), b.clone(), again.clone()]).unwrap();
+    assert_eq!(ids(&loaded.rules), ["a", "b"]);
+    assert_eq!(
+        loaded.dropped[0].to_string(),
+        format!(
+            "rule file {} is {} given again: its rules are loaded once",
+            again.display(),
+            a.display()
+        )
+    );
+    // A copy is another file: its rules repeat ids, which is refused.
+    let copy = d.join("copy.json");
+    std::fs::copy(&a, &copy).unwrap();
+    assert_eq!(
+        load(&[a.clone(), copy.clone()]).unwrap_err().to_string(),
+        format!(
+            "invalid parameter: rule file {}: duplicate rule id \"a\" (also in {})",
+            copy.display(),
+            a.display()
+        )
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn a_repeated_rule_is_dropped_with_a_message() {
+    let d = dir("repeated");
+    let (a, c) = (d.join("a.json"), d.join("c.json"));
+    let k4 = Rule::new("k".into(), k4(), Provenance::default()).unwrap();
+    write_rules(&a, &[rule("a")]).unwrap();
+    // The triangle again under another id (its nodes in another order),
+    // within c.json and across the two files.
+    let turned = rods_pattern(&[(1, 2), (2, 0), (1, 0)]);
+    assert_ne!(turned, triangle());
+    let turned = Rule::new("c".into(), turned, Provenance::default()).unwrap();
+    assert_eq!(turned.canonical, rule("a").canonical);
+    write_rules(&c, &[turned, k4.clone(), rule("t")]).unwrap();
+    let loaded = load(&[a.clone(), c.clone()]).unwrap();
+    assert_eq!(loaded.rules, [rule("a"), k4.clone()]);
+    let dropped = |id: &str| Dropped::Rule {
+        id: id.into(),
+        file: c.clone(),
+        kept: "a".into(),
+        kept_file: a.clone(),
+    };
+    assert_eq!(loaded.dropped, [dropped("c"), dropped("t")]);
+    assert_eq!(
+        loaded.dropped[0].to_string(),
+        format!(
+            "rule c ({}) has the pattern of rule a ({}): dropped",
+            c.display(),
+            a.display()
+        )
+    );
+    // Within one file the first is kept.
+    let loaded = load(std::slice::from_ref(&c)).unwrap();
+    assert_eq!(
+        loaded
+            .rules
+            .iter()
+            .map(|r| r.id.as_str())
+            .collect::<Vec<_>>(),
+        ["c", "k"]
+    );
+    assert_eq!(loaded.dropped.len(), 1);
+    // The command line says so on stderr, one line each, and runs.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rgc"))
+        .args(["compress", "--graph6", "E]r?"])
+        .args([&a, &c, &a].iter().flat_map(|p| [Path::new("--motifs"), p]))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("rgc: warning: "))
+        .collect();
+    assert_eq!(
+        warnings,
+        [
+            format!(
+                "rgc: warning: rule file {} is given twice: its rules are loaded once",
+                a.display()
+            ),
+            format!(
+                "rgc: warning: rule c ({}) has the pattern of rule a ({}): dropped",
+                c.display(),
+                a.display()
+            ),
+            format!(
+                "rgc: warning: rule t ({}) has the pattern of rule a ({}): dropped",
+                c.display(),
+                a.display()
+            ),
+        ],
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Rules are checked in parallel, but the error is the first a check in
+/// file order meets.
+#[test]
+fn the_first_bad_rule_is_named() {
+    let d = dir("first-bad");
+    let f = d.join("r.json");
+    let cycle = rods_pattern(&[(0, 1), (1, 2), (2, 3), (3, 0)]);
+    let mut not_rigid = serde_json::to_value(rule("x")).unwrap();
+    not_rigid["pattern"] = serde_json::to_value(&cycle).unwrap();
+    not_rigid["canonical"] = rgc::rule_file::canonical_form(&cycle).into();
+    let mut forged = serde_json::to_value(rule("y")).unwrap();
+    forged["canonical"] = "rrr:forged".into();
+    let good = serde_json::to_value(rule("g")).unwrap();
+    for (rules, named) in [
+        ([&good, &not_rigid, &forged], "rule x is not rigid"),
+        ([&good, &forged, &not_rigid], "rule y: canonical form"),
+    ] {
+        let file = serde_json::json!({ "format": rgc::rule_file::RULE_FORMAT, "rules": rules });
+        std::fs::write(&f, file.to_string()).unwrap();
+        for _ in 0..4 {
+            let err = error_of(&f);
+            assert!(err.contains(named), "{err}");
+        }
+    }
+    // A file that cannot be read comes after the rules read before it.
+    let missing = d.join("missing.json");
+    let err = load(&[f.clone(), missing]).unwrap_err().to_string();
+    assert!(err.contains("rule y: canonical form"), "{err}");
     std::fs::remove_dir_all(&d).unwrap();
 }
 
@@ -253,11 +429,14 @@ fn committed(file: &str) -> PathBuf {
 #[test]
 fn committed_rule_files_are_verified_on_load() {
     let counts = [
-        ("base.json", 59),
+        ("base.json", 56),
         ("rods-6.json", 1),
         ("rods-8.json", 13),
         ("mixed-4.json", 124),
         ("mined.json", 20),
+        ("rods-9.json", 313),
+        ("rods-10.json", 1118),
+        ("mixed-5.json", 1738),
     ];
     for (file, count) in counts {
         let rules = load_rules(&[committed(file)]).unwrap();
@@ -274,10 +453,34 @@ fn committed_rule_files_are_verified_on_load() {
             assert_eq!(r.canonical, rgc::rule_file::canonical_form(&r.pattern));
         }
     }
-    // The whole directory, in name order.
-    let all = load_rules(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs")]).unwrap();
-    assert_eq!(all.len(), 59 + 1 + 13 + 124 + 20);
-    let (base, _) = rgc::engine::shapes::base_rules().unwrap();
+    // The whole directory, in name order: base.json repeats three
+    // patterns under two variant ids each, mined-11 is base-3D2A-2-11, and
+    // the audit found mined-10 again among the mixed motifs of 5 components.
+    let all = load(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs")]).unwrap();
+    let dropped: Vec<(&str, &str)> = all
+        .dropped
+        .iter()
+        .map(|d| match d {
+            Dropped::Rule { id, kept, .. } => (id.as_str(), kept.as_str()),
+            other => panic!("{other}"),
+        })
+        .collect();
+    assert_eq!(
+        dropped,
+        [
+            ("base-3D2A-5-1", "base-3D2A-4-10"),
+            ("base-3D2A-6-10", "base-3D2A-3-1"),
+            ("base-3D2A-8-10", "base-3D2A-7-1"),
+            ("mined-11", "base-3D2A-2-11"),
+            ("mixed-5-15", "mined-10"),
+        ]
+    );
+    assert_eq!(
+        all.rules.len(),
+        59 + 1 + 13 + 124 + 20 + 313 + 1118 + 1738 - 5
+    );
+    let (mut base, _) = rgc::engine::shapes::base_rules().unwrap();
+    base.retain(|r| !dropped[..3].iter().any(|(id, _)| r.id == *id));
     assert_eq!(load_rules(&[committed("base.json")]).unwrap(), base);
     // Verification happens on load: one committed rule turned into the prism
     // (with a matching canonical form) is refused, naming the rule.

@@ -63,6 +63,10 @@ enum Command {
     Transition(cmd::transition::TransitionArgs),
     /// How often truth's exact realizations disagree: the evaluations of truth studies ranked again, every realization whole, each in a prime of its own.
     Twins(cmd::twins::TwinsArgs),
+    /// How far the rigidity 3D-RGC misses at the true threshold reaches: on truth studies' sequences, the spanning true cluster against a compression's bodies, and the minimal rigid sets joining two of its nodes (their sizes are the motif size it would take).
+    Locality(cmd::locality::LocalityArgs),
+    /// The motif horizon: 3D-RGC's paired bias against truth for studies with growing motif sets, against the largest motif and the number of rules, with CPU per sequence; where the rods-only series would halve the bias.
+    Horizon(cmd::horizon::HorizonArgs),
     /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same sequences.
     Compare(cmd::compare::CompareArgs),
     /// Threshold and interval width against CPU time: runs per system, motif sets, sequences per box, nested against fixed.
@@ -174,6 +178,8 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Paired(a) => cmd::paired::run(a, out),
         Command::Transition(a) => cmd::transition::run(a, out),
         Command::Twins(a) => cmd::twins::run(a, out),
+        Command::Locality(a) => cmd::locality::run(a, out),
+        Command::Horizon(a) => cmd::horizon::run(a, out),
         Command::Compare(a) => cmd::compare::run(a, out),
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),

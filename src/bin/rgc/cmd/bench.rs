@@ -1,5 +1,5 @@
 //! `rgc bench`: speed and memory on the reference systems, rank
-//! throughput, or the cost of truth.
+//! throughput, the cost of truth, or of loading the extended rule sets.
 
 use std::path::PathBuf;
 
@@ -34,7 +34,7 @@ pub struct BenchArgs {
     /// extended (rods-6, rods-8, mixed-4), rods-10+mixed-4 (with rods-9 and
     /// rods-10, where both exist; rods-10+mixed-5 also with mixed-5) and
     /// mined.
-    #[arg(long, conflicts_with_all = ["rank", "truth", "truth_aspects", "networkx", "no_rules"])]
+    #[arg(long, conflicts_with_all = ["rank", "truth", "truth_aspects", "networkx", "no_rules", "rule_load"])]
     rule_sets: bool,
     /// A rule set of --rule-sets, `NAME=FILE[,FILE...]` (repeatable).
     #[arg(long, requires = "rule_sets")]
@@ -56,6 +56,9 @@ pub struct BenchArgs {
     /// Print the figures as JSON instead of a table.
     #[arg(long, conflicts_with = "rank")]
     json: bool,
+    /// Instead: the time to load the extended rule sets from --motifs (files read, every rule verified by exact rank on every thread, and compiled for the engine), median of --repeat.
+    #[arg(long, conflicts_with_all = ["rank", "truth", "truth_aspects"])]
+    rule_load: bool,
     /// Instead: time and peak memory of truth on gamma 23 systems near its threshold, one thread; fits their growth with the rods.
     #[arg(long, conflicts_with = "rank")]
     truth: bool,
@@ -116,6 +119,9 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
             return super::print_json(&system.under_limit(limit)?, out);
         }
         return super::print_json(&system.measure()?, out);
+    }
+    if a.rule_load {
+        return rule_load(a, out);
     }
     if a.truth {
         return truth(a, out);
@@ -219,6 +225,41 @@ fn foundation_table(all: &Foundation, out: &mut String) {
             n.ratio
         );
     }
+}
+
+fn rule_load(a: BenchArgs, out: &mut String) -> Result<()> {
+    let report = bench::run_rule_load(&a.motifs, a.repeat as usize)?;
+    if written(&report, &a, out)? {
+        return Ok(());
+    }
+    say!(
+        out,
+        "Loading rule sets from {} on {} threads, median of {}:",
+        a.motifs.display(),
+        report.threads,
+        report.repeat
+    );
+    say!(
+        out,
+        "{:<20} {:>6} {:>8} {:>10} {:>8}",
+        "set",
+        "rules",
+        "load s",
+        "compile s",
+        "total s"
+    );
+    for r in &report.sets {
+        say!(
+            out,
+            "{:<20} {:>6} {:>8.3} {:>10.3} {:>8.3}",
+            r.name,
+            r.rules,
+            r.seconds_load,
+            r.seconds_compile,
+            r.seconds
+        );
+    }
+    Ok(())
 }
 
 fn rule_sets(a: BenchArgs, out: &mut String) -> Result<()> {

@@ -23,6 +23,8 @@ pub mod check;
 pub mod compare;
 pub mod compress;
 pub mod enumerate;
+pub mod horizon;
+pub mod locality;
 pub mod merge;
 pub mod mine;
 pub mod paired;
@@ -93,10 +95,17 @@ fn print_json(value: &impl Serialize, out: &mut String) -> Result<()> {
 
 /// Loads and verifies rule files, ready for the engine.
 fn load(paths: &[PathBuf]) -> Result<Vec<CompiledRule>> {
-    Ok(rule_file::load_rules(paths)?
-        .iter()
-        .map(CompiledRule::new)
-        .collect())
+    Ok(load_rules(paths)?.iter().map(CompiledRule::new).collect())
+}
+
+/// Loads and verifies rule files; a file given twice or a rule repeated is
+/// dropped with one warning line each on stderr.
+fn load_rules(paths: &[PathBuf]) -> Result<Vec<rule_file::Rule>> {
+    let loaded = rule_file::load(paths)?;
+    for d in &loaded.dropped {
+        eprintln!("rgc: warning: {d}");
+    }
+    Ok(loaded.rules)
 }
 
 /// The command line that made a result, for the files that record it.

@@ -10,7 +10,7 @@ use rgc::threshold::fss::{self, Estimate, Protocol};
 use rgc::threshold::report::{self, Concluded, PerBoxReport, Summary, file_list};
 use rgc::threshold::sequence::{Kind, Record};
 use rgc::threshold::study::{self, MotifSet, RunOptions, Shard, StudySpec};
-use rgc::{Result, plot, rule_file};
+use rgc::{Result, plot};
 
 use crate::args::{MemoryArgs, RuleArgs, StudyArgs};
 use crate::progress::Reporter;
@@ -64,7 +64,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
     };
     // A study the analysis could not use fails before its rules are verified or its sequences run.
     spec.validate_for_analysis()?;
-    let rules = rule_file::load_rules(&a.rules.rule_files)?;
+    let rules = super::load_rules(&a.rules.rule_files)?;
     spec.motifs = MotifSet::of(&rules, &a.rules.rule_files);
     let shard = a
         .shard

@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand};
 
+use rgc::Result;
 use rgc::threshold::fss;
 use rgc::threshold::study::{self, MotifSet, RunOptions};
 use rgc::threshold::workspace::{self, Pointers};
-use rgc::{Result, rule_file};
 
 use crate::args::MemoryArgs;
 use crate::progress::Reporter;
@@ -104,7 +104,7 @@ fn slice(a: SliceArgs, out: &mut String) -> Result<()> {
         say!(out, "The {name} is done ({}).", workspace::SLICE_FILE);
         return Ok(());
     }
-    let rules = rule_file::load_rules(&slice.rule_files)?;
+    let rules = super::load_rules(&slice.rule_files)?;
     slice.spec.motifs = MotifSet::of(&rules, &slice.rule_files);
     let opts = RunOptions {
         out: dir.clone(),
