@@ -12,8 +12,8 @@ pub mod foundation;
 pub mod growth;
 pub mod measure;
 pub mod networkx;
-pub mod rules;
 pub mod rule_load;
+pub mod rules;
 pub mod truth;
 
 pub use crate::usage::{peak_rss_mib, reset_peak_rss};
@@ -28,11 +28,11 @@ pub use foundation::{
 pub use growth::Growth;
 pub use measure::one_thread;
 pub use networkx::{Foundation, NETWORKX_STEP, Networkx, against_networkx, networkx_version};
+pub use rule_load::{LOAD_SETS, RuleLoadReport, RuleLoadRow, run_rule_load};
 pub use rules::{
     LoadRow, LoadedSet, RULE_SYSTEMS, RuleSetFiles, RulesReport, SetRow, default_rule_sets,
     load_set,
 };
-pub use rule_load::{LOAD_SETS, RuleLoadReport, RuleLoadRow, run_rule_load};
 pub use truth::{
     LimitRow, PREDICT_MAX_BOX, REACH_DENSITY, Reach, Scaling, TAIL_BOXES, TRUTH_DENSITIES,
     TRUTH_GAMMA, TruthPlan, TruthReport, TruthRow, TruthSystem, measure_truth, measure_truth_at,

@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use super::measure::one_thread;
 use crate::contacts;
-use crate::engine::{CompiledRule, Engine, RuleSet, Work};
+use crate::engine::{self, CompiledRule, Engine, RuleSet, Work};
 use crate::graph::ContactGraph;
 use crate::math::stats::median;
 use crate::rods::{RodParams, RodSystem};
@@ -61,7 +61,10 @@ pub fn default_rule_sets(dir: &Path) -> Vec<RuleSetFiles> {
         name: name.to_string(),
         files: files.iter().map(|f| dir.join(f)).collect(),
     };
-    let mut sets = vec![set("extended", &["rods-6.json", "rods-8.json", "mixed-4.json"])];
+    let mut sets = vec![set(
+        "extended",
+        &["rods-6.json", "rods-8.json", "mixed-4.json"],
+    )];
     let exists = |f: &str| dir.join(f).is_file();
     if exists("rods-9.json") && exists("rods-10.json") {
         let rods = [
@@ -87,7 +90,8 @@ pub struct LoadedSet {
     pub rules: Vec<CompiledRule>,
     /// Reading the files and verifying every rule (exact rank).
     pub seconds_verify: f64,
-    /// Compiling the rules for matching and building the rule set's index.
+    /// Compiling the rules for matching and building the rule set's
+    /// catalog, which every compression with it shares.
     pub seconds_compile: f64,
 }
 
@@ -105,6 +109,7 @@ pub fn load_set(files: &RuleSetFiles) -> Result<LoadedSet> {
     let seconds_verify = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let rules: Vec<CompiledRule> = rules.iter().map(CompiledRule::new).collect();
+    engine::prepare(&rules);
     let seconds_compile = t.elapsed().as_secs_f64();
     Ok(LoadedSet {
         files: files.clone(),
@@ -145,6 +150,14 @@ pub struct SetRow {
     pub attempts: f64,
     pub merges: f64,
     pub rule_merges: f64,
+    /// Seconds spent matching loaded rules (and keeping their index), in
+    /// a second run of each repetition with a clock around that work.
+    pub seconds_rules: f64,
+    /// The rest of that timed run over the base engine's own timed run:
+    /// the base engine's work with these rules, relative to without them,
+    /// the median over repetitions. It grows with the merges the rules
+    /// make: the price of the extra rigidity they find, not of matching.
+    pub base_work_ratio: f64,
 }
 
 /// Everything `rgc bench --rule-sets` measures in one run.
@@ -171,7 +184,7 @@ pub fn run(repeat: usize, sets: &[LoadedSet]) -> RulesReport {
             }))
             .collect();
         let mut rows = Vec::new();
-        let mut samples: Vec<Vec<Vec<(f64, Work)>>> =
+        let mut samples: Vec<Vec<Vec<(f64, f64, Work)>>> =
             vec![vec![Vec::new(); engines.len()]; RULE_SYSTEMS.len()];
         for k in 0..repeat.max(1) {
             for (s, &(gamma, density, box_len)) in RULE_SYSTEMS.iter().enumerate() {
@@ -180,22 +193,31 @@ pub fn run(repeat: usize, sets: &[LoadedSet]) -> RulesReport {
                 let graph = ContactGraph::from_contacts(system.len(), &contacts::detect(&system));
                 for i in 0..engines.len() {
                     let e = (i + k) % engines.len();
+                    let engine = &engines[e].1;
                     let t = Instant::now();
-                    let (run, work) = engines[e].1.compress_measured(&graph, k as u64);
+                    std::hint::black_box(engine.compress_measured(&graph, k as u64, false));
                     let seconds = t.elapsed().as_secs_f64();
-                    std::hint::black_box(run);
-                    samples[s][e].push((seconds, work));
+                    // Again with the clock on loaded rules, for the split.
+                    let t = Instant::now();
+                    let (_, work) = engine.compress_measured(&graph, k as u64, true);
+                    let timed = t.elapsed().as_secs_f64();
+                    samples[s][e].push((seconds, timed, work));
                 }
             }
         }
         for (s, &(gamma, density, box_len)) in RULE_SYSTEMS.iter().enumerate() {
             for (e, (name, engine)) in engines.iter().enumerate() {
                 let t = &samples[s][e];
-                let med = |f: &dyn Fn(&(f64, Work)) -> f64| {
+                let med = |f: &dyn Fn(&(f64, f64, Work)) -> f64| {
                     median(&mut t.iter().map(f).collect::<Vec<_>>())
                 };
                 let base = &samples[s][0];
                 let mut ratios: Vec<f64> = t.iter().zip(base).map(|(a, b)| a.0 / b.0).collect();
+                let mut base_work: Vec<f64> = t
+                    .iter()
+                    .zip(base)
+                    .map(|(a, b)| (a.1 - a.2.rule_nanos as f64 * 1e-9) / b.1)
+                    .collect();
                 rows.push(SetRow {
                     gamma,
                     density,
@@ -204,11 +226,13 @@ pub fn run(repeat: usize, sets: &[LoadedSet]) -> RulesReport {
                     n_rules: engine.extra.len(),
                     seconds: med(&|x| x.0),
                     ratio_to_base: median(&mut ratios),
-                    rod_tasks: med(&|x| x.1.rod_tasks as f64),
-                    pair_tasks: med(&|x| x.1.pair_tasks as f64),
-                    attempts: med(&|x| x.1.attempts as f64),
-                    merges: med(&|x| x.1.merges as f64),
-                    rule_merges: med(&|x| x.1.rule_merges as f64),
+                    rod_tasks: med(&|x| x.2.rod_tasks as f64),
+                    pair_tasks: med(&|x| x.2.pair_tasks as f64),
+                    attempts: med(&|x| x.2.attempts as f64),
+                    merges: med(&|x| x.2.merges as f64),
+                    rule_merges: med(&|x| x.2.rule_merges as f64),
+                    seconds_rules: med(&|x| x.2.rule_nanos as f64 * 1e-9),
+                    base_work_ratio: median(&mut base_work),
                 });
             }
         }

@@ -7,6 +7,12 @@
 //! least its pattern degree of neighbours there. Rods only ever leave the
 //! free rods, so each core only shrinks: a rod that leaves lowers its
 //! neighbours' counts, and those that fall below `k` leave in turn.
+//!
+//! A match also maps a pattern's triangles and 4-cycles onto triangles and
+//! cycles of at most 4 rods of free rods: so how far each rod is from such
+//! short cycles, measured once among the rods free at the start (a cycle
+//! now was one then), bounds how close to the pattern's short cycles it can
+//! lie.
 
 use super::state::State;
 
@@ -21,7 +27,14 @@ pub(super) struct FreeCores {
     /// is in that core itself.
     degree: Vec<Vec<u32>>,
     stack: Vec<u32>,
+    /// By cycle length (3, then at most 4): each rod's distance, among the
+    /// rods of the `low`-core at the start, from the nearest rod on such a
+    /// cycle, up to [`FAR`].
+    short: [Vec<u8>; 2],
 }
+
+/// Distances from short cycles are counted up to this.
+pub(super) const FAR: u8 = 7;
 
 impl FreeCores {
     /// The cores of the rods free in `state`, of orders `low..=high` (`low` at least 1).
@@ -43,7 +56,9 @@ impl FreeCores {
             .collect();
         let mut stack = Vec::new();
         for k in 1..=high {
-            stack.extend((0..n as u32).filter(|&r| alive[r as usize] && left[r as usize] < u32::from(k)));
+            stack.extend(
+                (0..n as u32).filter(|&r| alive[r as usize] && left[r as usize] < u32::from(k)),
+            );
             while let Some(r) = stack.pop() {
                 if !alive[r as usize] {
                     continue;
@@ -83,13 +98,22 @@ impl FreeCores {
                     .collect()
             })
             .collect();
+        let short = short_cycles(state, &level, low);
         FreeCores {
             low,
             high,
             level,
             degree,
             stack,
+            short,
         }
+    }
+
+    /// Rod `r`'s distance (up to [`FAR`]) from the nearest triangle
+    /// (`length` 3) or cycle of at most 4 rods (`length` 4) of the rods
+    /// free at the start, through them.
+    pub fn from_short_cycle(&self, length: usize, r: u32) -> u8 {
+        self.short[length - 3][r as usize]
     }
 
     /// The least order kept.
@@ -137,4 +161,66 @@ impl FreeCores {
         }
         self.level[r as usize] = self.low - 1;
     }
+}
+
+/// Each rod's distance from the nearest rod on a triangle, and on a cycle
+/// of at most 4 rods, among the rods whose `level` is at least `low`.
+fn short_cycles(state: &State, level: &[u8], low: u8) -> [Vec<u8>; 2] {
+    let g = state.g;
+    let n = g.n_nodes();
+    let core = |r: u32| level[r as usize] >= low;
+    let (mut on3, mut on4) = (vec![false; n], vec![false; n]);
+    // 2-paths from `u` to each rod, with the first middle rod seen.
+    let (mut paths, mut middle, mut seen) = (vec![0u32; n], vec![0u32; n], Vec::new());
+    for u in (0..n as u32).filter(|&u| core(u)) {
+        for &(a, _) in g.neighbors(u) {
+            if !core(a) {
+                continue;
+            }
+            for &(x, _) in g.neighbors(a) {
+                if x == u || !core(x) {
+                    continue;
+                }
+                if g.edge_between(u, x).is_some() {
+                    for t in [u, a, x] {
+                        on3[t as usize] = true;
+                        on4[t as usize] = true;
+                    }
+                }
+                let p = &mut paths[x as usize];
+                *p += 1;
+                if *p == 1 {
+                    middle[x as usize] = a;
+                    seen.push(x);
+                } else {
+                    for t in [u, a, x, middle[x as usize]] {
+                        on4[t as usize] = true;
+                    }
+                }
+            }
+        }
+        for x in seen.drain(..) {
+            paths[x as usize] = 0;
+        }
+    }
+    [on3, on4].map(|on| {
+        let mut distance = vec![FAR; n];
+        let mut queue: std::collections::VecDeque<u32> = (0..n as u32)
+            .filter(|&r| on[r as usize])
+            .inspect(|&r| distance[r as usize] = 0)
+            .collect();
+        while let Some(u) = queue.pop_front() {
+            let d = distance[u as usize];
+            if d + 1 >= FAR {
+                continue;
+            }
+            for &(w, _) in g.neighbors(u) {
+                if core(w) && distance[w as usize] > d + 1 {
+                    distance[w as usize] = d + 1;
+                    queue.push_back(w);
+                }
+            }
+        }
+        distance
+    })
 }

@@ -19,13 +19,16 @@
 use crate::body::BodyClass;
 use crate::graph::ContactGraph;
 
+use std::sync::Arc;
+
 use super::ball::{Ball, Bits, MAX_BALL, MAX_CORE, MAX_DEGREE, Search};
+use super::catalog::{Catalog, PairEntry};
 use super::cores::FreeCores;
-use super::sieve::{MAX_RADIUS, Sieve, THRESHOLDS};
-use super::trie::{Trie, Walk};
-use super::demand::{Common, CommonNeeds, Needs, Profile, accepts, class_index};
+use super::demand::{Common, Profile, class_index};
 use super::rule::{CompiledRule, Step};
+use super::sieve::{MAX_RADIUS, THRESHOLDS};
 use super::state::State;
+use super::trie::Walk;
 
 /// Bodies with more neighbours than this are not profiled.
 const LARGE: usize = 256;
@@ -40,62 +43,25 @@ pub(super) struct Neighbour {
     pub mult: u32,
 }
 
-/// A pattern contact of a rule with bodies whose ends fit a class pair, and
-/// the numbers of its conditions in [`Index`]'s tables.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct PairEntry {
-    pub a: usize,
-    pub b: usize,
-    /// Pattern contacts between `a` and `b`: the host pair needs as many.
-    pub mult: usize,
-    need_a: usize,
-    need_b: usize,
-    common: usize,
-}
-
-/// The pattern contacts of all rules that share their conditions, for one
-/// class pair: the rules that have one, as bits. A class pair's list is
-/// sorted by contacts between the ends, then by the conditions on `x`, then
-/// on `y`, and `skip_a`, `skip_b` are where the run of the same contacts
-/// and condition on `x` (and on `y`) ends, so a failed condition skips its run.
-#[derive(Clone, Debug)]
-struct Shared {
-    entry: PairEntry,
-    rules: Vec<u64>,
-    skip_a: usize,
-    skip_b: usize,
-}
-
-/// Host nodes' neighbour lists and profiles, computed when first needed and
-/// dropped when a merge changes a node's neighbours; the rules' pattern
-/// contacts by class pair; and the scratch of one task.
+/// The rule set's [`Catalog`]; host nodes' neighbour lists and profiles,
+/// computed when first needed and dropped when a merge changes a node's
+/// neighbours; the free rods' cores; and the scratch of one task.
 pub(super) struct Index {
     /// Whether skipped attempts are matched anyway, to prove them impossible.
     pub audit: bool,
+    catalog: Arc<Catalog>,
     fresh: Vec<bool>,
     profile: Vec<Profile>,
     /// Each node's neighbours, in the matcher's candidate order: by node for
     /// a rod, in the body's map order for a body.
     adjacency: Vec<Vec<Neighbour>>,
-    /// By rule, by class pair (`3 * class x + class y`), the pattern
-    /// contacts in the order the plain matcher tries them.
-    entries: Vec<[Vec<PairEntry>; 9]>,
-    /// By class pair, the distinct conditions of the entries.
-    shared: [Vec<Shared>; 9],
-    /// Whether some rule has a body.
-    has_pair_rules: bool,
     /// Per pair task: the rules some entry of which passes the conditions, as bits.
     candidates: Vec<u64>,
-    /// Distinct [`Needs`] and [`CommonNeeds`] of all entries.
-    needs: Vec<Needs>,
-    commons: Vec<CommonNeeds>,
     /// Per pair task: what each distinct need says of `x`, of `y` and of
     /// their common neighbours (0 unknown, 1 no, 2 yes).
     said_x: Vec<u8>,
     said_y: Vec<u8>,
     said_common: Vec<u8>,
-    /// The rods-only rules' attempts and the masks that select them.
-    sieve: Sieve,
     /// The free rods' cores of the orders the rods-only rules need.
     cores: Option<FreeCores>,
     /// Per rod task: the rod; its neighbours in each core by their degree
@@ -108,21 +74,14 @@ pub(super) struct Index {
     keys: Vec<u64>,
     marked: Vec<u64>,
     cycles: [i64; MAX_RADIUS + 1],
-    /// The rods-only plans as one trie, and the state of its search.
-    trie: Trie,
+    /// The state of a trie search.
     walk: Walk,
     /// Per rod task: the attempts that can match, in the plain order.
     found: Vec<u32>,
-    /// Per rod task: each rod's distance from the task's rod when `seen` is
-    /// the task's stamp.
-    distance: Vec<u8>,
-    /// Each rod's place in the rod task's [`Ball`], when built.
-    slot: Vec<u8>,
-    seen: Vec<u32>,
+    /// Per rod task: what it knows of each rod (where the rod's stamp is
+    /// the task's), and the rods of the ball to peel.
+    marks: Vec<Mark>,
     stamp: u32,
-    /// Per rod task: each ball rod's neighbours in the ball as it is
-    /// peeled, and the rods to peel.
-    inner: Vec<u32>,
     peeled: Vec<u32>,
     /// A rod task's rod, then the rods of the least core around it in
     /// breadth-first order.
@@ -140,6 +99,19 @@ pub(super) struct Index {
     maps: Vec<Option<u32>>,
 }
 
+/// What a rod task knows of a rod, together so that a look-up touches one
+/// cache line: valid when `stamp` is the task's.
+#[derive(Clone, Copy, Debug, Default)]
+struct Mark {
+    stamp: u32,
+    /// Its neighbours in the ball as the ball is peeled.
+    inner: u32,
+    /// Its distance from the task's rod.
+    distance: u8,
+    /// Its place in the task's [`Ball`], when built.
+    slot: u8,
+}
+
 /// What became of a rod task's ball.
 enum Built {
     Ball,
@@ -149,124 +121,33 @@ enum Built {
     TooLarge,
 }
 
-/// Finds `item` in `list`, appending it if new; its position.
-fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
-    list.iter().position(|x| x == item).unwrap_or_else(|| {
-        list.push(item.clone());
-        list.len() - 1
-    })
-}
-
 impl Index {
     pub fn new(state: &mut State, rules: &[CompiledRule], audit: bool) -> Self {
         let n_rods = state.g.n_nodes();
-        let mut sieve = Sieve::new(rules);
-        let trie = Trie::new(rules, &sieve.attempts);
-        sieve.renumber(&trie.slot_of);
+        let catalog = Catalog::of(rules);
+        let sieve = &catalog.sieve;
         let cores = (!sieve.is_empty()).then(|| FreeCores::new(state, sieve.low, sieve.high));
         let orders = usize::from(sieve.high - sieve.low) + 1;
-        let (mut needs, mut commons) = (Vec::new(), Vec::new());
-        let entries = rules
-            .iter()
-            .map(|rule| {
-                let mut by_class: [Vec<PairEntry>; 9] = Default::default();
-                if rule.rods_only() {
-                    return by_class;
-                }
-                for a in 0..rule.n_nodes() {
-                    for &b in &rule.neighbours[a] {
-                        let entry = PairEntry {
-                            a,
-                            b,
-                            mult: rule.between[a][b].len(),
-                            need_a: intern(&mut needs, &rule.needs[a]),
-                            need_b: intern(&mut needs, &rule.needs[b]),
-                            common: intern(&mut commons, &rule.common[a][b]),
-                        };
-                        let (ka, kb) = (accepts(rule.kinds[a]), accepts(rule.kinds[b]));
-                        for cx in 0..3 {
-                            for cy in 0..3 {
-                                if ka[cx] && kb[cy] {
-                                    by_class[3 * cx + cy].push(entry);
-                                }
-                            }
-                        }
-                    }
-                }
-                by_class
-            })
-            .collect::<Vec<_>>();
-        let words = rules.len().div_ceil(64);
-        let mut shared: [Vec<Shared>; 9] = Default::default();
-        for (k, by_class) in entries.iter().enumerate() {
-            for (c, list) in by_class.iter().enumerate() {
-                for e in list {
-                    let same = |s: &Shared| {
-                        let f = &s.entry;
-                        (f.mult, f.need_a, f.need_b, f.common)
-                            == (e.mult, e.need_a, e.need_b, e.common)
-                    };
-                    let at = match shared[c].iter().position(same) {
-                        Some(at) => at,
-                        None => {
-                            shared[c].push(Shared {
-                                entry: *e,
-                                rules: vec![0; words],
-                                skip_a: 0,
-                                skip_b: 0,
-                            });
-                            shared[c].len() - 1
-                        }
-                    };
-                    shared[c][at].rules[k / 64] |= 1 << (k % 64);
-                }
-            }
-        }
-        for list in &mut shared {
-            let key = |s: &Shared| (s.entry.mult, s.entry.need_a, s.entry.need_b, s.entry.common);
-            list.sort_by_key(key);
-            for i in (0..list.len()).rev() {
-                let (m, a, b, _) = key(&list[i]);
-                let next = list.get(i + 1).map(key);
-                list[i].skip_a = match next {
-                    Some((m2, a2, _, _)) if (m2, a2) == (m, a) => list[i + 1].skip_a,
-                    _ => i + 1,
-                };
-                list[i].skip_b = match next {
-                    Some((m2, a2, b2, _)) if (m2, a2, b2) == (m, a, b) => list[i + 1].skip_b,
-                    _ => i + 1,
-                };
-            }
-        }
         Index {
             audit,
             fresh: vec![false; n_rods],
             profile: vec![Profile::default(); n_rods],
             adjacency: vec![Vec::new(); n_rods],
-            entries,
-            shared,
-            candidates: vec![0; words],
-            said_x: vec![0; needs.len()],
-            said_y: vec![0; needs.len()],
-            said_common: vec![0; commons.len()],
-            needs,
-            commons,
-            has_pair_rules: rules.iter().any(|r| !r.rods_only()),
+            candidates: vec![0; rules.len().div_ceil(64)],
+            said_x: vec![0; catalog.needs.len()],
+            said_y: vec![0; catalog.needs.len()],
+            said_common: vec![0; catalog.commons.len()],
             rod: 0,
             counts: vec![[0; THRESHOLDS]; orders],
             keys: vec![0; sieve.key_words()],
             marked: vec![0; sieve.attempt_words()],
             cycles: [0; MAX_RADIUS + 1],
-            trie,
             walk: Walk::default(),
             found: Vec::new(),
-            sieve,
             cores,
-            distance: vec![0; n_rods],
-            slot: vec![0; n_rods],
-            seen: vec![0; n_rods],
+            catalog: Arc::clone(&catalog),
+            marks: vec![Mark::default(); n_rods],
             stamp: 0,
-            inner: vec![0; n_rods],
             peeled: Vec::new(),
             around: Vec::new(),
             ball: Ball::default(),
@@ -374,9 +255,10 @@ impl Index {
         }
         // The ball as far as the admitted attempts reach; where it is too
         // large, every admitted attempt is searched on its own.
-        let radius = self.sieve.reach(&self.keys).min(self.sieve.radius);
+        let catalog = Arc::clone(&self.catalog);
+        let radius = catalog.sieve.reach(&self.keys).min(catalog.sieve.radius);
         match self.build_ball(state.g, radius) {
-            Built::Ball => self.trie.search(
+            Built::Ball => catalog.trie.search(
                 &mut self.ball,
                 radius,
                 &mut self.marked,
@@ -385,20 +267,20 @@ impl Index {
             ),
             Built::Empty => {}
             Built::TooLarge => {
-            for (w, &word) in self.marked.iter().enumerate() {
-                let mut word = word;
-                while word != 0 {
-                    let b = word.trailing_zeros();
-                    word &= word - 1;
-                    self.found.push(64 * w as u32 + b);
+                for (w, &word) in self.marked.iter().enumerate() {
+                    let mut word = word;
+                    while word != 0 {
+                        let b = word.trailing_zeros();
+                        word &= word - 1;
+                        self.found.push(64 * w as u32 + b);
+                    }
                 }
-            }
             }
         }
         for s in &mut self.found {
-            *s = self.trie.attempt_of[*s as usize];
+            *s = catalog.trie.attempt_of[*s as usize];
         }
-        self.sieve.sort_from(start, &mut self.found);
+        catalog.sieve.sort_from(start, &mut self.found);
         !self.found.is_empty()
     }
 
@@ -415,7 +297,8 @@ impl Index {
         if level < low {
             return false;
         }
-        let top = level.min(self.sieve.high);
+        let sieve = &self.catalog.sieve;
+        let top = level.min(sieve.high);
         let g = state.g;
         for (i, m) in (low..=top).enumerate() {
             let counts = &mut self.counts[i];
@@ -429,27 +312,31 @@ impl Index {
                 }
             }
         }
-        if !self.sieve.admit(level, &self.counts, &mut self.keys) {
+        let short = [3, 4].map(|l| cores.from_short_cycle(l, r));
+        if !sieve.admit(level, &self.counts, &mut self.keys)
+            || !sieve.admit_short(short, &mut self.keys)
+        {
             return false;
         }
         self.measure_cycles(state);
-        if !self.sieve.admit_cycles(&self.cycles, &mut self.keys) {
+        let sieve = &self.catalog.sieve;
+        if !sieve.admit_cycles(&self.cycles, &mut self.keys) {
             return false;
         }
-        self.sieve.mark(&self.keys, &mut self.marked);
+        sieve.mark(&self.keys, &mut self.marked);
         true
     }
 
     /// Whether some rule has a body: only those are matched on pairs.
     pub fn has_pair_rules(&self) -> bool {
-        self.has_pair_rules
+        self.catalog.has_pair_rules
     }
 
     /// The attempts (rule, pattern node) of the started rod task that can
     /// match, in the plain matcher's order.
     pub fn rod_attempts(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.found.iter().map(|&a| {
-            let (k, v) = self.sieve.attempts[a as usize];
+            let (k, v) = self.catalog.sieve.attempts[a as usize];
             (k as usize, v as usize)
         })
     }
@@ -459,13 +346,16 @@ impl Index {
     /// counting at the larger distance of its rods, once.
     fn measure_cycles(&mut self, state: &State) {
         let cores = self.cores.as_ref().expect("rods-only rules");
-        let (low, radius) = (cores.low(), self.sieve.radius);
+        let (low, radius) = (cores.low(), self.catalog.sieve.radius);
         let g = state.g;
         let r = self.rod;
         self.stamp += 1;
         let stamp = self.stamp;
-        self.seen[r as usize] = stamp;
-        self.distance[r as usize] = 0;
+        self.marks[r as usize] = Mark {
+            stamp,
+            distance: 0,
+            ..Mark::default()
+        };
         let ball = &mut self.around;
         ball.clear();
         ball.push(r);
@@ -474,21 +364,22 @@ impl Index {
         while next < ball.len() {
             let u = ball[next];
             next += 1;
-            let d = self.distance[u as usize] as usize;
+            let d = self.marks[u as usize].distance as usize;
             rods[d] += 1;
             for &(w, _) in g.neighbors(u) {
                 if cores.level(w) < low {
                     continue;
                 }
                 let w = w as usize;
-                if self.seen[w] != stamp {
+                let mark = &mut self.marks[w];
+                if mark.stamp != stamp {
                     if d < radius {
-                        self.seen[w] = stamp;
-                        self.distance[w] = d as u8 + 1;
+                        mark.stamp = stamp;
+                        mark.distance = d as u8 + 1;
                         ball.push(w as u32);
                     }
-                } else if (self.distance[w] as usize) < d
-                    || (self.distance[w] as usize == d && (w as u32) < u)
+                } else if (mark.distance as usize) < d
+                    || (mark.distance as usize == d && (w as u32) < u)
                 {
                     contacts[d] += 1;
                 }
@@ -509,38 +400,37 @@ impl Index {
         // `around` is in breadth-first order.
         let size = self
             .around
-            .partition_point(|&u| self.distance[u as usize] as usize <= radius);
-        let low = u32::from(self.sieve.low);
-        let inside = |seen: &[u32], distance: &[u8], w: u32| {
-            seen[w as usize] == stamp && distance[w as usize] as usize <= radius
-        };
+            .partition_point(|&u| self.marks[u as usize].distance as usize <= radius);
+        let low = u32::from(self.catalog.sieve.low);
+        let inside = |m: &Mark| m.stamp == stamp && m.distance as usize <= radius;
         self.peeled.clear();
         for &u in &self.around[..size] {
             let d = g
                 .neighbors(u)
                 .iter()
-                .filter(|&&(w, _)| inside(&self.seen, &self.distance, w))
+                .filter(|&&(w, _)| inside(&self.marks[w as usize]))
                 .count() as u32;
-            self.inner[u as usize] = d;
+            self.marks[u as usize].inner = d;
             if d < low {
                 self.peeled.push(u);
             }
         }
         while let Some(u) = self.peeled.pop() {
-            if self.seen[u as usize] != stamp {
+            if self.marks[u as usize].stamp != stamp {
                 continue;
             }
-            self.seen[u as usize] = 0;
+            self.marks[u as usize].stamp = 0;
             for &(w, _) in g.neighbors(u) {
-                if inside(&self.seen, &self.distance, w) {
-                    self.inner[w as usize] -= 1;
-                    if self.inner[w as usize] < low {
+                let mark = &mut self.marks[w as usize];
+                if inside(mark) {
+                    mark.inner -= 1;
+                    if mark.inner < low {
                         self.peeled.push(w);
                     }
                 }
             }
         }
-        if self.seen[self.rod as usize] != stamp {
+        if self.marks[self.rod as usize].stamp != stamp {
             return Built::Empty;
         }
         let ball = &mut self.ball;
@@ -548,7 +438,7 @@ impl Index {
         ball.rods.extend(
             self.around[..size]
                 .iter()
-                .filter(|&&u| self.seen[u as usize] == stamp),
+                .filter(|&&u| self.marks[u as usize].stamp == stamp),
         );
         if ball.rods.len() > MAX_BALL {
             return Built::TooLarge;
@@ -562,19 +452,18 @@ impl Index {
         ball.wide = [Bits::default(); MAX_DEGREE + 1];
         // Ball rods by host rod, as `distance` (stamped by `seen`) is kept.
         for (i, &u) in ball.rods.iter().enumerate() {
-            self.slot[u as usize] = i as u8;
+            self.marks[u as usize].slot = i as u8;
         }
         for (i, &u) in ball.rods.iter().enumerate() {
             let mut row = Bits::default();
             for &(w, _) in g.neighbors(u) {
-                if self.seen[w as usize] == self.stamp
-                    && self.distance[w as usize] as usize <= radius
-                {
-                    row.insert(self.slot[w as usize] as usize);
+                let mark = &self.marks[w as usize];
+                if mark.stamp == stamp && mark.distance as usize <= radius {
+                    row.insert(mark.slot as usize);
                 }
             }
             ball.rows.push(row);
-            for d in self.distance[u as usize] as usize..=radius {
+            for d in self.marks[u as usize].distance as usize..=radius {
                 ball.near[d].insert(i);
             }
             for k in 0..=(row.count() as usize).min(MAX_DEGREE) {
@@ -583,7 +472,7 @@ impl Index {
         }
         ball.core.clear();
         ball.core.resize(radius + 1, [None; MAX_CORE + 1]);
-        ball.root = self.slot[self.around[0] as usize] as usize;
+        ball.root = self.marks[self.around[0] as usize].slot as usize;
         ball.built = true;
         Built::Ball
     }
@@ -620,17 +509,18 @@ impl Index {
         self.said_common.fill(0);
         self.candidates.fill(0);
         let c = 3 * class_index(state.class(x)) as usize + class_index(state.class(y)) as usize;
-        let shared = std::mem::take(&mut self.shared[c]);
+        let catalog = Arc::clone(&self.catalog);
+        let shared = &catalog.shared[c];
         let (px, py) = self.pair;
         let mut i = 0;
         while let Some(s) = shared.get(i).filter(|s| s.entry.mult <= m) {
             let e = &s.entry;
             if !ask(&mut self.said_x, e.need_a, || {
-                px.admits(&self.needs[e.need_a])
+                px.admits(&catalog.needs[e.need_a])
             }) {
                 i = s.skip_a;
             } else if !ask(&mut self.said_y, e.need_b, || {
-                py.admits(&self.needs[e.need_b])
+                py.admits(&catalog.needs[e.need_b])
             }) {
                 i = s.skip_b;
             } else {
@@ -642,7 +532,6 @@ impl Index {
                 i += 1;
             }
         }
-        self.shared[c] = shared;
     }
 
     /// The rules some pattern contact of which passes the started pair's
@@ -662,24 +551,23 @@ impl Index {
                 })
                 .filter(move |&k| (from..to).contains(&k))
         };
-        let n = self.entries.len();
+        let n = self.catalog.entries.len();
         bits(start, n).chain(bits(0, start))
     }
 
     /// The pattern contacts of rule `k` whose ends fit the classes of the
     /// started pair, in the plain matcher's order.
     pub fn entries(&self, k: usize, cx: Option<BodyClass>, cy: Option<BodyClass>) -> &[PairEntry] {
-        &self.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
+        &self.catalog.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
     }
 
     /// Whether the started pair can carry `e` (given enough contacts between them).
     pub fn pair_could_match(&mut self, state: &mut State, e: &PairEntry) -> bool {
         let (px, py) = self.pair;
-        ask(&mut self.said_x, e.need_a, || {
-            px.admits(&self.needs[e.need_a])
-        }) && ask(&mut self.said_y, e.need_b, || {
-            py.admits(&self.needs[e.need_b])
-        }) && self.common_admits(state, e.common)
+        let needs = &self.catalog.needs;
+        ask(&mut self.said_x, e.need_a, || px.admits(&needs[e.need_a]))
+            && ask(&mut self.said_y, e.need_b, || py.admits(&needs[e.need_b]))
+            && self.common_admits(state, e.common)
     }
 
     /// Whether the started pair's common neighbours admit [`CommonNeeds`]
@@ -710,7 +598,7 @@ impl Index {
             self.common_known = true;
         }
         ask(&mut self.said_common, k, || {
-            self.commons[k].admitted_by(&self.common)
+            self.catalog.commons[k].admitted_by(&self.common)
         })
     }
 }

@@ -38,6 +38,7 @@
 mod assignment;
 mod ball;
 mod base;
+mod catalog;
 pub mod certify;
 mod compression;
 mod cores;
@@ -57,11 +58,12 @@ mod sound;
 mod state;
 mod trie;
 
+pub use catalog::prepare;
 pub use compression::Compression;
 pub use motif::{Motif, MotifCounts};
 pub use rule::CompiledRule;
 pub use ruleset::RuleSet;
 pub use run::{
-    Engine, MAX_RUNS, Matching, check_runs_memory, compress, compress_from, compress_runs,
-    run_seed, runs_memory, Work,
+    Engine, MAX_RUNS, Matching, Work, check_runs_memory, compress, compress_from, compress_runs,
+    run_seed, runs_memory,
 };

@@ -42,6 +42,24 @@ pub struct Work {
     /// Merges, and those of them that loaded rules made.
     pub merges: u64,
     pub rule_merges: u64,
+    /// Nanoseconds spent matching loaded rules (and keeping their index),
+    /// when timed: the rest is the base engine's work.
+    pub rule_nanos: u64,
+    #[serde(skip)]
+    timed: bool,
+}
+
+impl Work {
+    /// Runs `f`, adding its time to [`Work::rule_nanos`] when timed.
+    fn rules<T>(&mut self, f: impl FnOnce(&mut Work) -> T) -> T {
+        if !self.timed {
+            return f(self);
+        }
+        let t = std::time::Instant::now();
+        let out = f(self);
+        self.rule_nanos += t.elapsed().as_nanos() as u64;
+        out
+    }
 }
 
 /// What the engine compresses with: the rule set, whether the built-in base
@@ -111,13 +129,29 @@ impl<'r> Engine<'r> {
             let topo = crate::truth::Topology::finite(graph);
             return Ok(certify::certify(&topo, run, seed));
         }
-        compress_engine(self, graph, bodies, seed, Matching::Indexed, &mut Work::default())
+        compress_engine(
+            self,
+            graph,
+            bodies,
+            seed,
+            Matching::Indexed,
+            &mut Work::default(),
+        )
     }
 
     /// [`Engine::compress`] from no bodies (`sound` or `paper`), with what
-    /// it did.
-    pub fn compress_measured(&self, graph: &ContactGraph, seed: u64) -> (Compression, Work) {
-        let mut work = Work::default();
+    /// it did, and (when `timed`) the time it spent on loaded rules, which
+    /// the clock's own cost inflates.
+    pub fn compress_measured(
+        &self,
+        graph: &ContactGraph,
+        seed: u64,
+        timed: bool,
+    ) -> (Compression, Work) {
+        let mut work = Work {
+            timed,
+            ..Work::default()
+        };
         let engine = Engine {
             rules: match self.rules {
                 RuleSet::Certified => RuleSet::Sound,
@@ -220,8 +254,10 @@ fn compress_engine(
         let b = state.find(b);
         tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
-    let mut index = (matching != Matching::Unindexed && !engine.extra.is_empty())
-        .then(|| Index::new(&mut state, engine.extra, matching == Matching::Audited));
+    let mut index = work.rules(|_| {
+        (matching != Matching::Unindexed && !engine.extra.is_empty())
+            .then(|| Index::new(&mut state, engine.extra, matching == Matching::Audited))
+    });
     tasks.extend(
         (0..graph.n_nodes() as u32)
             .filter(|&r| graph.degree(r) >= 2)
@@ -246,12 +282,13 @@ fn compress_engine(
                         state.k24(r).or_else(|| state.community(r))
                     }
                 };
+                let mut rules = |state: &mut State, rng: &mut ChaCha8Rng| {
+                    work.rules(|work| rod_rules(state, engine, r, rng, index.as_mut(), work))
+                };
                 if rules_first {
-                    rod_rules(&mut state, engine, r, &mut rng, index.as_mut(), work)
-                        .or_else(|| base(&mut state, &mut rng))
+                    rules(&mut state, &mut rng).or_else(|| base(&mut state, &mut rng))
                 } else {
-                    base(&mut state, &mut rng)
-                        .or_else(|| rod_rules(&mut state, engine, r, &mut rng, index.as_mut(), work))
+                    base(&mut state, &mut rng).or_else(|| rules(&mut state, &mut rng))
                 }
             }
             Task::Pair(x, y) => {
@@ -260,19 +297,19 @@ fn compress_engine(
                     continue;
                 }
                 work.pair_tasks += 1;
-                if rng.random::<bool>() {
-                    pair_rules(&mut state, engine, x, y, &mut rng, index.as_mut(), work).or_else(|| {
-                        engine
-                            .base
-                            .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
-                            .flatten()
-                    })
-                } else {
+                let mut loaded = |state: &mut State, rng: &mut ChaCha8Rng| {
+                    work.rules(|work| pair_rules(state, engine, x, y, rng, index.as_mut(), work))
+                };
+                let mut base = |state: &mut State, rng: &mut ChaCha8Rng| {
                     engine
                         .base
-                        .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
+                        .then(|| examine_pair(state, x, y, rules, rng, &mut buf))
                         .flatten()
-                        .or_else(|| pair_rules(&mut state, engine, x, y, &mut rng, index.as_mut(), work))
+                };
+                if rng.random::<bool>() {
+                    loaded(&mut state, &mut rng).or_else(|| base(&mut state, &mut rng))
+                } else {
+                    base(&mut state, &mut rng).or_else(|| loaded(&mut state, &mut rng))
                 }
             }
         };
@@ -296,14 +333,16 @@ fn compress_engine(
             };
             let (node, changed) = state.merge(&parts, class);
             if let Some(index) = index.as_mut() {
-                for &r in &leaving {
-                    index.leave(&state, r);
-                }
-                // The parts (the merged node among them) and every node whose
-                // neighbours changed (`State::merge` reports them).
-                for &x in parts.iter().chain(&changed) {
-                    index.invalidate(x);
-                }
+                work.rules(|_| {
+                    for &r in &leaving {
+                        index.leave(&state, r);
+                    }
+                    // The parts (the merged node among them) and every node
+                    // whose neighbours changed (`State::merge` reports them).
+                    for &x in parts.iter().chain(&changed) {
+                        index.invalidate(x);
+                    }
+                });
             }
             tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
         }
@@ -503,12 +542,10 @@ fn pair_rules(
             if rule.rods_only() {
                 continue;
             }
-            let hit = rule
-                .contact_pairs(cx, cy, m)
-                .find_map(|(a, b)| {
-                    work.attempts += 1;
-                    state.match_rule(rule, a, x, Some((b, y)), engine.rules, None)
-                });
+            let hit = rule.contact_pairs(cx, cy, m).find_map(|(a, b)| {
+                work.attempts += 1;
+                state.match_rule(rule, a, x, Some((b, y)), engine.rules, None)
+            });
             if let Some(hit) = hit {
                 return Some(Found::of_rule(rule, hit));
             }

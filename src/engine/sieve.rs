@@ -12,6 +12,7 @@
 //! the keys (one AND per threshold), then marks the attempts of the keys
 //! left, in the plain matcher's order.
 
+use super::cores::FAR;
 use super::rule::CompiledRule;
 
 /// Degrees are compared at thresholds 1 to this; larger ones count as it.
@@ -30,6 +31,45 @@ struct Key {
     cycles: u8,
     /// By threshold `t` (from 1): `v`'s neighbours of at least `t` neighbours.
     want: [u8; THRESHOLDS],
+    /// `v`'s distance from the nearest triangle, and cycle of at most 4
+    /// nodes, of the pattern ([`NONE`] without one).
+    short: [u8; 2],
+}
+
+/// No short cycle in the pattern.
+const NONE: u8 = u8::MAX;
+
+/// Each node's distance from the nearest node on a cycle of at most
+/// `length` (3 or 4) nodes of the pattern whose adjacency is `neighbours`.
+fn from_short_cycles(neighbours: &[Vec<usize>], length: usize) -> Vec<u8> {
+    let n = neighbours.len();
+    let adjacent = |a: usize, b: usize| neighbours[a].contains(&b);
+    let on: Vec<bool> = (0..n)
+        .map(|u| {
+            neighbours[u].iter().any(|&a| {
+                neighbours[a].iter().any(|&x| {
+                    x != u
+                        && (adjacent(u, x)
+                            || (length == 4
+                                && neighbours[x].iter().any(|&b| b != a && adjacent(u, b))))
+                })
+            })
+        })
+        .collect();
+    let mut distance = vec![NONE; n];
+    let mut queue: std::collections::VecDeque<usize> = (0..n).filter(|&u| on[u]).collect();
+    for &u in &queue {
+        distance[u] = 0;
+    }
+    while let Some(u) = queue.pop_front() {
+        for &w in &neighbours[u] {
+            if distance[w] == NONE {
+                distance[w] = distance[u] + 1;
+                queue.push_back(w);
+            }
+        }
+    }
+    distance
 }
 
 /// A set of keys or attempts, as bits.
@@ -65,6 +105,11 @@ pub(super) struct Sieve {
     cycles: Vec<Vec<Words>>,
     /// By eccentricity `e`: the keys of eccentricity `e` or more.
     reach: Vec<Words>,
+    /// By cycle length (3, then at most 4) and a rod's distance `f` from
+    /// such a cycle of the host (at least [`FAR`] counting as it): the keys
+    /// whose node lies at least `f` from one of the pattern ([`NONE`] when
+    /// it has none).
+    short: [Vec<Words>; 2],
 }
 
 impl Sieve {
@@ -77,6 +122,7 @@ impl Sieve {
             if !rule.rods_only() {
                 continue;
             }
+            let short = [3, 4].map(|l| from_short_cycles(&rule.neighbours, l));
             for v in 0..rule.n_nodes() {
                 if rule.orbit[v] < v {
                     continue;
@@ -92,6 +138,7 @@ impl Sieve {
                     eccentricity: rule.eccentricity[v].min(u8::MAX as usize) as u8,
                     cycles: rule.cycles.clamp(0, u8::MAX as i64) as u8,
                     want,
+                    short: [short[0][v], short[1][v]],
                 });
                 attempts.push((k as u32, v as u8));
             }
@@ -124,11 +171,7 @@ impl Sieve {
             bits
         };
         let level = (low..=high).map(|l| mask(&|k| k.order <= l)).collect();
-        let most = distinct
-            .iter()
-            .flat_map(|k| k.want)
-            .max()
-            .unwrap_or(0);
+        let most = distinct.iter().flat_map(|k| k.want).max().unwrap_or(0);
         let want = (low..=high)
             .map(|m| {
                 (0..THRESHOLDS)
@@ -152,7 +195,9 @@ impl Sieve {
         let reach = (0..=deepest)
             .map(|e| mask(&|k| k.eccentricity >= e))
             .collect();
+        let short = [0, 1].map(|l| (0..=FAR).map(|f| mask(&|k| k.short[l] >= f)).collect());
         Sieve {
+            short,
             reach,
             attempts,
             first,
@@ -201,6 +246,19 @@ impl Sieve {
                 for (k, m) in keys.iter_mut().zip(mask) {
                     *k &= m;
                 }
+            }
+        }
+        keys.iter().any(|&k| k != 0)
+    }
+
+    /// Keeps the keys whose short cycles can lie as close to the rod as
+    /// the pattern's lie to its node: `from[l]` is its distance from a
+    /// triangle (`l` 0) and a cycle of at most 4 rods (`l` 1), up to
+    /// [`FAR`]; whether any is left.
+    pub fn admit_short(&self, from: [u8; 2], keys: &mut [u64]) -> bool {
+        for (l, table) in self.short.iter().enumerate() {
+            for (k, m) in keys.iter_mut().zip(&table[from[l] as usize]) {
+                *k &= m;
             }
         }
         keys.iter().any(|&k| k != 0)

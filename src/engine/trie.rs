@@ -68,7 +68,9 @@ impl Trie {
             .map(|(a, &(k, v))| {
                 let rule = &rules[k as usize];
                 let v = v as usize;
-                let plan = rule.plans[v].as_ref().expect("a rods-only rule is connected");
+                let plan = rule.plans[v]
+                    .as_ref()
+                    .expect("a rods-only rule is connected");
                 let mut number = vec![0u8; rule.n_nodes()];
                 let keys = plan
                     .iter()
@@ -250,4 +252,3 @@ fn any(bits: &[u64], (lo, hi): (u32, u32)) -> bool {
         || bits[first + 1..last].iter().any(|&w| w != 0)
         || bits[last] & tail != 0
 }
-

@@ -149,7 +149,11 @@ fn the_rule_sets_load_from_the_project_motifs_and_a_missing_file_is_named() {
 #[test]
 fn rule_load_times_the_extended_sets_and_names_a_missing_file() {
     let out = rgc(&["bench", "--rule-load", "--repeat", "1", "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let sets = report["sets"].as_array().unwrap();
     let rows: Vec<(&str, u64)> = sets

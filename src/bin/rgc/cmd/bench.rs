@@ -278,14 +278,16 @@ fn rule_sets(a: BenchArgs, out: &mut String) -> Result<()> {
     }
     say!(
         out,
-        "{:>5} {:>18} {:>6} {:>9} {:>7} {:>9} {:>9} {:>10} {:>8} {:>6}",
+        "{:>5} {:>16} {:>5} {:>8} {:>6} {:>8} {:>6} {:>9} {:>9} {:>9} {:>7} {:>6}",
         "gamma",
         "rule set",
         "rules",
         "seconds",
         "ratio",
+        "matching",
+        "base",
         "rod tasks",
-        "pair tasks",
+        "pairs",
         "searches",
         "merges",
         "rules"
@@ -293,12 +295,14 @@ fn rule_sets(a: BenchArgs, out: &mut String) -> Result<()> {
     for r in &report.rows {
         say!(
             out,
-            "{:>5} {:>18} {:>6} {:>9.3} {:>7.2} {:>9.0} {:>9.0} {:>10.0} {:>8.0} {:>6.0}",
+            "{:>5} {:>16} {:>5} {:>8.3} {:>6.2} {:>8.3} {:>6.2} {:>9.0} {:>9.0} {:>9.0} {:>7.0} {:>6.0}",
             r.gamma,
             r.name,
             r.n_rules,
             r.seconds,
             r.ratio_to_base,
+            r.seconds_rules,
+            r.base_work_ratio,
             r.rod_tasks,
             r.pair_tasks,
             r.attempts,
@@ -320,7 +324,8 @@ fn rule_sets(a: BenchArgs, out: &mut String) -> Result<()> {
     }
     say!(
         out,
-        "medians of {} repetitions, one thread; ratio: the median of each repetition's time over the base engine's on the same graph",
+        "medians of {} repetitions, one thread; ratio: the median of each repetition's time over the base engine's on the same graph;\n\
+         matching: seconds spent on loaded rules; base: the rest over the base engine's time (the work the extra merges cause)",
         report.repeat
     );
     Ok(())
