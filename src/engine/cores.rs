@@ -112,7 +112,7 @@ impl FreeCores {
     /// Rod `r`'s distance (up to [`FAR`]) from the nearest triangle
     /// (`length` 3) or cycle of at most 4 rods (`length` 4) of the rods
     /// free at the start, through them.
-    pub fn from_short_cycle(&self, length: usize, r: u32) -> u8 {
+    pub fn short_cycle_distance(&self, length: usize, r: u32) -> u8 {
         self.short[length - 3][r as usize]
     }
 

@@ -28,7 +28,7 @@ use super::demand::{Common, Profile, class_index};
 use super::rule::{CompiledRule, Step};
 use super::sieve::{MAX_RADIUS, THRESHOLDS};
 use super::state::State;
-use super::trie::Walk;
+use super::trie::{Trie, Walk};
 
 /// Bodies with more neighbours than this are not profiled.
 const LARGE: usize = 256;
@@ -76,8 +76,20 @@ pub(super) struct Index {
     cycles: [i64; MAX_RADIUS + 1],
     /// The state of a trie search.
     walk: Walk,
-    /// Per rod task: the attempts that can match, in the plain order.
+    /// Per rod task: the attempts that can match, in the plain order, when
+    /// all are listed at once (an audit, or a ball too large), and the
+    /// next one to try.
     found: Vec<u32>,
+    next: usize,
+    /// Per rod task, when its attempts are found one at a time: the plain
+    /// order (where it starts, and the number of attempts), the radius
+    /// searched, the slots found to have a complete map and not yet
+    /// tried, and the scratch of one search.
+    first: Option<(u32, u32)>,
+    radius: usize,
+    known: Vec<u32>,
+    pending: Vec<u64>,
+    asked: Vec<u64>,
     /// Per rod task: what it knows of each rod (where the rod's stamp is
     /// the task's), and the rods of the ball to peel.
     marks: Vec<Mark>,
@@ -144,6 +156,12 @@ impl Index {
             cycles: [0; MAX_RADIUS + 1],
             walk: Walk::default(),
             found: Vec::new(),
+            next: 0,
+            first: None,
+            radius: 0,
+            known: Vec::new(),
+            pending: Vec::new(),
+            asked: Vec::new(),
             cores,
             catalog: Arc::clone(&catalog),
             marks: vec![Mark::default(); n_rods],
@@ -247,9 +265,16 @@ impl Index {
 
     /// Starts rod task `r` (a free rod), whose rules start at rule
     /// `start`: which attempts of the rods-only rules can match there, in
-    /// the plain matcher's order ([`Index::rod_attempts`]); whether any.
-    pub fn start_rod(&mut self, state: &State, r: u32, start: usize) -> bool {
+    /// the plain matcher's order ([`Index::next_rod_attempt`]); false when
+    /// none can. Unless `all` are wanted (an audit), the ball's attempts
+    /// are searched lazily: one search finds the first attempt with a
+    /// complete map and leaves the later ones unknown, since the first
+    /// that matches ends the task.
+    pub fn start_rod(&mut self, state: &State, r: u32, start: usize, all: bool) -> bool {
         self.found.clear();
+        self.known.clear();
+        self.next = 0;
+        self.first = None;
         if !self.admit_rod(state, r) {
             return false;
         }
@@ -258,30 +283,81 @@ impl Index {
         let catalog = Arc::clone(&self.catalog);
         let radius = catalog.sieve.reach(&self.keys).min(catalog.sieve.radius);
         match self.build_ball(state.g, radius) {
-            Built::Ball => catalog.trie.search(
-                &mut self.ball,
-                radius,
-                &mut self.marked,
-                &mut self.found,
-                &mut self.walk,
-            ),
-            Built::Empty => {}
-            Built::TooLarge => {
-                for (w, &word) in self.marked.iter().enumerate() {
-                    let mut word = word;
-                    while word != 0 {
-                        let b = word.trailing_zeros();
-                        word &= word - 1;
-                        self.found.push(64 * w as u32 + b);
-                    }
-                }
+            Built::Ball if !all => {
+                self.radius = radius;
+                self.first = Some(catalog.sieve.order_from(start));
+                return true;
             }
+            Built::Ball => {
+                self.walk.want_first(None);
+                catalog.trie.search(
+                    &mut self.ball,
+                    radius,
+                    &mut self.marked,
+                    &mut self.found,
+                    &mut self.walk,
+                )
+            }
+            Built::Empty => {}
+            Built::TooLarge => self.found.extend(slots(&self.marked)),
         }
         for s in &mut self.found {
             *s = catalog.trie.attempt_of[*s as usize];
         }
         catalog.sieve.sort_from(start, &mut self.found);
         !self.found.is_empty()
+    }
+
+    /// The started rod task's next attempt (rule, pattern node) that can
+    /// match, in the plain matcher's order.
+    pub fn next_rod_attempt(&mut self) -> Option<(usize, usize)> {
+        let catalog = Arc::clone(&self.catalog);
+        let attempt = |a: u32| {
+            let (k, v) = catalog.sieve.attempts[a as usize];
+            (k as usize, v as usize)
+        };
+        let Some(order) = self.first else {
+            let a = *self.found.get(self.next)?;
+            self.next += 1;
+            return Some(attempt(a));
+        };
+        let trie = &catalog.trie;
+        let least = |known: &[u32]| known.iter().map(|&s| trie.rank(s, order)).min();
+        // Only the attempts before the first known one are searched.
+        let bound = least(&self.known).unwrap_or(u32::MAX);
+        self.asked.clear();
+        self.asked.extend_from_slice(&self.marked);
+        keep_before(trie, order, bound, &mut self.asked);
+        if self.asked.iter().any(|&w| w != 0) {
+            self.pending.clear();
+            self.pending.extend_from_slice(&self.asked);
+            let before = self.known.len();
+            self.walk.want_first(Some(order));
+            trie.search(
+                &mut self.ball,
+                self.radius,
+                &mut self.pending,
+                &mut self.known,
+                &mut self.walk,
+            );
+            // Those asked before the first found are settled; so is every
+            // one found.
+            let bound = least(&self.known).unwrap_or(u32::MAX);
+            keep_before(trie, order, bound, &mut self.asked);
+            for (m, a) in self.marked.iter_mut().zip(&self.asked) {
+                *m &= !a;
+            }
+            for &s in &self.known[before..] {
+                self.marked[s as usize / 64] &= !(1 << (s % 64));
+            }
+        }
+        let (i, _) = self
+            .known
+            .iter()
+            .enumerate()
+            .min_by_key(|&(_, &s)| trie.rank(s, order))?;
+        let s = self.known.swap_remove(i);
+        Some(attempt(trie.attempt_of[s as usize]))
     }
 
     /// Which attempts of the rods-only rules rod `r`'s surroundings admit
@@ -312,7 +388,7 @@ impl Index {
                 }
             }
         }
-        let short = [3, 4].map(|l| cores.from_short_cycle(l, r));
+        let short = [3, 4].map(|l| cores.short_cycle_distance(l, r));
         if !sieve.admit(level, &self.counts, &mut self.keys)
             || !sieve.admit_short(short, &mut self.keys)
         {
@@ -332,8 +408,8 @@ impl Index {
         self.catalog.has_pair_rules
     }
 
-    /// The attempts (rule, pattern node) of the started rod task that can
-    /// match, in the plain matcher's order.
+    /// The attempts (rule, pattern node) of a rod task started for `all`
+    /// that can match, in the plain matcher's order.
     pub fn rod_attempts(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.found.iter().map(|&a| {
             let (k, v) = self.catalog.sieve.attempts[a as usize];
@@ -600,6 +676,37 @@ impl Index {
         ask(&mut self.said_common, k, || {
             self.catalog.commons[k].admitted_by(&self.common)
         })
+    }
+}
+
+/// The slots set in `bits`, in order.
+fn slots(bits: &[u64]) -> impl Iterator<Item = u32> + '_ {
+    bits.iter().enumerate().flat_map(|(w, &word)| {
+        let mut word = word;
+        std::iter::from_fn(move || {
+            (word != 0).then(|| {
+                let b = word.trailing_zeros();
+                word &= word - 1;
+                64 * w as u32 + b
+            })
+        })
+    })
+}
+
+/// Clears the slots of `bits` at or after `bound` in the plain order `order`.
+fn keep_before(trie: &Trie, order: (u32, u32), bound: u32, bits: &mut [u64]) {
+    if bound == u32::MAX {
+        return;
+    }
+    for (w, word) in bits.iter_mut().enumerate() {
+        let mut rest = *word;
+        while rest != 0 {
+            let b = rest.trailing_zeros();
+            rest &= rest - 1;
+            if trie.rank(64 * w as u32 + b, order) >= bound {
+                *word &= !(1 << b);
+            }
+        }
     }
 }
 

@@ -444,15 +444,14 @@ fn rod_rules(
         }
         return None;
     };
-    let admitted = ix.start_rod(state, r, start);
+    let admitted = ix.start_rod(state, r, start, ix.audit);
     if ix.audit {
         return audited_rod_rules(state, engine, r, start, ix, admitted);
     }
     if !admitted {
         return None;
     }
-    let attempts: Vec<(usize, usize)> = ix.rod_attempts().collect();
-    for (k, v) in attempts {
+    while let Some((k, v)) = ix.next_rod_attempt() {
         let rule = &engine.extra[k];
         work.attempts += 1;
         let hit = match state.match_in_ball(ix, rule, v, engine.rules) {

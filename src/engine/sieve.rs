@@ -122,8 +122,8 @@ impl Sieve {
             if !rule.rods_only() {
                 continue;
             }
-            let short = [3, 4].map(|l| from_short_cycles(&rule.neighbours, l));
-            for v in 0..rule.n_nodes() {
+            let [short3, short4] = [3, 4].map(|l| from_short_cycles(&rule.neighbours, l));
+            for (v, (&s3, &s4)) in short3.iter().zip(&short4).enumerate() {
                 if rule.orbit[v] < v {
                     continue;
                 }
@@ -138,7 +138,7 @@ impl Sieve {
                     eccentricity: rule.eccentricity[v].min(u8::MAX as usize) as u8,
                     cycles: rule.cycles.clamp(0, u8::MAX as i64) as u8,
                     want,
-                    short: [short[0][v], short[1][v]],
+                    short: [s3, s4],
                 });
                 attempts.push((k as u32, v as u8));
             }
@@ -307,6 +307,13 @@ impl Sieve {
                 }
             }
         }
+    }
+
+    /// The plain matcher's order from rule `start` on: its first attempt
+    /// and the number of attempts (an attempt's place is its number less
+    /// the first, cyclically).
+    pub fn order_from(&self, start: usize) -> (u32, u32) {
+        (self.first[start], self.attempts.len() as u32)
     }
 
     /// Sorts `attempts` in the plain matcher's order from rule `start` on:

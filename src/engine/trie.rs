@@ -50,12 +50,24 @@ pub(super) struct Trie {
 }
 
 /// The state of one trie search: the ball rod of each step, the rods used,
-/// and the rods a match can use.
+/// the rods a match can use, and, when only the first attempt in the plain
+/// order is wanted, that order (where the cycle of attempts starts, and
+/// their number).
 #[derive(Default)]
 pub(super) struct Walk {
     local: [u8; 32],
     used: Bits,
     within: Bits,
+    first: Option<(u32, u32)>,
+}
+
+impl Walk {
+    /// The searches want the first attempt with a complete map in the
+    /// plain order that starts at attempt `split` (of `n`), and leave the
+    /// later ones unknown; or (`None`) every attempt with one.
+    pub fn want_first(&mut self, first: Option<(u32, u32)>) {
+        self.first = first;
+    }
 }
 
 impl Trie {
@@ -161,10 +173,19 @@ impl Trie {
         }
     }
 
+    /// The place of slot `s` in the plain order that starts at attempt
+    /// `split` of `n`.
+    pub fn rank(&self, s: u32, (split, n): (u32, u32)) -> u32 {
+        (self.attempt_of[s as usize] + n - split) % n
+    }
+
     /// Finds, among the attempts whose slots are set in `pending`, those
     /// with a complete map of their nodes into `ball` from its root, whose
     /// eccentricity is at most `radius`: clears their slots and appends
-    /// them to `found`.
+    /// them to `found`. When `walk` wants the first one only, each one
+    /// found also clears the slots later than it in the plain order, which
+    /// are then left unknown; those earlier than the first found and still
+    /// set have no complete map.
     pub fn search(
         &self,
         ball: &mut Ball,
@@ -220,6 +241,9 @@ impl Trie {
                 if pending[w] & (1 << b) != 0 {
                     pending[w] &= !(1 << b);
                     found.push(s);
+                    if let Some(order) = walk.first {
+                        self.clear_later(s, order, pending);
+                    }
                 }
             }
             let leaf = child.children.0 == child.children.1;
@@ -231,6 +255,23 @@ impl Trie {
                 walk.used.insert(i);
                 self.explore(c, depth + 1, ball, pending, found, walk);
                 walk.used.remove(i);
+            }
+        }
+    }
+}
+
+impl Trie {
+    /// Clears the slots of `pending` later than slot `s` in `order`.
+    fn clear_later(&self, s: u32, order: (u32, u32), pending: &mut [u64]) {
+        let rank = self.rank(s, order);
+        for (w, word) in pending.iter_mut().enumerate() {
+            let mut bits = *word;
+            while bits != 0 {
+                let b = bits.trailing_zeros();
+                bits &= bits - 1;
+                if self.rank(64 * w as u32 + b, order) > rank {
+                    *word &= !(1 << b);
+                }
             }
         }
     }

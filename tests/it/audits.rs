@@ -232,7 +232,7 @@ fn a_rule_made_redundant_by_a_smaller_one_is_reported() {
     let seven = Rule::new("seven".into(), seven, Provenance::default()).unwrap();
     let base = rgc::engine::RuleSet::Sound;
     assert_eq!(
-        rgc::audit::redundant(&[seven.clone()], base, 8, &Silent).unwrap(),
+        rgc::audit::redundant(std::slice::from_ref(&seven), base, 8, &Silent).unwrap(),
         []
     );
     let found = rgc::audit::redundant(&[seven.clone(), six.clone()], base, 8, &Silent).unwrap();
