@@ -23,6 +23,9 @@ pub(super) struct PairEntry {
     pub need_a: usize,
     pub need_b: usize,
     pub common: usize,
+    /// The number of the rule's pattern contact `a`, `b` among all rules'
+    /// ([`Catalog::implies`]).
+    pub id: u32,
 }
 
 /// The pattern contacts of all rules that share their conditions, for one
@@ -54,6 +57,62 @@ pub(super) struct Catalog {
     pub commons: Vec<CommonNeeds>,
     /// Whether some rule has a body.
     pub has_pair_rules: bool,
+    /// By pattern contact ([`PairEntry::id`]): the pattern contacts of
+    /// other rules (or of the same rule under another map) that a host
+    /// pair carries only if it carries this one ([`contained`]).
+    pub implies: Vec<Vec<u32>>,
+}
+
+/// The maps of every node of rule `a`'s pattern to distinct nodes of rule
+/// `b`'s under which `b`'s pattern contains `a`'s: each node of `b` at
+/// least as specific (a rod for a rod, a spatial body for a spatial one)
+/// and at least as many contacts between each pair of nodes. A node map of
+/// `b` into the host restricted to the images is then one of `a`,
+/// meeting everything the matcher asks of `a` (classes, contacts, degrees,
+/// the Hall conditions of the demands, which only grow); so where `a`
+/// has no node map from pattern contact (`u`, `w`), `b` has none from
+/// (`sigma[u]`, `sigma[w]`).
+fn contained(a: &CompiledRule, b: &CompiledRule) -> Vec<Vec<usize>> {
+    fn place(
+        a: &CompiledRule,
+        b: &CompiledRule,
+        sigma: &mut Vec<usize>,
+        used: &mut [bool],
+        out: &mut Vec<Vec<usize>>,
+    ) {
+        let i = sigma.len();
+        if i == a.n_nodes() {
+            out.push(sigma.clone());
+            return;
+        }
+        let (ka, di) = (accepts(a.kinds[i]), a.neighbours[i].len());
+        for j in 0..b.n_nodes() {
+            let kb = accepts(b.kinds[j]);
+            let fits = !used[j]
+                && (0..3).all(|c| !kb[c] || ka[c])
+                && b.neighbours[j].len() >= di
+                && (0..i).all(|u| a.between[i][u].len() <= b.between[j][sigma[u]].len());
+            if fits {
+                sigma.push(j);
+                used[j] = true;
+                place(a, b, sigma, used, out);
+                used[j] = false;
+                sigma.pop();
+            }
+        }
+    }
+    let contacts = |r: &CompiledRule| r.between.iter().flatten().map(Vec::len).sum::<usize>();
+    let mut out = Vec::new();
+    if a.n_nodes() <= b.n_nodes() && contacts(a) <= contacts(b) {
+        place(
+            a,
+            b,
+            &mut Vec::new(),
+            &mut vec![false; b.n_nodes()],
+            &mut out,
+        );
+    }
+    out
 }
 
 /// Rule sets whose catalogs are kept, most recently used first.
@@ -104,9 +163,48 @@ impl Catalog {
         let trie = Trie::new(rules, &sieve.attempts);
         sieve.renumber(&trie.slot_of);
         let (mut needs, mut commons) = (Vec::new(), Vec::new());
+        // Every pattern contact of the rules with bodies, numbered.
+        let mut ids = Vec::with_capacity(rules.len());
+        let mut n_ids = 0u32;
+        for rule in rules {
+            let n = rule.n_nodes();
+            let mut id = vec![vec![u32::MAX; n]; n];
+            if !rule.rods_only() {
+                for (a, row) in id.iter_mut().enumerate() {
+                    for &b in &rule.neighbours[a] {
+                        row[b] = n_ids;
+                        n_ids += 1;
+                    }
+                }
+            }
+            ids.push(id);
+        }
+        let with_bodies: Vec<usize> = (0..rules.len())
+            .filter(|&k| !rules[k].rods_only())
+            .collect();
+        let mut implies = vec![Vec::new(); n_ids as usize];
+        for &i in &with_bodies {
+            for &j in &with_bodies {
+                for sigma in contained(&rules[i], &rules[j]) {
+                    if i == j && sigma.iter().enumerate().all(|(u, &w)| u == w) {
+                        continue;
+                    }
+                    for a in 0..rules[i].n_nodes() {
+                        for &b in &rules[i].neighbours[a] {
+                            implies[ids[i][a][b] as usize].push(ids[j][sigma[a]][sigma[b]]);
+                        }
+                    }
+                }
+            }
+        }
+        for list in &mut implies {
+            list.sort_unstable();
+            list.dedup();
+        }
         let entries = rules
             .iter()
-            .map(|rule| {
+            .zip(&ids)
+            .map(|(rule, ids)| {
                 let mut by_class: [Vec<PairEntry>; 9] = Default::default();
                 if rule.rods_only() {
                     return by_class;
@@ -120,6 +218,7 @@ impl Catalog {
                             need_a: intern(&mut needs, &rule.needs[a]),
                             need_b: intern(&mut needs, &rule.needs[b]),
                             common: intern(&mut commons, &rule.common[a][b]),
+                            id: ids[a][b],
                         };
                         let (ka, kb) = (accepts(rule.kinds[a]), accepts(rule.kinds[b]));
                         for cx in 0..3 {
@@ -185,6 +284,7 @@ impl Catalog {
             needs,
             commons,
             has_pair_rules: rules.iter().any(|r| !r.rods_only()),
+            implies,
         }
     }
 }

@@ -109,6 +109,13 @@ pub(super) struct Index {
     common_known: bool,
     /// Complete maps found by a survey.
     maps: Vec<Option<u32>>,
+    /// Per pair task: the pattern contacts shown to have no node map from
+    /// the pair (as bits by [`PairEntry::id`]), and the words set.
+    dead: Vec<u64>,
+    dead_words: Vec<u32>,
+    /// Whether the last match of a pattern contact found no node map
+    /// (set by the matcher).
+    pub no_map: bool,
 }
 
 /// What a rod task knows of a rod, together so that a look-up touches one
@@ -175,6 +182,9 @@ impl Index {
             pair_nodes: (0, 0),
             common_known: false,
             maps: Vec::new(),
+            dead: vec![0; catalog.implies.len().div_ceil(64)],
+            dead_words: Vec::new(),
+            no_map: false,
         }
     }
 
@@ -584,6 +594,10 @@ impl Index {
         self.said_y.fill(0);
         self.said_common.fill(0);
         self.candidates.fill(0);
+        for &w in &self.dead_words {
+            self.dead[w as usize] = 0;
+        }
+        self.dead_words.clear();
         let c = 3 * class_index(state.class(x)) as usize + class_index(state.class(y)) as usize;
         let catalog = Arc::clone(&self.catalog);
         let shared = &catalog.shared[c];
@@ -635,6 +649,24 @@ impl Index {
     /// started pair, in the plain matcher's order.
     pub fn entries(&self, k: usize, cx: Option<BodyClass>, cy: Option<BodyClass>) -> &[PairEntry] {
         &self.catalog.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
+    }
+
+    /// Whether the started pair was shown unable to carry `e`.
+    pub fn dead(&self, e: &PairEntry) -> bool {
+        self.dead[e.id as usize / 64] & (1 << (e.id % 64)) != 0
+    }
+
+    /// The started pair has no node map from `e`: nor from the pattern
+    /// contacts that contain it.
+    pub fn kill(&mut self, e: &PairEntry) {
+        let catalog = Arc::clone(&self.catalog);
+        for &id in std::iter::once(&e.id).chain(&catalog.implies[e.id as usize]) {
+            let w = id as usize / 64;
+            if self.dead[w] == 0 {
+                self.dead_words.push(w as u32);
+            }
+            self.dead[w] |= 1 << (id % 64);
+        }
     }
 
     /// Whether the started pair can carry `e` (given enough contacts between them).

@@ -565,7 +565,13 @@ fn pair_rules(
             if e.mult > m {
                 continue;
             }
-            if rule.pair_orbit[a][b] < (a, b) || !ix.pair_could_match(state, &e) {
+            let skip = rule.pair_orbit[a][b] < (a, b)
+                || ix.dead(&e)
+                || !ix.pair_could_match(state, &e) && {
+                    ix.kill(&e);
+                    true
+                };
+            if skip {
                 assert!(
                     !ix.audit
                         || state
@@ -577,7 +583,12 @@ fn pair_rules(
                 continue;
             }
             work.attempts += 1;
+            // No node map unless the search finds one.
+            ix.no_map = true;
             let hit = state.match_rule(rule, a, x, Some((b, y)), engine.rules, Some(&mut *ix));
+            if hit.is_none() && ix.no_map {
+                ix.kill(&e);
+            }
             if ix.audit {
                 let plain = state.match_rule(rule, a, x, Some((b, y)), engine.rules, None);
                 assert_eq!(hit, plain, "rule {} at nodes {x}, {y}", rule.id);
