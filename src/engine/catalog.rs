@@ -7,6 +7,8 @@
 
 use std::sync::{Arc, LazyLock, Mutex};
 
+use rayon::prelude::*;
+
 use super::demand::{CommonNeeds, Needs, accepts};
 use super::rule::CompiledRule;
 use super::sieve::Sieve;
@@ -101,17 +103,9 @@ fn contained(a: &CompiledRule, b: &CompiledRule) -> Vec<Vec<usize>> {
             }
         }
     }
-    let contacts = |r: &CompiledRule| r.between.iter().flatten().map(Vec::len).sum::<usize>();
     let mut out = Vec::new();
-    if a.n_nodes() <= b.n_nodes() && contacts(a) <= contacts(b) {
-        place(
-            a,
-            b,
-            &mut Vec::new(),
-            &mut vec![false; b.n_nodes()],
-            &mut out,
-        );
-    }
+    let mut used = vec![false; b.n_nodes()];
+    place(a, b, &mut Vec::new(), &mut used, &mut out);
     out
 }
 
@@ -182,20 +176,42 @@ impl Catalog {
         let with_bodies: Vec<usize> = (0..rules.len())
             .filter(|&k| !rules[k].rods_only())
             .collect();
-        let mut implies = vec![Vec::new(); n_ids as usize];
-        for &i in &with_bodies {
-            for &j in &with_bodies {
-                for sigma in contained(&rules[i], &rules[j]) {
-                    if i == j && sigma.iter().enumerate().all(|(u, &w)| u == w) {
-                        continue;
-                    }
-                    for a in 0..rules[i].n_nodes() {
-                        for &b in &rules[i].neighbours[a] {
-                            implies[ids[i][a][b] as usize].push(ids[j][sigma[a]][sigma[b]]);
+        // Each rule's contacts, and its degrees sorted (a rule contains
+        // another only if it has as many and each degree in order as large).
+        let shape: Vec<(usize, Vec<usize>)> = rules
+            .iter()
+            .map(|r| {
+                let mut d: Vec<usize> = r.neighbours.iter().map(Vec::len).collect();
+                d.sort_unstable_by(|x, y| y.cmp(x));
+                (r.between.iter().flatten().map(Vec::len).sum(), d)
+            })
+            .collect();
+        let within = |i: usize, j: usize| {
+            let ((ci, di), (cj, dj)) = (&shape[i], &shape[j]);
+            ci <= cj && di.len() <= dj.len() && di.iter().zip(dj).all(|(x, y)| x <= y)
+        };
+        let found: Vec<Vec<(u32, u32)>> = with_bodies
+            .par_iter()
+            .map(|&i| {
+                let mut pairs = Vec::new();
+                for &j in with_bodies.iter().filter(|&&j| within(i, j)) {
+                    for sigma in contained(&rules[i], &rules[j]) {
+                        if i == j && sigma.iter().enumerate().all(|(u, &w)| u == w) {
+                            continue;
+                        }
+                        for a in 0..rules[i].n_nodes() {
+                            for &b in &rules[i].neighbours[a] {
+                                pairs.push((ids[i][a][b], ids[j][sigma[a]][sigma[b]]));
+                            }
                         }
                     }
                 }
-            }
+                pairs
+            })
+            .collect();
+        let mut implies = vec![Vec::new(); n_ids as usize];
+        for (from, to) in found.into_iter().flatten() {
+            implies[from as usize].push(to);
         }
         for list in &mut implies {
             list.sort_unstable();

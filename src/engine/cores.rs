@@ -170,9 +170,14 @@ fn short_cycles(state: &State, level: &[u8], low: u8) -> [Vec<u8>; 2] {
     let n = g.n_nodes();
     let core = |r: u32| level[r as usize] >= low;
     let (mut on3, mut on4) = (vec![false; n], vec![false; n]);
-    // 2-paths from `u` to each rod, with the first middle rod seen.
+    // 2-paths from `u` to each rod, with the first middle rod seen; the
+    // neighbours of `u` marked with `u + 1`.
     let (mut paths, mut middle, mut seen) = (vec![0u32; n], vec![0u32; n], Vec::new());
+    let mut beside = vec![0u32; n];
     for u in (0..n as u32).filter(|&u| core(u)) {
+        for &(a, _) in g.neighbors(u) {
+            beside[a as usize] = u + 1;
+        }
         for &(a, _) in g.neighbors(u) {
             if !core(a) {
                 continue;
@@ -181,7 +186,7 @@ fn short_cycles(state: &State, level: &[u8], low: u8) -> [Vec<u8>; 2] {
                 if x == u || !core(x) {
                     continue;
                 }
-                if g.edge_between(u, x).is_some() {
+                if beside[x as usize] == u + 1 {
                     for t in [u, a, x] {
                         on3[t as usize] = true;
                         on4[t as usize] = true;
