@@ -182,8 +182,10 @@ fn short_cycles(state: &State, level: &[u8], low: u8) -> [Vec<u8>; 2] {
             if !core(a) {
                 continue;
             }
-            for &(x, _) in g.neighbors(a) {
-                if x == u || !core(x) {
+            // Each pair of ends once, from its lower end (lists are sorted).
+            let nb = g.neighbors(a);
+            for &(x, _) in &nb[nb.partition_point(|&(x, _)| x <= u)..] {
+                if !core(x) {
                     continue;
                 }
                 if beside[x as usize] == u + 1 {

@@ -98,6 +98,8 @@ pub(super) struct Index {
     /// A rod task's rod, then the rods of the least core around it in
     /// breadth-first order.
     around: Vec<u32>,
+    /// The rods of `around` whose neighbours are in it.
+    searched: usize,
     ball: Ball,
     search: Search,
     /// The common neighbours of a pair task.
@@ -175,6 +177,7 @@ impl Index {
             stamp: 0,
             peeled: Vec::new(),
             around: Vec::new(),
+            searched: 0,
             ball: Ball::default(),
             search: Search::default(),
             common: Vec::new(),
@@ -429,10 +432,15 @@ impl Index {
 
     /// The cycles of the started rod task's surroundings by distance:
     /// breadth first through the rods of the least core, a contact
-    /// counting at the larger distance of its rods, once.
+    /// counting at the larger distance of its rods, once. A rod's cycles
+    /// only grow with the distance, so once they reach the most any rule
+    /// needs the search stops ([`Index::grow_around`] goes on for the
+    /// ball) and the larger distances get the same number, which admits
+    /// the same keys.
     fn measure_cycles(&mut self, state: &State) {
         let cores = self.cores.as_ref().expect("rods-only rules");
         let (low, radius) = (cores.low(), self.catalog.sieve.radius);
+        let most = i64::from(self.catalog.sieve.most_cycles);
         let g = state.g;
         let r = self.rod;
         self.stamp += 1;
@@ -445,13 +453,28 @@ impl Index {
         let ball = &mut self.around;
         ball.clear();
         ball.push(r);
-        let (mut rods, mut contacts) = ([0i64; MAX_RADIUS + 1], [0i64; MAX_RADIUS + 1]);
+        let (mut rods, mut contacts) = (0i64, 0i64);
         let mut next = 0;
-        while next < ball.len() {
+        let mut layer = 0;
+        loop {
+            let d = ball
+                .get(next)
+                .map_or(usize::MAX, |&u| self.marks[u as usize].distance as usize);
+            if d != layer {
+                // Every rod and contact within `layer` is counted.
+                let cycles = contacts - rods + 1;
+                self.cycles[layer] = cycles;
+                if d == usize::MAX || cycles >= most {
+                    for c in &mut self.cycles[layer + 1..] {
+                        *c = cycles;
+                    }
+                    break;
+                }
+                layer = d;
+            }
             let u = ball[next];
             next += 1;
-            let d = self.marks[u as usize].distance as usize;
-            rods[d] += 1;
+            rods += 1;
             for &(w, _) in g.neighbors(u) {
                 if cores.level(w) < low {
                     continue;
@@ -467,21 +490,40 @@ impl Index {
                 } else if (mark.distance as usize) < d
                     || (mark.distance as usize == d && (w as u32) < u)
                 {
-                    contacts[d] += 1;
+                    contacts += 1;
                 }
             }
         }
-        let (mut n, mut e) = (0, 0);
-        for k in 0..=MAX_RADIUS {
-            n += rods[k];
-            e += contacts[k];
-            self.cycles[k] = e - n + 1;
+        self.searched = next;
+    }
+
+    /// Goes on with the breadth-first search of [`Index::measure_cycles`]
+    /// until it holds every rod of the least core within `radius`.
+    fn grow_around(&mut self, g: &ContactGraph, radius: usize) {
+        let cores = self.cores.as_ref().expect("rods-only rules");
+        let low = cores.low();
+        let stamp = self.stamp;
+        while let Some(&u) = self.around.get(self.searched) {
+            let d = self.marks[u as usize].distance as usize;
+            if d >= radius {
+                break;
+            }
+            self.searched += 1;
+            for &(w, _) in g.neighbors(u) {
+                let mark = &mut self.marks[w as usize];
+                if cores.level(w) >= low && mark.stamp != stamp {
+                    mark.stamp = stamp;
+                    mark.distance = d as u8 + 1;
+                    self.around.push(w);
+                }
+            }
         }
     }
 
     /// Builds the rod task's [`Ball`] of the rods within `radius` of its
     /// rod, peeled to the least core the rules need (a match lies there).
     fn build_ball(&mut self, g: &ContactGraph, radius: usize) -> Built {
+        self.grow_around(g, radius);
         let stamp = self.stamp;
         // `around` is in breadth-first order.
         let size = self

@@ -95,6 +95,8 @@ pub(super) struct Sieve {
     pub high: u8,
     /// The largest eccentricity (up to [`MAX_RADIUS`]) whose cycles are checked.
     pub radius: usize,
+    /// The most cycles a key needs.
+    pub most_cycles: u8,
     /// By level `l` (from `low`): the keys of order at most `l`.
     level: Vec<Words>,
     /// By order `m` (from `low`), threshold `t` and count `c`: the keys
@@ -206,6 +208,7 @@ impl Sieve {
             low,
             high,
             radius,
+            most_cycles,
             level,
             want,
             cycles,
