@@ -225,7 +225,7 @@ impl Catalog {
                 if rule.rods_only() {
                     return by_class;
                 }
-                for a in 0..rule.n_nodes() {
+                for (a, ids) in ids.iter().enumerate() {
                     for &b in &rule.neighbours[a] {
                         let entry = PairEntry {
                             a,
@@ -234,7 +234,7 @@ impl Catalog {
                             need_a: intern(&mut needs, &rule.needs[a]),
                             need_b: intern(&mut needs, &rule.needs[b]),
                             common: intern(&mut commons, &rule.common[a][b]),
-                            id: ids[a][b],
+                            id: ids[b],
                         };
                         let (ka, kb) = (accepts(rule.kinds[a]), accepts(rule.kinds[b]));
                         for cx in 0..3 {
