@@ -416,6 +416,8 @@ fn check_bodies(graph: &ContactGraph, bodies: &[Body]) -> Result<()> {
 
 /// Tries the rods-only loaded rules with rod `r` on each pattern node, from
 /// a random rule on, skipping the nodes `index` shows `r` cannot carry.
+/// (Kept out of the worklist's loop, which the base engine runs alone.)
+#[inline(never)]
 fn rod_rules(
     state: &mut State,
     engine: &Engine,
@@ -512,7 +514,8 @@ fn audited_rod_rules(
 
 /// Tries the loaded rules with bodies on the changed pair `x`, `y` mapped
 /// onto each pattern contact, from a random rule on, skipping the contacts
-/// `index` shows the pair cannot carry.
+/// `index` shows the pair cannot carry (kept out of the loop too).
+#[inline(never)]
 fn pair_rules(
     state: &mut State,
     engine: &Engine,
