@@ -15,6 +15,14 @@
 //! same order with the same random draws, and the matcher still meets the
 //! complete matches in the same order, so it finds exactly the motifs the
 //! plain matcher finds.
+//!
+//! Two more skip what a search already showed: a rod task's trie search
+//! stops at the first attempt in the plain order with a complete map (the
+//! earlier ones have none; a later one is searched only if that attempt's
+//! own search fails), and a pair task's pattern contact with no node map
+//! from the pair rules out every contact of a pattern that contains it
+//! ([`Catalog::implies`]), since a node map of the larger pattern would
+//! give one of the smaller.
 
 use crate::body::BodyClass;
 use crate::graph::ContactGraph;

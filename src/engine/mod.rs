@@ -18,6 +18,10 @@
 //!   plain search from each start.
 //! - `ball`: a rod task's free rods as bit sets, where the index replays the
 //!   plain search of a rods-only rule.
+//! - `cores`, `sieve`, `trie`, `catalog`: the free rods' k-cores; which
+//!   rods-only attempts a rod task admits; their plans as one trie; and a
+//!   rule set's tables (with the containments between its rules), built
+//!   once and shared.
 //! - `index`: host nodes' neighbours and profiles, checked against the
 //!   demands so the matcher skips attempts that cannot match.
 //! - `induced`: exact verdicts of the patterns matched parts induce.
