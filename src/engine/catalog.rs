@@ -304,3 +304,40 @@ impl Catalog {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// mixed-4-22 is mixed-4-4 with a third contact between nodes 1 and
+    /// 2: the smaller pattern lies in the larger by the identity (and no
+    /// other way round), and each of its contacts rules out the same one
+    /// of the larger.
+    #[test]
+    fn a_pattern_with_a_contact_more_contains_the_smaller() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs/mixed-4.json");
+        let rules: Vec<CompiledRule> = crate::rule_file::load_rules(&[path])
+            .unwrap()
+            .iter()
+            .map(CompiledRule::new)
+            .collect();
+        let find = |id: &str| rules.iter().position(|r| r.id == id).unwrap();
+        let (small, large) = (find("mixed-4-4"), find("mixed-4-22"));
+        let maps = contained(&rules[small], &rules[large]);
+        assert!(maps.contains(&vec![0, 1, 2, 3]), "{maps:?}");
+        assert!(contained(&rules[large], &rules[small]).is_empty());
+        let catalog = Catalog::new(&rules);
+        let id = |k: usize, a: usize, b: usize| {
+            catalog.entries[k]
+                .iter()
+                .flatten()
+                .find(|e| (e.a, e.b) == (a, b))
+                .unwrap()
+                .id
+        };
+        for (a, b) in [(0, 2), (2, 0), (1, 2), (2, 3), (3, 1)] {
+            assert!(catalog.implies[id(small, a, b) as usize].contains(&id(large, a, b)));
+            assert!(!catalog.implies[id(large, a, b) as usize].contains(&id(small, a, b)));
+        }
+    }
+}
