@@ -25,7 +25,8 @@ struct Key {
 }
 
 /// A trie node: the last step of its prefix, its children (contiguous),
-/// the slots of the attempts below it and of those whose plans end here.
+/// the slots of the attempts below it and of those whose plans end here,
+/// and its checks (in [`Trie::checks`]).
 #[derive(Clone, Debug)]
 struct Node {
     back: (u32, u8),
@@ -34,6 +35,17 @@ struct Node {
     children: (u32, u32),
     slots: (u32, u32),
     ends: (u32, u32),
+    checks: (u32, u32),
+}
+
+/// A later step that every plan below a trie node has, with all the steps
+/// it must touch in the node's prefix: once the prefix is mapped, a rod
+/// must be left for it (its back steps in [`Trie::backs`]).
+#[derive(Clone, Copy, Debug)]
+struct Check {
+    back: (u32, u8),
+    degree: u8,
+    distance: u8,
 }
 
 /// The attempts' plans as a trie per group of attempts that search the
@@ -41,6 +53,7 @@ struct Node {
 pub(super) struct Trie {
     nodes: Vec<Node>,
     backs: Vec<u8>,
+    checks: Vec<Check>,
     /// By group: the eccentricity, the core order and the root node.
     groups: Vec<(u8, u8, u32)>,
     /// Each attempt's slot: attempts numbered in the trie's order, so a
@@ -118,6 +131,7 @@ impl Trie {
         let mut trie = Trie {
             nodes: Vec::new(),
             backs: Vec::new(),
+            checks: Vec::new(),
             groups: Vec::new(),
             slot_of,
             attempt_of,
@@ -134,6 +148,7 @@ impl Trie {
                 children: (0, 0),
                 slots: (lo as u32, hi as u32),
                 ends: (lo as u32, lo as u32),
+                checks: (0, 0),
             });
             trie.grow(&plans, root, 0);
             trie.groups.push((group.0, group.1, root));
@@ -150,6 +165,38 @@ impl Trie {
         // Plans that end here sort first.
         let mut at = lo + plans[lo..hi].partition_point(|p| p.1.len() == depth);
         self.nodes[node as usize].ends = (lo as u32, at as u32);
+        // The steps after the next that every plan below has and that touch
+        // only the prefix (none where a plan ends here).
+        if at == lo {
+            let ready = |p: &'_ ((u8, u8), Vec<Key>, u32)| -> Vec<Key> {
+                p.1.iter()
+                    .skip(depth + 1)
+                    .filter(|k| k.back.iter().all(|&b| usize::from(b) <= depth))
+                    .cloned()
+                    .collect()
+            };
+            let mut common = ready(&plans[lo]);
+            for p in &plans[lo + 1..hi] {
+                if common.is_empty() {
+                    break;
+                }
+                let theirs = ready(p);
+                common.retain(|k| theirs.contains(k));
+            }
+            common.sort_unstable();
+            common.dedup();
+            let from = self.checks.len() as u32;
+            for k in common {
+                let back = (self.backs.len() as u32, k.back.len() as u8);
+                self.backs.extend_from_slice(&k.back);
+                self.checks.push(Check {
+                    back,
+                    degree: k.degree,
+                    distance: k.distance,
+                });
+            }
+            self.nodes[node as usize].checks = (from, self.checks.len() as u32);
+        }
         let first = self.nodes.len() as u32;
         while at < hi {
             let key = &plans[at].1[depth];
@@ -163,6 +210,7 @@ impl Trie {
                 children: (0, 0),
                 slots: (at as u32, end as u32),
                 ends: (at as u32, at as u32),
+                checks: (0, 0),
             });
             at = end;
         }
@@ -219,6 +267,20 @@ impl Trie {
         found: &mut Vec<u32>,
         walk: &mut Walk,
     ) {
+        let (from, to) = self.nodes[node as usize].checks;
+        for check in &self.checks[from as usize..to as usize] {
+            let mut bits = !walk.used
+                & walk.within
+                & ball.near[check.distance as usize]
+                & ball.wide[check.degree as usize];
+            let (at, len) = check.back;
+            for &b in &self.backs[at as usize..at as usize + len as usize] {
+                bits &= ball.rows[walk.local[b as usize] as usize];
+            }
+            if bits.is_empty() {
+                return;
+            }
+        }
         let (first, last) = self.nodes[node as usize].children;
         for c in first..last {
             let child = &self.nodes[c as usize];
