@@ -269,15 +269,11 @@ impl Trie {
     ) {
         let (from, to) = self.nodes[node as usize].checks;
         for check in &self.checks[from as usize..to as usize] {
-            let mut bits = !walk.used
-                & walk.within
-                & ball.near[check.distance as usize]
-                & ball.wide[check.degree as usize];
-            let (at, len) = check.back;
-            for &b in &self.backs[at as usize..at as usize + len as usize] {
-                bits &= ball.rows[walk.local[b as usize] as usize];
-            }
-            if bits.is_empty() {
+            let (back, degree, distance) = (check.back, check.degree, check.distance);
+            if self
+                .candidates(back, degree, distance, ball, walk)
+                .is_empty()
+            {
                 return;
             }
         }
@@ -287,14 +283,7 @@ impl Trie {
             if !any(pending, child.slots) {
                 continue;
             }
-            let mut bits = !walk.used
-                & walk.within
-                & ball.near[child.distance as usize]
-                & ball.wide[child.degree as usize];
-            let (at, len) = child.back;
-            for &b in &self.backs[at as usize..at as usize + len as usize] {
-                bits &= ball.rows[walk.local[b as usize] as usize];
-            }
+            let mut bits = self.candidates(child.back, child.degree, child.distance, ball, walk);
             if bits.is_empty() {
                 continue;
             }
@@ -323,6 +312,25 @@ impl Trie {
 }
 
 impl Trie {
+    /// The ball rods left for a step that touches the rods of the steps
+    /// `back` (in [`Trie::backs`]), of pattern degree `degree` and
+    /// distance `distance` from the start.
+    fn candidates(
+        &self,
+        (at, len): (u32, u8),
+        degree: u8,
+        distance: u8,
+        ball: &Ball,
+        walk: &Walk,
+    ) -> Bits {
+        let mut bits =
+            !walk.used & walk.within & ball.near[distance as usize] & ball.wide[degree as usize];
+        for &b in &self.backs[at as usize..at as usize + len as usize] {
+            bits &= ball.rows[walk.local[b as usize] as usize];
+        }
+        bits
+    }
+
     /// Clears the slots of `pending` later than slot `s` in `order`.
     fn clear_later(&self, s: u32, order: (u32, u32), pending: &mut [u64]) {
         let rank = self.rank(s, order);
