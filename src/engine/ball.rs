@@ -28,16 +28,97 @@ pub(super) struct Ball {
     /// of fewer than `k` neighbours, within `d`, lies there).
     pub core: Vec<[Option<Bits>; MAX_CORE + 1]>,
     pub root: usize,
+    /// The largest distance from the root of its rods.
+    pub radius: usize,
 }
 
 /// The largest core order a [`Ball`] computes.
 pub(super) const MAX_CORE: usize = 4;
 
-/// A set of ball rods.
-pub(super) type Bits = u128;
+/// Words of a [`Bits`].
+const WORDS: usize = 4;
+
+/// A set of ball rods, as bits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct Bits([u64; WORDS]);
 
 /// The largest ball built: one set of bits.
-pub(super) const MAX_BALL: usize = Bits::BITS as usize;
+pub(super) const MAX_BALL: usize = 64 * WORDS;
+
+impl Bits {
+    /// The set of ball rod `i` alone.
+    pub fn one(i: usize) -> Self {
+        let mut b = Bits::default();
+        b.insert(i);
+        b
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.iter().all(|&w| w == 0)
+    }
+
+    pub fn has(&self, i: usize) -> bool {
+        self.0[i / 64] & (1 << (i % 64)) != 0
+    }
+
+    pub fn insert(&mut self, i: usize) {
+        self.0[i / 64] |= 1 << (i % 64);
+    }
+
+    pub fn remove(&mut self, i: usize) {
+        self.0[i / 64] &= !(1 << (i % 64));
+    }
+
+    pub fn count(&self) -> u32 {
+        self.0.iter().map(|w| w.count_ones()).sum()
+    }
+
+    /// Removes and returns the least rod of the set.
+    pub fn pop(&mut self) -> Option<usize> {
+        for (w, word) in self.0.iter_mut().enumerate() {
+            if *word != 0 {
+                let b = word.trailing_zeros() as usize;
+                *word &= *word - 1;
+                return Some(64 * w + b);
+            }
+        }
+        None
+    }
+}
+
+impl std::ops::BitAnd for Bits {
+    type Output = Bits;
+    fn bitand(mut self, other: Bits) -> Bits {
+        self &= other;
+        self
+    }
+}
+
+impl std::ops::BitAndAssign for Bits {
+    fn bitand_assign(&mut self, other: Bits) {
+        for (a, b) in self.0.iter_mut().zip(other.0) {
+            *a &= b;
+        }
+    }
+}
+
+impl std::ops::BitOrAssign for Bits {
+    fn bitor_assign(&mut self, other: Bits) {
+        for (a, b) in self.0.iter_mut().zip(other.0) {
+            *a |= b;
+        }
+    }
+}
+
+impl std::ops::Not for Bits {
+    type Output = Bits;
+    fn not(mut self) -> Bits {
+        for a in &mut self.0 {
+            *a = !*a;
+        }
+        self
+    }
+}
 
 /// The state of one search in a [`Ball`]: ball rods by pattern node, the
 /// rods used, and the map in host rods.
@@ -66,17 +147,28 @@ impl Ball {
         bits
     }
 
+    /// The `k`-core (`k` up to [`MAX_CORE`]) of the rods within `d` of
+    /// the root (`d` up to the radius), computed once per ball.
+    pub fn within(&mut self, d: usize, k: usize) -> Bits {
+        match self.core[d][k] {
+            Some(core) => core,
+            None => {
+                let core = self.peel(self.near[d], k as u32);
+                self.core[d][k] = Some(core);
+                core
+            }
+        }
+    }
+
     /// The `k`-core of the ball rods `set`: its rods with at least `k`
     /// neighbours in it, repeatedly.
     pub fn peel(&self, mut set: Bits, k: u32) -> Bits {
         loop {
             let mut kept = set;
             let mut bits = set;
-            while bits != 0 {
-                let i = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                if (self.rows[i] & set).count_ones() < k {
-                    kept &= !(1 << i);
+            while let Some(i) = bits.pop() {
+                if (self.rows[i] & set).count() < k {
+                    kept.remove(i);
                 }
             }
             if kept == set {
@@ -97,13 +189,13 @@ impl Ball {
         s: &mut Search,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> bool {
-        if s.within & (1 << self.root) == 0 {
+        if !s.within.has(self.root) {
             return false;
         }
         s.local.clear();
         s.local.resize(n, usize::MAX);
         s.local[start] = self.root;
-        s.used = 1 << self.root;
+        s.used = Bits::one(self.root);
         s.map.clear();
         s.map.resize(n, None);
         s.map[start] = Some(self.rods[self.root]);
@@ -115,7 +207,7 @@ impl Ball {
     /// again deeper in the search costs more than it saves).
     fn viable(&self, plan: &[Step], s: &Search) -> bool {
         plan.iter()
-            .all(|step| step.ready != 0 || self.candidates(step, s) != 0)
+            .all(|step| step.ready != 0 || !self.candidates(step, s).is_empty())
     }
 
     fn extend(
@@ -129,16 +221,14 @@ impl Ball {
             return complete(&s.map);
         };
         let mut bits = self.candidates(step, s);
-        while bits != 0 {
-            let i = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
+        while let Some(i) = bits.pop() {
             s.local[step.node] = i;
             s.map[step.node] = Some(self.rods[i]);
-            s.used |= 1 << i;
+            s.used.insert(i);
             if self.extend(plan, done + 1, s, complete) {
                 return true;
             }
-            s.used &= !(1 << i);
+            s.used.remove(i);
         }
         s.map[step.node] = None;
         false

@@ -70,11 +70,6 @@ impl Profile {
         Profile { at_least }
     };
 
-    /// Free rods among the neighbours.
-    pub fn free_rods(&self) -> u32 {
-        self.at_least[slot(0, 1) as usize]
-    }
-
     /// Counts a neighbour of class `c` sharing `m` contacts.
     pub(super) fn add(&mut self, c: usize, m: usize) {
         for k in 1..=m.min(CAP) {

@@ -15,19 +15,31 @@
 //! same order with the same random draws, and the matcher still meets the
 //! complete matches in the same order, so it finds exactly the motifs the
 //! plain matcher finds.
+//!
+//! Two more skip what a search already showed: a rod task's trie search
+//! stops at the first attempt in the plain order with a complete map (the
+//! earlier ones have none; a later one is searched only if that attempt's
+//! own search fails), and a pair task's pattern contact with no node map
+//! from the pair rules out every contact of a pattern that contains it
+//! ([`Catalog::implies`]), since a node map of the larger pattern would
+//! give one of the smaller.
 
 use crate::body::BodyClass;
+use crate::graph::ContactGraph;
+
+use std::sync::Arc;
 
 use super::ball::{Ball, Bits, MAX_BALL, MAX_CORE, MAX_DEGREE, Search};
-use super::demand::{Common, CommonNeeds, Needs, Profile, accepts, class_index};
+use super::catalog::{Catalog, PairEntry};
+use super::cores::FreeCores;
+use super::demand::{Common, Profile, class_index};
 use super::rule::{CompiledRule, Step};
+use super::sieve::{MAX_RADIUS, THRESHOLDS};
 use super::state::State;
+use super::trie::{Trie, Walk};
 
 /// Bodies with more neighbours than this are not profiled.
 const LARGE: usize = 256;
-
-/// The largest pattern eccentricity whose ball a rod task measures.
-pub(super) const MAX_RADIUS: usize = 4;
 
 /// A neighbouring node as the index caches it.
 #[derive(Clone, Copy, Debug)]
@@ -39,86 +51,63 @@ pub(super) struct Neighbour {
     pub mult: u32,
 }
 
-/// A pattern contact of a rule with bodies whose ends fit a class pair, and
-/// the numbers of its conditions in [`Index`]'s tables.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct PairEntry {
-    pub a: usize,
-    pub b: usize,
-    /// Pattern contacts between `a` and `b`: the host pair needs as many.
-    pub mult: usize,
-    need_a: usize,
-    need_b: usize,
-    common: usize,
-}
-
-/// The pattern contacts of all rules that share their conditions, for one
-/// class pair: the rules that have one, as bits. A class pair's list is
-/// sorted by contacts between the ends, then by the conditions on `x`, then
-/// on `y`, and `skip_a`, `skip_b` are where the run of the same contacts
-/// and condition on `x` (and on `y`) ends, so a failed condition skips its run.
-#[derive(Clone, Debug)]
-struct Shared {
-    entry: PairEntry,
-    rules: Vec<u64>,
-    skip_a: usize,
-    skip_b: usize,
-}
-
-/// Host nodes' neighbour lists and profiles, computed when first needed and
-/// dropped when a merge changes a node's neighbours; the rules' pattern
-/// contacts by class pair; and the scratch of one task.
+/// The rule set's [`Catalog`]; host nodes' neighbour lists and profiles,
+/// computed when first needed and dropped when a merge changes a node's
+/// neighbours; the free rods' cores; and the scratch of one task.
 pub(super) struct Index {
     /// Whether skipped attempts are matched anyway, to prove them impossible.
     pub audit: bool,
+    catalog: Arc<Catalog>,
     fresh: Vec<bool>,
     profile: Vec<Profile>,
     /// Each node's neighbours, in the matcher's candidate order: by node for
     /// a rod, in the body's map order for a body.
     adjacency: Vec<Vec<Neighbour>>,
-    /// By rule, by class pair (`3 * class x + class y`), the pattern
-    /// contacts in the order the plain matcher tries them.
-    entries: Vec<[Vec<PairEntry>; 9]>,
-    /// By class pair, the distinct conditions of the entries.
-    shared: [Vec<Shared>; 9],
     /// Per pair task: the rules some entry of which passes the conditions, as bits.
     candidates: Vec<u64>,
-    /// Distinct [`Needs`] and [`CommonNeeds`] of all entries.
-    needs: Vec<Needs>,
-    commons: Vec<CommonNeeds>,
     /// Per pair task: what each distinct need says of `x`, of `y` and of
     /// their common neighbours (0 unknown, 1 no, 2 yes).
     said_x: Vec<u8>,
     said_y: Vec<u8>,
     said_common: Vec<u8>,
-    /// The largest ball a rod task measures.
-    radius: usize,
-    /// The rods-only rules, by number.
-    rods_only: Vec<usize>,
-    /// Each rod's core number (up to the rods-only rules' largest least
-    /// degree) among the rods free when the index was made: rods only
-    /// leave the free rods, so a core of theirs now lies in that core.
-    core: Vec<u8>,
-    /// The least core order of the rods-only rules.
-    min_core: u8,
-    /// Per rod task: the rod, its free neighbours' numbers of free
-    /// neighbours (largest first), and, once measured, the cyclomatic
-    /// number (contacts − rods + 1) of the free rods of the least core
-    /// within each distance of it there (0 to [`MAX_RADIUS`]): a match
-    /// lies in that core, at most its pattern distances apart.
+    /// The free rods' cores of the orders the rods-only rules need.
+    cores: Option<FreeCores>,
+    /// Per rod task: the rod; its neighbours in each core by their degree
+    /// there; the keys and attempts the sieve admits; and the cyclomatic
+    /// number (contacts − rods + 1) of the rods of the least core within
+    /// each distance of it (0 to the sieve's radius): a match lies in that
+    /// core, at most its pattern distances apart.
     rod: u32,
-    free_degrees: Vec<u32>,
-    cycles: Option<[i64; MAX_RADIUS + 1]>,
-    /// Per rod task: each rod's distance from the task's rod when `seen` is
-    /// the task's stamp, and the rods by distance.
-    distance: Vec<u8>,
-    /// Each rod's place in the rod task's [`Ball`], when built.
-    slot: Vec<u8>,
-    seen: Vec<u32>,
+    counts: Vec<[u32; THRESHOLDS]>,
+    keys: Vec<u64>,
+    marked: Vec<u64>,
+    cycles: [i64; MAX_RADIUS + 1],
+    /// The state of a trie search.
+    walk: Walk,
+    /// Per rod task: the attempts that can match, in the plain order, when
+    /// all are listed at once (an audit, or a ball too large), and the
+    /// next one to try.
+    found: Vec<u32>,
+    next: usize,
+    /// Per rod task, when its attempts are found one at a time: the plain
+    /// order (where it starts, and the number of attempts), the radius
+    /// searched, the slots found to have a complete map and not yet
+    /// tried, and the scratch of one search.
+    first: Option<(u32, u32)>,
+    radius: usize,
+    known: Vec<u32>,
+    pending: Vec<u64>,
+    asked: Vec<u64>,
+    /// Per rod task: what it knows of each rod (where the rod's stamp is
+    /// the task's), and the rods of the ball to peel.
+    marks: Vec<Mark>,
     stamp: u32,
-    /// A rod task's rod, then the free rods of the least core around it in
+    peeled: Vec<u32>,
+    /// A rod task's rod, then the rods of the least core around it in
     /// breadth-first order.
     around: Vec<u32>,
+    /// The rods of `around` whose neighbours are in it.
+    searched: usize,
     ball: Ball,
     search: Search,
     /// The common neighbours of a pair task.
@@ -130,134 +119,73 @@ pub(super) struct Index {
     common_known: bool,
     /// Complete maps found by a survey.
     maps: Vec<Option<u32>>,
+    /// Per pair task: the pattern contacts shown to have no node map from
+    /// the pair (as bits by [`PairEntry::id`]), and the words set.
+    dead: Vec<u64>,
+    dead_words: Vec<u32>,
+    /// Whether the last match of a pattern contact found no node map
+    /// (set by the matcher).
+    pub no_map: bool,
 }
 
-/// Finds `item` in `list`, appending it if new; its position.
-fn intern<T: PartialEq + Clone>(list: &mut Vec<T>, item: &T) -> usize {
-    list.iter().position(|x| x == item).unwrap_or_else(|| {
-        list.push(item.clone());
-        list.len() - 1
-    })
+/// What a rod task knows of a rod, together so that a look-up touches one
+/// cache line: valid when `stamp` is the task's.
+#[derive(Clone, Copy, Debug, Default)]
+struct Mark {
+    stamp: u32,
+    /// Its neighbours in the ball as the ball is peeled.
+    inner: u32,
+    /// Its distance from the task's rod.
+    distance: u8,
+    /// Its place in the task's [`Ball`], when built.
+    slot: u8,
+}
+
+/// What became of a rod task's ball.
+enum Built {
+    Ball,
+    /// Its rod is not in the least core of the rods around it: no match.
+    Empty,
+    /// Too many rods for one set of bits.
+    TooLarge,
 }
 
 impl Index {
     pub fn new(state: &mut State, rules: &[CompiledRule], audit: bool) -> Self {
         let n_rods = state.g.n_nodes();
-        let max_core = rules
-            .iter()
-            .filter(|r| r.rods_only())
-            .map(|r| r.min_degree)
-            .max()
-            .unwrap_or(0);
-        let (mut needs, mut commons) = (Vec::new(), Vec::new());
-        let entries = rules
-            .iter()
-            .map(|rule| {
-                let mut by_class: [Vec<PairEntry>; 9] = Default::default();
-                if rule.rods_only() {
-                    return by_class;
-                }
-                for a in 0..rule.n_nodes() {
-                    for &b in &rule.neighbours[a] {
-                        let entry = PairEntry {
-                            a,
-                            b,
-                            mult: rule.between[a][b].len(),
-                            need_a: intern(&mut needs, &rule.needs[a]),
-                            need_b: intern(&mut needs, &rule.needs[b]),
-                            common: intern(&mut commons, &rule.common[a][b]),
-                        };
-                        let (ka, kb) = (accepts(rule.kinds[a]), accepts(rule.kinds[b]));
-                        for cx in 0..3 {
-                            for cy in 0..3 {
-                                if ka[cx] && kb[cy] {
-                                    by_class[3 * cx + cy].push(entry);
-                                }
-                            }
-                        }
-                    }
-                }
-                by_class
-            })
-            .collect::<Vec<_>>();
-        let words = rules.len().div_ceil(64);
-        let mut shared: [Vec<Shared>; 9] = Default::default();
-        for (k, by_class) in entries.iter().enumerate() {
-            for (c, list) in by_class.iter().enumerate() {
-                for e in list {
-                    let same = |s: &Shared| {
-                        let f = &s.entry;
-                        (f.mult, f.need_a, f.need_b, f.common)
-                            == (e.mult, e.need_a, e.need_b, e.common)
-                    };
-                    let at = match shared[c].iter().position(same) {
-                        Some(at) => at,
-                        None => {
-                            shared[c].push(Shared {
-                                entry: *e,
-                                rules: vec![0; words],
-                                skip_a: 0,
-                                skip_b: 0,
-                            });
-                            shared[c].len() - 1
-                        }
-                    };
-                    shared[c][at].rules[k / 64] |= 1 << (k % 64);
-                }
-            }
-        }
-        for list in &mut shared {
-            let key = |s: &Shared| (s.entry.mult, s.entry.need_a, s.entry.need_b, s.entry.common);
-            list.sort_by_key(key);
-            for i in (0..list.len()).rev() {
-                let (m, a, b, _) = key(&list[i]);
-                let next = list.get(i + 1).map(key);
-                list[i].skip_a = match next {
-                    Some((m2, a2, _, _)) if (m2, a2) == (m, a) => list[i + 1].skip_a,
-                    _ => i + 1,
-                };
-                list[i].skip_b = match next {
-                    Some((m2, a2, b2, _)) if (m2, a2, b2) == (m, a, b) => list[i + 1].skip_b,
-                    _ => i + 1,
-                };
-            }
-        }
+        let catalog = Catalog::of(rules);
+        let sieve = &catalog.sieve;
+        let cores = (!sieve.is_empty()).then(|| FreeCores::new(state, sieve.low, sieve.high));
+        let orders = usize::from(sieve.high - sieve.low) + 1;
         Index {
             audit,
             fresh: vec![false; n_rods],
             profile: vec![Profile::default(); n_rods],
             adjacency: vec![Vec::new(); n_rods],
-            entries,
-            shared,
-            candidates: vec![0; words],
-            said_x: vec![0; needs.len()],
-            said_y: vec![0; needs.len()],
-            said_common: vec![0; commons.len()],
-            needs,
-            commons,
-            radius: rules
-                .iter()
-                .filter(|r| r.rods_only())
-                .flat_map(|r| r.eccentricity.iter().copied())
-                .filter(|&e| e <= MAX_RADIUS)
-                .max()
-                .unwrap_or(0),
-            rods_only: (0..rules.len()).filter(|&k| rules[k].rods_only()).collect(),
-            core: free_cores(state, max_core.min(u8::MAX as usize) as u8),
-            min_core: rules
-                .iter()
-                .filter(|r| r.rods_only())
-                .map(|r| r.min_degree.min(u8::MAX as usize) as u8)
-                .min()
-                .unwrap_or(0),
+            candidates: vec![0; rules.len().div_ceil(64)],
+            said_x: vec![0; catalog.needs.len()],
+            said_y: vec![0; catalog.needs.len()],
+            said_common: vec![0; catalog.commons.len()],
             rod: 0,
-            free_degrees: Vec::new(),
-            cycles: None,
-            distance: vec![0; n_rods],
-            slot: vec![0; n_rods],
-            seen: vec![0; n_rods],
+            counts: vec![[0; THRESHOLDS]; orders],
+            keys: vec![0; sieve.key_words()],
+            marked: vec![0; sieve.attempt_words()],
+            cycles: [0; MAX_RADIUS + 1],
+            walk: Walk::default(),
+            found: Vec::new(),
+            next: 0,
+            first: None,
+            radius: 0,
+            known: Vec::new(),
+            pending: Vec::new(),
+            asked: Vec::new(),
+            cores,
+            catalog: Arc::clone(&catalog),
+            marks: vec![Mark::default(); n_rods],
             stamp: 0,
+            peeled: Vec::new(),
             around: Vec::new(),
+            searched: 0,
             ball: Ball::default(),
             search: Search::default(),
             common: Vec::new(),
@@ -265,6 +193,9 @@ impl Index {
             pair_nodes: (0, 0),
             common_known: false,
             maps: Vec::new(),
+            dead: vec![0; catalog.implies.len().div_ceil(64)],
+            dead_words: Vec::new(),
+            no_map: false,
         }
     }
 
@@ -346,152 +277,340 @@ impl Index {
         self.adjacency[x as usize][i]
     }
 
-    /// Starts rod task `r` (a free rod): its free neighbours' numbers of
-    /// free neighbours; the ball around it is measured when first needed.
-    pub fn start_rod(&mut self, state: &mut State, r: u32) {
-        self.refresh(state, r);
-        self.rod = r;
-        self.cycles = None;
-        self.ball.built = false;
-        let mut free = std::mem::take(&mut self.free_degrees);
-        free.clear();
-        for i in 0..self.adjacency[r as usize].len() {
-            let n = self.adjacency[r as usize][i];
-            if n.class == 0 {
-                free.push(self.profile(state, n.node).free_rods());
+    /// Rod `r`, free until now, joins a body.
+    pub fn leave(&mut self, state: &State, r: u32) {
+        if let Some(cores) = self.cores.as_mut() {
+            cores.remove(state, r);
+        }
+    }
+
+    /// Starts rod task `r` (a free rod), whose rules start at rule
+    /// `start`: which attempts of the rods-only rules can match there, in
+    /// the plain matcher's order ([`Index::next_rod_attempt`]); false when
+    /// none can. Unless `all` are wanted (an audit), the ball's attempts
+    /// are searched lazily: one search finds the first attempt with a
+    /// complete map and leaves the later ones unknown, since the first
+    /// that matches ends the task.
+    pub fn start_rod(&mut self, state: &State, r: u32, start: usize, all: bool) -> bool {
+        self.found.clear();
+        self.known.clear();
+        self.next = 0;
+        self.first = None;
+        if !self.admit_rod(state, r) {
+            return false;
+        }
+        // The ball as far as the admitted attempts reach; where it is too
+        // large, every admitted attempt is searched on its own.
+        let catalog = Arc::clone(&self.catalog);
+        let radius = catalog.sieve.reach(&self.keys).min(catalog.sieve.radius);
+        match self.build_ball(state.g, radius) {
+            Built::Ball if !all => {
+                self.radius = radius;
+                self.first = Some(catalog.sieve.order_from(start));
+                return true;
+            }
+            Built::Ball => {
+                self.walk.want_first(None);
+                catalog.trie.search(
+                    &mut self.ball,
+                    radius,
+                    &mut self.marked,
+                    &mut self.found,
+                    &mut self.walk,
+                )
+            }
+            Built::Empty => {}
+            Built::TooLarge => self.found.extend(slots(&self.marked)),
+        }
+        for s in &mut self.found {
+            *s = catalog.trie.attempt_of[*s as usize];
+        }
+        catalog.sieve.sort_from(start, &mut self.found);
+        !self.found.is_empty()
+    }
+
+    /// The started rod task's next attempt (rule, pattern node) that can
+    /// match, in the plain matcher's order.
+    pub fn next_rod_attempt(&mut self) -> Option<(usize, usize)> {
+        let catalog = Arc::clone(&self.catalog);
+        let attempt = |a: u32| {
+            let (k, v) = catalog.sieve.attempts[a as usize];
+            (k as usize, v as usize)
+        };
+        let Some(order) = self.first else {
+            let a = *self.found.get(self.next)?;
+            self.next += 1;
+            return Some(attempt(a));
+        };
+        let trie = &catalog.trie;
+        let least = |known: &[u32]| known.iter().map(|&s| trie.rank(s, order)).min();
+        // Only the attempts before the first known one are searched.
+        let bound = least(&self.known).unwrap_or(u32::MAX);
+        self.asked.clear();
+        self.asked.extend_from_slice(&self.marked);
+        keep_before(trie, order, bound, &mut self.asked);
+        if self.asked.iter().any(|&w| w != 0) {
+            self.pending.clear();
+            self.pending.extend_from_slice(&self.asked);
+            let before = self.known.len();
+            self.walk.want_first(Some(order));
+            trie.search(
+                &mut self.ball,
+                self.radius,
+                &mut self.pending,
+                &mut self.known,
+                &mut self.walk,
+            );
+            // Those asked before the first found are settled; so is every
+            // one found.
+            let bound = least(&self.known).unwrap_or(u32::MAX);
+            keep_before(trie, order, bound, &mut self.asked);
+            for (m, a) in self.marked.iter_mut().zip(&self.asked) {
+                *m &= !a;
+            }
+            for &s in &self.known[before..] {
+                self.marked[s as usize / 64] &= !(1 << (s % 64));
             }
         }
-        free.sort_unstable_by(|a, b| b.cmp(a));
-        self.free_degrees = free;
+        let (i, _) = self
+            .known
+            .iter()
+            .enumerate()
+            .min_by_key(|&(_, &s)| trie.rank(s, order))?;
+        let s = self.known.swap_remove(i);
+        Some(attempt(trie.attempt_of[s as usize]))
+    }
+
+    /// Which attempts of the rods-only rules rod `r`'s surroundings admit
+    /// ([`Sieve`]), marked by slot; whether any.
+    fn admit_rod(&mut self, state: &State, r: u32) -> bool {
+        let Some(cores) = &self.cores else {
+            return false;
+        };
+        self.rod = r;
+        self.ball.built = false;
+        let low = cores.low();
+        let level = cores.level(r);
+        if level < low {
+            return false;
+        }
+        let sieve = &self.catalog.sieve;
+        let top = level.min(sieve.high);
+        let g = state.g;
+        for (i, m) in (low..=top).enumerate() {
+            let counts = &mut self.counts[i];
+            *counts = [0; THRESHOLDS];
+            for &(w, _) in g.neighbors(r) {
+                if cores.level(w) >= m {
+                    let d = (cores.degree(m, w) as usize).min(THRESHOLDS);
+                    for c in &mut counts[..d] {
+                        *c += 1;
+                    }
+                }
+            }
+        }
+        let short = [3, 4].map(|l| cores.short_cycle_distance(l, r));
+        if !sieve.admit(level, &self.counts, &mut self.keys)
+            || !sieve.admit_short(short, &mut self.keys)
+        {
+            return false;
+        }
+        self.measure_cycles(state);
+        let sieve = &self.catalog.sieve;
+        if !sieve.admit_cycles(&self.cycles, &mut self.keys) {
+            return false;
+        }
+        sieve.mark(&self.keys, &mut self.marked);
+        true
     }
 
     /// Whether some rule has a body: only those are matched on pairs.
     pub fn has_pair_rules(&self) -> bool {
-        self.rods_only.len() < self.entries.len()
+        self.catalog.has_pair_rules
     }
 
-    /// The rods-only rules, from rule `start` on, cyclically.
-    pub fn rods_only_from(&self, start: usize) -> impl Iterator<Item = usize> + '_ {
-        let split = self.rods_only.partition_point(|&k| k < start);
-        self.rods_only[split..]
-            .iter()
-            .chain(&self.rods_only[..split])
-            .copied()
+    /// The attempts (rule, pattern node) of a rod task started for `all`
+    /// that can match, in the plain matcher's order.
+    pub fn rod_attempts(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.found.iter().map(|&a| {
+            let (k, v) = self.catalog.sieve.attempts[a as usize];
+            (k as usize, v as usize)
+        })
     }
 
-    /// Whether the started rod task's rod can carry pattern node `v` of
-    /// rods-only `rule`: its free neighbours, by their own free neighbours,
-    /// can carry `v`'s neighbours, and the free rods of the least core
-    /// within `v`'s eccentricity have at least the pattern's independent cycles (checked
-    /// up to [`MAX_RADIUS`]).
-    pub fn rod_could_match(&mut self, state: &mut State, rule: &CompiledRule, v: usize) -> bool {
-        if (self.core[self.rod as usize] as usize) < rule.min_degree {
-            return false;
-        }
-        let want = &rule.neighbour_degrees[v];
-        let f = &self.free_degrees;
-        if want.len() > f.len() || want.iter().zip(f).any(|(w, f)| w > f) {
-            return false;
-        }
-        let e = rule.eccentricity[v];
-        e > MAX_RADIUS || self.cycles(state)[e] >= rule.cycles
-    }
-
-    /// The started rod task's cycles by distance, measured now if not yet.
-    fn cycles(&mut self, state: &mut State) -> [i64; MAX_RADIUS + 1] {
-        if let Some(c) = self.cycles {
-            return c;
-        }
+    /// The cycles of the started rod task's surroundings by distance:
+    /// breadth first through the rods of the least core, a contact
+    /// counting at the larger distance of its rods, once. A rod's cycles
+    /// only grow with the distance, so once they reach the most any rule
+    /// needs the search stops ([`Index::grow_around`] goes on for the
+    /// ball) and the larger distances get the same number, which admits
+    /// the same keys.
+    fn measure_cycles(&mut self, state: &State) {
+        let cores = self.cores.as_ref().expect("rods-only rules");
+        let (low, radius) = (cores.low(), self.catalog.sieve.radius);
+        let most = i64::from(self.catalog.sieve.most_cycles);
+        let g = state.g;
         let r = self.rod;
-        // Breadth first through free rods; a contact counts at the larger
-        // distance of its rods, once.
         self.stamp += 1;
         let stamp = self.stamp;
-        self.seen[r as usize] = stamp;
-        self.distance[r as usize] = 0;
-        let mut ball = std::mem::take(&mut self.around);
+        self.marks[r as usize] = Mark {
+            stamp,
+            distance: 0,
+            ..Mark::default()
+        };
+        let ball = &mut self.around;
         ball.clear();
         ball.push(r);
-        let (mut rods, mut contacts) = ([0i64; MAX_RADIUS + 1], [0i64; MAX_RADIUS + 1]);
+        let (mut rods, mut contacts) = (0i64, 0i64);
         let mut next = 0;
-        while next < ball.len() {
+        let mut layer = 0;
+        loop {
+            let d = ball
+                .get(next)
+                .map_or(usize::MAX, |&u| self.marks[u as usize].distance as usize);
+            if d != layer {
+                // Every rod and contact within `layer` is counted.
+                let cycles = contacts - rods + 1;
+                self.cycles[layer] = cycles;
+                if d == usize::MAX || cycles >= most {
+                    for c in &mut self.cycles[layer + 1..] {
+                        *c = cycles;
+                    }
+                    break;
+                }
+                layer = d;
+            }
             let u = ball[next];
             next += 1;
-            let d = self.distance[u as usize] as usize;
-            rods[d] += 1;
-            self.refresh(state, u);
-            for i in 0..self.adjacency[u as usize].len() {
-                let w = self.adjacency[u as usize][i];
-                // Rods outside the least core a rule needs are in no match.
-                if w.class != 0 || self.core[w.node as usize] < self.min_core {
+            rods += 1;
+            for &(w, _) in g.neighbors(u) {
+                if cores.level(w) < low {
                     continue;
                 }
-                let w = w.node as usize;
-                if self.seen[w] != stamp {
-                    if d < self.radius {
-                        self.seen[w] = stamp;
-                        self.distance[w] = d as u8 + 1;
+                let w = w as usize;
+                let mark = &mut self.marks[w];
+                if mark.stamp != stamp {
+                    if d < radius {
+                        mark.stamp = stamp;
+                        mark.distance = d as u8 + 1;
                         ball.push(w as u32);
                     }
-                } else if (self.distance[w] as usize) < d
-                    || (self.distance[w] as usize == d && (w as u32) < u)
+                } else if (mark.distance as usize) < d
+                    || (mark.distance as usize == d && (w as u32) < u)
                 {
-                    contacts[d] += 1;
+                    contacts += 1;
                 }
             }
         }
-        self.around = ball;
-        let mut cycles = [0; MAX_RADIUS + 1];
-        let (mut n, mut e) = (0, 0);
-        for k in 0..=MAX_RADIUS {
-            n += rods[k];
-            e += contacts[k];
-            cycles[k] = e - n + 1;
-        }
-        self.cycles = Some(cycles);
-        cycles
+        self.searched = next;
     }
 
-    /// Builds the rod task's [`Ball`] unless built; whether it is (not when too large).
-    fn build_ball(&mut self) -> bool {
+    /// Goes on with the breadth-first search of [`Index::measure_cycles`]
+    /// until it holds every rod of the least core within `radius`.
+    fn grow_around(&mut self, g: &ContactGraph, radius: usize) {
+        let cores = self.cores.as_ref().expect("rods-only rules");
+        let low = cores.low();
+        let stamp = self.stamp;
+        while let Some(&u) = self.around.get(self.searched) {
+            let d = self.marks[u as usize].distance as usize;
+            if d >= radius {
+                break;
+            }
+            self.searched += 1;
+            for &(w, _) in g.neighbors(u) {
+                let mark = &mut self.marks[w as usize];
+                if cores.level(w) >= low && mark.stamp != stamp {
+                    mark.stamp = stamp;
+                    mark.distance = d as u8 + 1;
+                    self.around.push(w);
+                }
+            }
+        }
+    }
+
+    /// Builds the rod task's [`Ball`] of the rods within `radius` of its
+    /// rod, peeled to the least core the rules need (a match lies there).
+    fn build_ball(&mut self, g: &ContactGraph, radius: usize) -> Built {
+        self.grow_around(g, radius);
+        let stamp = self.stamp;
+        // `around` is in breadth-first order.
+        let size = self
+            .around
+            .partition_point(|&u| self.marks[u as usize].distance as usize <= radius);
+        let low = u32::from(self.catalog.sieve.low);
+        let inside = |m: &Mark| m.stamp == stamp && m.distance as usize <= radius;
+        self.peeled.clear();
+        for &u in &self.around[..size] {
+            let d = g
+                .neighbors(u)
+                .iter()
+                .filter(|&&(w, _)| inside(&self.marks[w as usize]))
+                .count() as u32;
+            self.marks[u as usize].inner = d;
+            if d < low {
+                self.peeled.push(u);
+            }
+        }
+        while let Some(u) = self.peeled.pop() {
+            if self.marks[u as usize].stamp != stamp {
+                continue;
+            }
+            self.marks[u as usize].stamp = 0;
+            for &(w, _) in g.neighbors(u) {
+                let mark = &mut self.marks[w as usize];
+                if inside(mark) {
+                    mark.inner -= 1;
+                    if mark.inner < low {
+                        self.peeled.push(w);
+                    }
+                }
+            }
+        }
+        if self.marks[self.rod as usize].stamp != stamp {
+            return Built::Empty;
+        }
         let ball = &mut self.ball;
-        if ball.built {
-            return true;
-        }
-        if self.around.len() > MAX_BALL {
-            return false;
-        }
         ball.rods.clear();
-        ball.rods.extend_from_slice(&self.around);
+        ball.rods.extend(
+            self.around[..size]
+                .iter()
+                .filter(|&&u| self.marks[u as usize].stamp == stamp),
+        );
+        if ball.rods.len() > MAX_BALL {
+            return Built::TooLarge;
+        }
+        ball.radius = radius;
+        ball.radius = radius;
         ball.rods.sort_unstable();
         ball.rows.clear();
         ball.near.clear();
-        ball.near.resize(self.radius + 1, 0);
-        ball.wide = [0; MAX_DEGREE + 1];
+        ball.near.resize(radius + 1, Bits::default());
+        ball.wide = [Bits::default(); MAX_DEGREE + 1];
         // Ball rods by host rod, as `distance` (stamped by `seen`) is kept.
         for (i, &u) in ball.rods.iter().enumerate() {
-            self.slot[u as usize] = i as u8;
+            self.marks[u as usize].slot = i as u8;
         }
         for (i, &u) in ball.rods.iter().enumerate() {
-            let mut row: Bits = 0;
-            for nb in &self.adjacency[u as usize] {
-                if nb.class == 0 && self.seen[nb.node as usize] == self.stamp {
-                    row |= 1 << self.slot[nb.node as usize];
+            let mut row = Bits::default();
+            for &(w, _) in g.neighbors(u) {
+                let mark = &self.marks[w as usize];
+                if mark.stamp == stamp && mark.distance as usize <= radius {
+                    row.insert(mark.slot as usize);
                 }
             }
             ball.rows.push(row);
-            for d in self.distance[u as usize] as usize..=self.radius {
-                ball.near[d] |= 1 << i;
+            for d in self.marks[u as usize].distance as usize..=radius {
+                ball.near[d].insert(i);
             }
-            for k in 0..=(row.count_ones() as usize).min(MAX_DEGREE) {
-                ball.wide[k] |= 1 << i;
+            for k in 0..=(row.count() as usize).min(MAX_DEGREE) {
+                ball.wide[k].insert(i);
             }
         }
         ball.core.clear();
-        ball.core.resize(self.radius + 1, [None; MAX_CORE + 1]);
-        ball.root = self.slot[self.around[0] as usize] as usize;
+        ball.core.resize(radius + 1, [None; MAX_CORE + 1]);
+        ball.root = self.marks[self.around[0] as usize].slot as usize;
         ball.built = true;
-        true
+        Built::Ball
     }
 
     /// Searches the rod task's ball as the plain matcher would search from
@@ -507,20 +626,10 @@ impl Index {
         n: usize,
         complete: &mut dyn FnMut(&[Option<u32>]) -> bool,
     ) -> Option<bool> {
-        if eccentricity > self.radius || self.cycles.is_none() || !self.build_ball() {
+        if !self.ball.built || eccentricity > self.ball.radius {
             return None;
         }
-        let (d, k) = (eccentricity, min_degree.min(MAX_CORE));
-        let ball = &mut self.ball;
-        let within = match ball.core[d][k] {
-            Some(core) => core,
-            None => {
-                let core = ball.peel(ball.near[d], k as u32);
-                ball.core[d][k] = Some(core);
-                core
-            }
-        };
-        self.search.within = within;
+        self.search.within = self.ball.within(eccentricity, min_degree.min(MAX_CORE));
         Some(self.ball.search(start, plan, n, &mut self.search, complete))
     }
 
@@ -535,18 +644,23 @@ impl Index {
         self.said_y.fill(0);
         self.said_common.fill(0);
         self.candidates.fill(0);
+        for &w in &self.dead_words {
+            self.dead[w as usize] = 0;
+        }
+        self.dead_words.clear();
         let c = 3 * class_index(state.class(x)) as usize + class_index(state.class(y)) as usize;
-        let shared = std::mem::take(&mut self.shared[c]);
+        let catalog = Arc::clone(&self.catalog);
+        let shared = &catalog.shared[c];
         let (px, py) = self.pair;
         let mut i = 0;
         while let Some(s) = shared.get(i).filter(|s| s.entry.mult <= m) {
             let e = &s.entry;
             if !ask(&mut self.said_x, e.need_a, || {
-                px.admits(&self.needs[e.need_a])
+                px.admits(&catalog.needs[e.need_a])
             }) {
                 i = s.skip_a;
             } else if !ask(&mut self.said_y, e.need_b, || {
-                py.admits(&self.needs[e.need_b])
+                py.admits(&catalog.needs[e.need_b])
             }) {
                 i = s.skip_b;
             } else {
@@ -558,7 +672,6 @@ impl Index {
                 i += 1;
             }
         }
-        self.shared[c] = shared;
     }
 
     /// The rules some pattern contact of which passes the started pair's
@@ -578,24 +691,41 @@ impl Index {
                 })
                 .filter(move |&k| (from..to).contains(&k))
         };
-        let n = self.entries.len();
+        let n = self.catalog.entries.len();
         bits(start, n).chain(bits(0, start))
     }
 
     /// The pattern contacts of rule `k` whose ends fit the classes of the
     /// started pair, in the plain matcher's order.
     pub fn entries(&self, k: usize, cx: Option<BodyClass>, cy: Option<BodyClass>) -> &[PairEntry] {
-        &self.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
+        &self.catalog.entries[k][3 * class_index(cx) as usize + class_index(cy) as usize]
+    }
+
+    /// Whether the started pair was shown unable to carry `e`.
+    pub fn dead(&self, e: &PairEntry) -> bool {
+        self.dead[e.id as usize / 64] & (1 << (e.id % 64)) != 0
+    }
+
+    /// The started pair has no node map from `e`: nor from the pattern
+    /// contacts that contain it.
+    pub fn kill(&mut self, e: &PairEntry) {
+        let catalog = Arc::clone(&self.catalog);
+        for &id in std::iter::once(&e.id).chain(&catalog.implies[e.id as usize]) {
+            let w = id as usize / 64;
+            if self.dead[w] == 0 {
+                self.dead_words.push(w as u32);
+            }
+            self.dead[w] |= 1 << (id % 64);
+        }
     }
 
     /// Whether the started pair can carry `e` (given enough contacts between them).
     pub fn pair_could_match(&mut self, state: &mut State, e: &PairEntry) -> bool {
         let (px, py) = self.pair;
-        ask(&mut self.said_x, e.need_a, || {
-            px.admits(&self.needs[e.need_a])
-        }) && ask(&mut self.said_y, e.need_b, || {
-            py.admits(&self.needs[e.need_b])
-        }) && self.common_admits(state, e.common)
+        let needs = &self.catalog.needs;
+        ask(&mut self.said_x, e.need_a, || px.admits(&needs[e.need_a]))
+            && ask(&mut self.said_y, e.need_b, || py.admits(&needs[e.need_b]))
+            && self.common_admits(state, e.common)
     }
 
     /// Whether the started pair's common neighbours admit [`CommonNeeds`]
@@ -626,55 +756,40 @@ impl Index {
             self.common_known = true;
         }
         ask(&mut self.said_common, k, || {
-            self.commons[k].admitted_by(&self.common)
+            self.catalog.commons[k].admitted_by(&self.common)
         })
     }
 }
 
-/// Each rod's core number among the free rods, up to `max`.
-fn free_cores(state: &State, max: u8) -> Vec<u8> {
-    let g = state.g;
-    let n = g.n_nodes();
-    let mut core = vec![0u8; n];
-    if max == 0 {
-        return core;
-    }
-    let mut alive: Vec<bool> = (0..n as u32).map(|r| state.is_free_rod(r)).collect();
-    // The contact graph is simple: a rod's free neighbours are its degree.
-    let mut degree: Vec<u32> = (0..n as u32)
-        .map(|r| {
-            g.neighbors(r)
-                .iter()
-                .filter(|&&(x, _)| alive[x as usize])
-                .count() as u32
+/// The slots set in `bits`, in order.
+fn slots(bits: &[u64]) -> impl Iterator<Item = u32> + '_ {
+    bits.iter().enumerate().flat_map(|(w, &word)| {
+        let mut word = word;
+        std::iter::from_fn(move || {
+            (word != 0).then(|| {
+                let b = word.trailing_zeros();
+                word &= word - 1;
+                64 * w as u32 + b
+            })
         })
-        .collect();
-    let mut stack = Vec::new();
-    for k in 1..=max {
-        stack.extend((0..n).filter(|&r| alive[r] && degree[r] < u32::from(k)));
-        while let Some(r) = stack.pop() {
-            if !alive[r] {
-                continue;
-            }
-            alive[r] = false;
-            core[r] = k - 1;
-            for &(x, _) in g.neighbors(r as u32) {
-                let x = x as usize;
-                if alive[x] {
-                    degree[x] -= 1;
-                    if degree[x] < u32::from(k) {
-                        stack.push(x);
-                    }
-                }
+    })
+}
+
+/// Clears the slots of `bits` at or after `bound` in the plain order `order`.
+fn keep_before(trie: &Trie, order: (u32, u32), bound: u32, bits: &mut [u64]) {
+    if bound == u32::MAX {
+        return;
+    }
+    for (w, word) in bits.iter_mut().enumerate() {
+        let mut rest = *word;
+        while rest != 0 {
+            let b = rest.trailing_zeros();
+            rest &= rest - 1;
+            if trie.rank(64 * w as u32 + b, order) >= bound {
+                *word &= !(1 << b);
             }
         }
     }
-    for (c, a) in core.iter_mut().zip(alive) {
-        if a {
-            *c = max;
-        }
-    }
-    core
 }
 
 /// Condition `k`'s answer for the current task, asking `answer` once

@@ -255,6 +255,7 @@ impl State<'_> {
         found.clear();
         self.survey(ix, rule, map, 2, &mut found);
         let n = map.len();
+        ix.no_map = found.is_empty();
         let matched = match found.len() / n {
             0 => false,
             1 => {

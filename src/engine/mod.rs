@@ -18,6 +18,10 @@
 //!   plain search from each start.
 //! - `ball`: a rod task's free rods as bit sets, where the index replays the
 //!   plain search of a rods-only rule.
+//! - `cores`, `sieve`, `trie`, `catalog`: the free rods' k-cores; which
+//!   rods-only attempts a rod task admits; their plans as one trie; and a
+//!   rule set's tables (with the containments between its rules), built
+//!   once and shared.
 //! - `index`: host nodes' neighbours and profiles, checked against the
 //!   demands so the matcher skips attempts that cannot match.
 //! - `induced`: exact verdicts of the patterns matched parts induce.
@@ -38,8 +42,10 @@
 mod assignment;
 mod ball;
 mod base;
+mod catalog;
 pub mod certify;
 mod compression;
+mod cores;
 mod demand;
 pub mod examples;
 mod index;
@@ -51,14 +57,17 @@ mod rule;
 mod ruleset;
 mod run;
 pub mod shapes;
+mod sieve;
 mod sound;
 mod state;
+mod trie;
 
+pub use catalog::prepare;
 pub use compression::Compression;
 pub use motif::{Motif, MotifCounts};
 pub use rule::CompiledRule;
 pub use ruleset::RuleSet;
 pub use run::{
-    Engine, MAX_RUNS, Matching, check_runs_memory, compress, compress_from, compress_runs,
+    Engine, MAX_RUNS, Matching, Work, check_runs_memory, compress, compress_from, compress_runs,
     run_seed, runs_memory,
 };

@@ -13,6 +13,9 @@ use crate::rule_file::Rule;
 #[derive(Clone, Debug)]
 pub struct CompiledRule {
     pub id: String,
+    /// A hash of the id and pattern: rule sets with the same digests in the
+    /// same order share their catalog ([`super::catalog`]).
+    pub(super) digest: u64,
     /// The base motif a base rule writes out, else [`Motif::Rule`].
     pub motif: Motif,
     pub(super) kinds: Vec<NodeKind>,
@@ -136,8 +139,15 @@ impl CompiledRule {
         let pairs: usize = neighbours.iter().map(Vec::len).sum::<usize>() / 2;
         let cycles = pairs as i64 - n as i64 + 1;
         let min_degree = neighbours.iter().map(Vec::len).min().unwrap_or(0);
+        let digest = {
+            use std::hash::{Hash, Hasher};
+            let mut h = rustc_hash::FxHasher::default();
+            (&rule.id, p).hash(&mut h);
+            h.finish()
+        };
         let mut compiled = CompiledRule {
             id: rule.id.clone(),
+            digest,
             motif,
             kinds: p.kinds.clone(),
             between,

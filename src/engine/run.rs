@@ -12,7 +12,7 @@ use super::base::Found;
 use super::certify;
 use super::compression::Compression;
 use super::index::Index;
-use super::motif::MotifCounts;
+use super::motif::{Motif, MotifCounts};
 use super::rule::CompiledRule;
 use super::ruleset::RuleSet;
 use super::state::State;
@@ -26,6 +26,40 @@ use crate::{Error, Result};
 enum Task {
     Rod(u32),
     Pair(u32, u32),
+}
+
+/// What one compression did besides its outcome: its tasks, the searches
+/// of loaded rules they made, and its merges (a measure of work apart from
+/// time, for `rgc bench`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Work {
+    /// Rod tasks on a rod still free.
+    pub rod_tasks: u64,
+    /// Pair tasks on two distinct nodes.
+    pub pair_tasks: u64,
+    /// Searches of a loaded rule from a task: the attempts the index left.
+    pub attempts: u64,
+    /// Merges, and those of them that loaded rules made.
+    pub merges: u64,
+    pub rule_merges: u64,
+    /// Nanoseconds spent matching loaded rules (and keeping their index),
+    /// when timed: the rest is the base engine's work.
+    pub rule_nanos: u64,
+    #[serde(skip)]
+    timed: bool,
+}
+
+impl Work {
+    /// Runs `f`, adding its time to [`Work::rule_nanos`] when timed.
+    fn rules<T>(&mut self, f: impl FnOnce(&mut Work) -> T) -> T {
+        if !self.timed {
+            return f(self);
+        }
+        let t = std::time::Instant::now();
+        let out = f(self);
+        self.rule_nanos += t.elapsed().as_nanos() as u64;
+        out
+    }
 }
 
 /// What the engine compresses with: the rule set, whether the built-in base
@@ -82,13 +116,52 @@ impl<'r> Engine<'r> {
                 rules: RuleSet::Sound,
                 ..*self
             };
-            let run = compress_engine(&sound, graph, bodies, seed, Matching::Indexed)?;
+            let run = compress_engine(
+                &sound,
+                graph,
+                bodies,
+                seed,
+                Matching::Indexed,
+                &mut Work::default(),
+            )?;
             // A graph without geometry is a finite framework; a generated
             // system certifies with its box (`certify::certify`).
             let topo = crate::truth::Topology::finite(graph);
             return Ok(certify::certify(&topo, run, seed));
         }
-        compress_engine(self, graph, bodies, seed, Matching::Indexed)
+        compress_engine(
+            self,
+            graph,
+            bodies,
+            seed,
+            Matching::Indexed,
+            &mut Work::default(),
+        )
+    }
+
+    /// [`Engine::compress`] from no bodies (`sound` or `paper`), with what
+    /// it did, and (when `timed`) the time it spent on loaded rules, which
+    /// the clock's own cost inflates.
+    pub fn compress_measured(
+        &self,
+        graph: &ContactGraph,
+        seed: u64,
+        timed: bool,
+    ) -> (Compression, Work) {
+        let mut work = Work {
+            timed,
+            ..Work::default()
+        };
+        let engine = Engine {
+            rules: match self.rules {
+                RuleSet::Certified => RuleSet::Sound,
+                r => r,
+            },
+            ..*self
+        };
+        let run = compress_engine(&engine, graph, &[], seed, Matching::Indexed, &mut work)
+            .expect("no declared bodies to reject");
+        (run, work)
     }
 
     /// [`Engine::compress`] with the loaded rules matched as `matching`
@@ -109,7 +182,7 @@ impl<'r> Engine<'r> {
             },
             ..*self
         };
-        let run = compress_engine(&engine, graph, bodies, seed, matching)?;
+        let run = compress_engine(&engine, graph, bodies, seed, matching, &mut Work::default())?;
         Ok(match self.rules {
             RuleSet::Certified => {
                 certify::certify(&crate::truth::Topology::finite(graph), run, seed)
@@ -155,6 +228,7 @@ fn compress_engine(
     bodies: &[Body],
     seed: u64,
     matching: Matching,
+    work: &mut Work,
 ) -> Result<Compression> {
     let rules = engine.rules;
     check_bodies(graph, bodies)?;
@@ -180,8 +254,10 @@ fn compress_engine(
         let b = state.find(b);
         tasks.extend(state.neighbours(b).map(|y| Task::Pair(b, y)));
     }
-    let mut index = (matching != Matching::Unindexed && !engine.extra.is_empty())
-        .then(|| Index::new(&mut state, engine.extra, matching == Matching::Audited));
+    let mut index = work.rules(|_| {
+        (matching != Matching::Unindexed && !engine.extra.is_empty())
+            .then(|| Index::new(&mut state, engine.extra, matching == Matching::Audited))
+    });
     tasks.extend(
         (0..graph.n_nodes() as u32)
             .filter(|&r| graph.degree(r) >= 2)
@@ -195,6 +271,7 @@ fn compress_engine(
                 if !state.is_free_rod(r) {
                     continue;
                 }
+                work.rod_tasks += 1;
                 let rules_first = rng.random::<bool>();
                 let base = |state: &mut State, rng: &mut ChaCha8Rng| {
                     if !engine.base {
@@ -205,12 +282,13 @@ fn compress_engine(
                         state.k24(r).or_else(|| state.community(r))
                     }
                 };
+                let mut rules = |state: &mut State, rng: &mut ChaCha8Rng| {
+                    work.rules(|work| rod_rules(state, engine, r, rng, index.as_mut(), work))
+                };
                 if rules_first {
-                    rod_rules(&mut state, engine, r, &mut rng, index.as_mut())
-                        .or_else(|| base(&mut state, &mut rng))
+                    rules(&mut state, &mut rng).or_else(|| base(&mut state, &mut rng))
                 } else {
-                    base(&mut state, &mut rng)
-                        .or_else(|| rod_rules(&mut state, engine, r, &mut rng, index.as_mut()))
+                    base(&mut state, &mut rng).or_else(|| rules(&mut state, &mut rng))
                 }
             }
             Task::Pair(x, y) => {
@@ -218,19 +296,20 @@ fn compress_engine(
                 if x == y {
                     continue;
                 }
-                if rng.random::<bool>() {
-                    pair_rules(&mut state, engine, x, y, &mut rng, index.as_mut()).or_else(|| {
-                        engine
-                            .base
-                            .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
-                            .flatten()
-                    })
-                } else {
+                work.pair_tasks += 1;
+                let mut loaded = |state: &mut State, rng: &mut ChaCha8Rng| {
+                    work.rules(|work| pair_rules(state, engine, x, y, rng, index.as_mut(), work))
+                };
+                let mut base = |state: &mut State, rng: &mut ChaCha8Rng| {
                     engine
                         .base
-                        .then(|| examine_pair(&mut state, x, y, rules, &mut rng, &mut buf))
+                        .then(|| examine_pair(state, x, y, rules, rng, &mut buf))
                         .flatten()
-                        .or_else(|| pair_rules(&mut state, engine, x, y, &mut rng, index.as_mut()))
+                };
+                if rng.random::<bool>() {
+                    loaded(&mut state, &mut rng).or_else(|| base(&mut state, &mut rng))
+                } else {
+                    base(&mut state, &mut rng).or_else(|| loaded(&mut state, &mut rng))
                 }
             }
         };
@@ -242,13 +321,28 @@ fn compress_engine(
         {
             counts.add(motif);
             sequence.push(motif);
+            work.merges += 1;
+            work.rule_merges += u64::from(motif == Motif::Rule);
+            let leaving: Vec<u32> = match index {
+                Some(_) => parts
+                    .iter()
+                    .copied()
+                    .filter(|&p| state.is_free_rod(p))
+                    .collect(),
+                None => Vec::new(),
+            };
             let (node, changed) = state.merge(&parts, class);
             if let Some(index) = index.as_mut() {
-                // The parts (the merged node among them) and every node whose
-                // neighbours changed (`State::merge` reports them).
-                for &x in parts.iter().chain(&changed) {
-                    index.invalidate(x);
-                }
+                work.rules(|_| {
+                    for &r in &leaving {
+                        index.leave(&state, r);
+                    }
+                    // The parts (the merged node among them) and every node
+                    // whose neighbours changed (`State::merge` reports them).
+                    for &x in parts.iter().chain(&changed) {
+                        index.invalidate(x);
+                    }
+                });
             }
             tasks.extend(changed.into_iter().map(|y| Task::Pair(node, y)));
         }
@@ -322,12 +416,15 @@ fn check_bodies(graph: &ContactGraph, bodies: &[Body]) -> Result<()> {
 
 /// Tries the rods-only loaded rules with rod `r` on each pattern node, from
 /// a random rule on, skipping the nodes `index` shows `r` cannot carry.
+/// (Kept out of the worklist's loop, which the base engine runs alone.)
+#[inline(never)]
 fn rod_rules(
     state: &mut State,
     engine: &Engine,
     r: u32,
     rng: &mut ChaCha8Rng,
     index: Option<&mut Index>,
+    work: &mut Work,
 ) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
@@ -341,6 +438,7 @@ fn rod_rules(
                 continue;
             }
             for v in 0..rule.n_nodes() {
+                work.attempts += 1;
                 if let Some(hit) = state.match_rule(rule, v, r, None, engine.rules, None) {
                     return Some(Found::of_rule(rule, hit));
                 }
@@ -348,18 +446,54 @@ fn rod_rules(
         }
         return None;
     };
-    ix.start_rod(state, r);
-    let rules: Vec<usize> = ix.rods_only_from(start).collect();
-    for k in rules {
+    let admitted = ix.start_rod(state, r, start, ix.audit);
+    if ix.audit {
+        return audited_rod_rules(state, engine, r, start, ix, admitted);
+    }
+    if !admitted {
+        return None;
+    }
+    while let Some((k, v)) = ix.next_rod_attempt() {
         let rule = &engine.extra[k];
+        work.attempts += 1;
+        let hit = match state.match_in_ball(ix, rule, v, engine.rules) {
+            Some(hit) => hit,
+            None => state.match_rule(rule, v, r, None, engine.rules, Some(&mut *ix)),
+        };
+        if let Some(hit) = hit {
+            return Some(Found::of_rule(rule, hit));
+        }
+    }
+    None
+}
+
+/// [`rod_rules`] with every attempt the index skips matched anyway
+/// (panicking if it would have matched), and every attempt it makes
+/// matched plainly too, to compare.
+fn audited_rod_rules(
+    state: &mut State,
+    engine: &Engine,
+    r: u32,
+    start: usize,
+    ix: &mut Index,
+    admitted: bool,
+) -> Option<Found> {
+    let n = engine.extra.len();
+    let attempts: Vec<(usize, usize)> = if admitted {
+        ix.rod_attempts().collect()
+    } else {
+        Vec::new()
+    };
+    for k in (0..n).map(|k| (start + k) % n) {
+        let rule = &engine.extra[k];
+        if !rule.rods_only() {
+            continue;
+        }
         for v in 0..rule.n_nodes() {
-            // An automorphic start tried before failed, so does this one.
-            if rule.orbit[v] < v || !ix.rod_could_match(state, rule, v) {
+            let plain = state.match_rule(rule, v, r, None, engine.rules, None);
+            if !attempts.contains(&(k, v)) {
                 assert!(
-                    !ix.audit
-                        || state
-                            .match_rule(rule, v, r, None, engine.rules, None)
-                            .is_none(),
+                    plain.is_none(),
                     "the index skipped a match of rule {} at rod {r}",
                     rule.id
                 );
@@ -369,10 +503,7 @@ fn rod_rules(
                 Some(hit) => hit,
                 None => state.match_rule(rule, v, r, None, engine.rules, Some(&mut *ix)),
             };
-            if ix.audit {
-                let plain = state.match_rule(rule, v, r, None, engine.rules, None);
-                assert_eq!(hit, plain, "rule {} at rod {r}", rule.id);
-            }
+            assert_eq!(hit, plain, "rule {} at rod {r}", rule.id);
             if let Some(hit) = hit {
                 return Some(Found::of_rule(rule, hit));
             }
@@ -383,7 +514,8 @@ fn rod_rules(
 
 /// Tries the loaded rules with bodies on the changed pair `x`, `y` mapped
 /// onto each pattern contact, from a random rule on, skipping the contacts
-/// `index` shows the pair cannot carry.
+/// `index` shows the pair cannot carry (kept out of the loop too).
+#[inline(never)]
 fn pair_rules(
     state: &mut State,
     engine: &Engine,
@@ -391,6 +523,7 @@ fn pair_rules(
     y: u32,
     rng: &mut ChaCha8Rng,
     mut index: Option<&mut Index>,
+    work: &mut Work,
 ) -> Option<Found> {
     let n = engine.extra.len();
     if n == 0 {
@@ -411,9 +544,10 @@ fn pair_rules(
             if rule.rods_only() {
                 continue;
             }
-            let hit = rule
-                .contact_pairs(cx, cy, m)
-                .find_map(|(a, b)| state.match_rule(rule, a, x, Some((b, y)), engine.rules, None));
+            let hit = rule.contact_pairs(cx, cy, m).find_map(|(a, b)| {
+                work.attempts += 1;
+                state.match_rule(rule, a, x, Some((b, y)), engine.rules, None)
+            });
             if let Some(hit) = hit {
                 return Some(Found::of_rule(rule, hit));
             }
@@ -434,7 +568,13 @@ fn pair_rules(
             if e.mult > m {
                 continue;
             }
-            if rule.pair_orbit[a][b] < (a, b) || !ix.pair_could_match(state, &e) {
+            let skip = rule.pair_orbit[a][b] < (a, b)
+                || ix.dead(&e)
+                || !ix.pair_could_match(state, &e) && {
+                    ix.kill(&e);
+                    true
+                };
+            if skip {
                 assert!(
                     !ix.audit
                         || state
@@ -445,7 +585,13 @@ fn pair_rules(
                 );
                 continue;
             }
+            work.attempts += 1;
+            // No node map unless the search finds one.
+            ix.no_map = true;
             let hit = state.match_rule(rule, a, x, Some((b, y)), engine.rules, Some(&mut *ix));
+            if hit.is_none() && ix.no_map {
+                ix.kill(&e);
+            }
             if ix.audit {
                 let plain = state.match_rule(rule, a, x, Some((b, y)), engine.rules, None);
                 assert_eq!(hit, plain, "rule {} at nodes {x}, {y}", rule.id);

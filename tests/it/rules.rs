@@ -128,6 +128,52 @@ fn indexed_matcher_compresses_like_the_unindexed_one() {
     );
 }
 
+/// The same with the large rule sets, whose rods-only rules the sieve and
+/// the trie match all at once: rods to 10 with mixed motifs to 4
+/// components (1,569 rules), and with mixed ones of 5 (3,307), on small
+/// rod systems at gamma 23 (the plain matcher tries every rule in turn) and
+/// gamma 98; and a restart from a run's bodies.
+#[test]
+fn indexed_matcher_compresses_like_the_unindexed_one_with_the_large_rule_sets() {
+    let extended = committed(&["rods-6", "rods-8", "mixed-4"]);
+    let rods = committed(&["rods-6", "rods-8", "rods-9", "rods-10", "mixed-4"]);
+    let all = committed(&[
+        "rods-6", "rods-8", "rods-9", "rods-10", "mixed-4", "mixed-5",
+    ]);
+    assert_eq!((rods.len(), all.len()), (1569, 3307));
+    let (mut rules_applied, mut changed) = (0, 0);
+    let systems = [(23.0, 2.5, 38.0), (23.0, 2.5, 44.0), (98.0, 2.1, 170.0)];
+    for (k, &(gamma, l, density)) in systems.iter().enumerate() {
+        let seed = 60 + k as u64;
+        let system = RodSystem::generate(RodParams::new(gamma, l, density).unwrap(), seed);
+        let g = ContactGraph::from_contacts(system.len(), &detect(&system));
+        let smaller = Engine::with_rules(RuleSet::Sound, &extended)
+            .compress(&g, &[], seed)
+            .unwrap();
+        for extra in [&rods, &all] {
+            let engine = Engine::with_rules(RuleSet::Sound, extra);
+            let plain = engine
+                .compress_matching(&g, &[], seed, Matching::Unindexed)
+                .unwrap();
+            let indexed = engine.compress(&g, &[], seed).unwrap();
+            assert_eq!(indexed, plain, "gamma {gamma}, density {density}");
+            let half = &plain.bodies[..plain.bodies.len() / 2];
+            let plain_again = engine
+                .compress_matching(&g, half, seed + 1, Matching::Unindexed)
+                .unwrap();
+            let indexed_again = engine.compress(&g, half, seed + 1).unwrap();
+            assert_eq!(indexed_again, plain_again, "gamma {gamma}, restarted");
+            rules_applied += plain.motifs.rules + plain_again.motifs.rules;
+            // The larger sets found what the 138 rules did not.
+            changed += usize::from(plain.sequence != smaller.sequence);
+        }
+    }
+    assert!(
+        rules_applied >= 20 && changed >= 2,
+        "the loaded rules compressed ({rules_applied} instances, {changed} runs unlike the 138 rules')"
+    );
+}
+
 /// Every attempt the index skips is one the plain matcher would not have
 /// matched (the audit matches each anyway and panics if it would have).
 #[test]
@@ -162,4 +208,96 @@ fn large_system_agreement() {
         b.components,
         t.elapsed().as_secs_f64()
     );
+}
+
+/// Sequences of committed studies compress as they did when committed, so
+/// that the studies stay valid: rerun by the nested protocol, each gives the
+/// same steps (rods, spanning, runs spanning at every compression of the
+/// bisection), critical numbers, fresh compression and contact numbers. A
+/// few sequences of the base engine's and the 138 extended rules' gamma 23
+/// studies, and of the mined rules' gamma 98 study, at their smallest boxes.
+#[test]
+fn committed_studies_replay_their_sequences() {
+    use rgc::threshold::sequence::{Record, Sequence, Setup, nested};
+    use rgc::threshold::study::StudySpec;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let studies = [
+        ("results/g23-rigid-sound", 5.0, 3),
+        ("results/g23-rigid-sound-extended", 5.0, 3),
+        (
+            "results/studies/rigid-sound-m20-4de6c2d1-k1-nested-r40-g98-L3_4_5-wrap-s1",
+            3.0,
+            3,
+        ),
+    ];
+    let mut replayed = 0;
+    for (dir, box_len, sequences) in studies {
+        let dir = root.join(dir);
+        let spec: StudySpec =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("study.json")).unwrap())
+                .unwrap();
+        let files: Vec<_> = spec.motifs.files.iter().map(|f| root.join(f)).collect();
+        let rules: Vec<CompiledRule> = rgc::rule_file::load_rules(&files)
+            .unwrap()
+            .iter()
+            .map(CompiledRule::new)
+            .collect();
+        assert_eq!(rules.len(), spec.motifs.rules, "{}", dir.display());
+        let setup = Setup {
+            kind: spec.kind,
+            gamma: spec.gamma,
+            criterion: spec.criterion,
+            engine: Engine::with_rules(spec.rules, &rules),
+            runs: spec.runs,
+            memory_limit: None,
+        };
+        let records = std::fs::read_to_string(dir.join("records.jsonl")).unwrap();
+        let chosen = records
+            .lines()
+            .map(|line| serde_json::from_str::<Record>(line).unwrap())
+            .filter(|r| r.box_len == box_len && r.index < sequences);
+        for committed in chosen {
+            // As the study generated them: past the typical threshold
+            // (mean contact number 5), grown when a step needs more.
+            let first = (5.0 / rgc::rods::excluded_volume(spec.gamma) * box_len.powi(3)).ceil();
+            let mut seq =
+                Sequence::new(spec.gamma, box_len, first as usize, committed.seed).unwrap();
+            let mut again = Record {
+                contact_critical: 0,
+                rigid_critical: None,
+                steps: Vec::new(),
+                fresh: None,
+                fixed: Vec::new(),
+                contacts: Vec::new(),
+                undecided: None,
+                ..committed.clone()
+            };
+            nested(&setup, &mut seq, &mut again).unwrap();
+            let key = |r: &Record| {
+                (
+                    r.contact_critical,
+                    r.rigid_critical,
+                    r.steps.clone(),
+                    r.fresh,
+                )
+            };
+            let here = format!(
+                "{} box {box_len} sequence {}",
+                dir.display(),
+                committed.index
+            );
+            assert_eq!(key(&again), key(&committed), "{here}");
+            // Contact numbers are sums of floats the engine does not touch,
+            // committed from an earlier summation: equal to rounding.
+            assert_eq!(again.contacts.len(), committed.contacts.len(), "{here}");
+            for (a, c) in again.contacts.iter().zip(&committed.contacts) {
+                assert_eq!(a.density, c.density, "{here}");
+                for (x, y) in [(a.c0, c.c0), (a.c1, c.c1), (a.c2, c.c2)] {
+                    assert!((x - y).abs() <= 1e-12 * y.abs(), "{here}: {x} against {y}");
+                }
+            }
+            replayed += 1;
+        }
+    }
+    assert_eq!(replayed, 9);
 }

@@ -27,6 +27,18 @@ pub struct BenchArgs {
     /// Time no rule sets.
     #[arg(long)]
     no_rules: bool,
+    /// Instead: every rule set against the base engine on gamma 23 (L 10,
+    /// rho 40) and gamma 98 (L 10, rho 190), one thread, interleaved:
+    /// seconds, ratio to base, tasks, searches and merges, and each set's
+    /// load time. The sets are --rule-set, else those of --motifs:
+    /// extended (rods-6, rods-8, mixed-4), rods-10+mixed-4 (with rods-9 and
+    /// rods-10, where both exist; rods-10+mixed-5 also with mixed-5) and
+    /// mined.
+    #[arg(long, conflicts_with_all = ["rank", "truth", "truth_aspects", "networkx", "no_rules", "rule_load"])]
+    rule_sets: bool,
+    /// A rule set of --rule-sets, `NAME=FILE[,FILE...]` (repeatable).
+    #[arg(long, requires = "rule_sets")]
+    rule_set: Vec<bench::RuleSetFiles>,
     /// Also set the whole `rgc sample` process against networkx's first RGC
     /// step (3-clique communities merged into bodies) on the same gamma 23,
     /// L = 10 system, interleaved; needs python3 with networkx.
@@ -116,6 +128,9 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
     }
     if a.truth_aspects {
         return truth_aspects(a, out);
+    }
+    if a.rule_sets {
+        return rule_sets(a, out);
     }
     bench::check_max_rods(a.max_rods)?;
     let sets = if a.no_rules {
@@ -246,6 +261,75 @@ fn rule_load(a: BenchArgs, out: &mut String) -> Result<()> {
             r.cpu_seconds
         );
     }
+    Ok(())
+}
+
+fn rule_sets(a: BenchArgs, out: &mut String) -> Result<()> {
+    let files = if a.rule_set.is_empty() {
+        bench::default_rule_sets(&a.motifs)
+    } else {
+        a.rule_set.clone()
+    };
+    let sets = files
+        .iter()
+        .map(bench::load_set)
+        .collect::<Result<Vec<_>>>()?;
+    let report = bench::rules::run(a.repeat as usize, &sets);
+    if written(&report, &a, out)? {
+        return Ok(());
+    }
+    say!(
+        out,
+        "{:>5} {:>16} {:>5} {:>8} {:>6} {:>8} {:>6} {:>9} {:>9} {:>9} {:>7} {:>6}",
+        "gamma",
+        "rule set",
+        "rules",
+        "seconds",
+        "ratio",
+        "matching",
+        "base",
+        "rod tasks",
+        "pairs",
+        "searches",
+        "merges",
+        "rules"
+    );
+    for r in &report.rows {
+        say!(
+            out,
+            "{:>5} {:>16} {:>5} {:>8.3} {:>6.2} {:>8.3} {:>6.2} {:>9.0} {:>9.0} {:>9.0} {:>7.0} {:>6.0}",
+            r.gamma,
+            r.name,
+            r.n_rules,
+            r.seconds,
+            r.ratio_to_base,
+            r.seconds_rules,
+            r.base_work_ratio,
+            r.rod_tasks,
+            r.pair_tasks,
+            r.attempts,
+            r.merges,
+            r.rule_merges
+        );
+    }
+    for l in &report.loads {
+        say!(
+            out,
+            "{}: {} rules ({} rods only) loaded and verified in {:.3} s, compiled in {:.3} s: {:.3} s",
+            l.name,
+            l.n_rules,
+            l.n_rods_only,
+            l.seconds_verify,
+            l.seconds_compile,
+            l.seconds_total
+        );
+    }
+    say!(
+        out,
+        "medians of {} repetitions, one thread; ratio: the median of each repetition's time over the base engine's on the same graph;\n\
+         matching: seconds spent on loaded rules; base: the rest over the base engine's time (the work the extra merges cause)",
+        report.repeat
+    );
     Ok(())
 }
 

@@ -1,0 +1,365 @@
+//! The plain search plans of all rods-only attempts as one trie, searched
+//! once per rod task for which attempts have a complete map of their nodes.
+//!
+//! An attempt's plan ([`super::rule::Step`]s) maps one pattern node after
+//! another onto ball rods that touch the rods its mapped neighbours are on;
+//! written with step numbers instead of pattern nodes, the plans of
+//! different rules and starts share their first steps. The trie searches
+//! each shared prefix once, for all attempts below it, and leaves a subtree
+//! once every attempt the task admits below it has a complete map. Which
+//! complete map the plain search meets first, and whether it passes the
+//! contact assignment and the induced rigidity, is left to each attempt's
+//! own search: the trie only says which attempts can match at all.
+
+use super::ball::{Ball, Bits, MAX_CORE, MAX_DEGREE};
+use super::rule::CompiledRule;
+
+/// One step of a plan, by step numbers: the earlier steps (0 is the start)
+/// whose rods it must touch, its pattern degree (up to [`MAX_DEGREE`]) and
+/// its pattern distance from the start.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Key {
+    back: Vec<u8>,
+    degree: u8,
+    distance: u8,
+}
+
+/// A trie node: the last step of its prefix, its children (contiguous),
+/// the slots of the attempts below it and of those whose plans end here,
+/// and its checks (in [`Trie::checks`]).
+#[derive(Clone, Debug)]
+struct Node {
+    back: (u32, u8),
+    degree: u8,
+    distance: u8,
+    children: (u32, u32),
+    slots: (u32, u32),
+    ends: (u32, u32),
+    checks: (u32, u32),
+}
+
+/// A later step that every plan below a trie node has, with all the steps
+/// it must touch in the node's prefix: once the prefix is mapped, a rod
+/// must be left for it (its back steps in [`Trie::backs`]).
+#[derive(Clone, Copy, Debug)]
+struct Check {
+    back: (u32, u8),
+    degree: u8,
+    distance: u8,
+}
+
+/// The attempts' plans as a trie per group of attempts that search the
+/// same rods (the same eccentricity and core order).
+pub(super) struct Trie {
+    nodes: Vec<Node>,
+    backs: Vec<u8>,
+    checks: Vec<Check>,
+    /// By group: the eccentricity, the core order and the root node.
+    groups: Vec<(u8, u8, u32)>,
+    /// Each attempt's slot: attempts numbered in the trie's order, so a
+    /// subtree's attempts are a range of slots.
+    pub slot_of: Vec<u32>,
+    pub attempt_of: Vec<u32>,
+}
+
+/// The state of one trie search: the ball rod of each step, the rods used,
+/// the rods a match can use, and, when only the first attempt in the plain
+/// order is wanted, that order (where the cycle of attempts starts, and
+/// their number).
+#[derive(Default)]
+pub(super) struct Walk {
+    local: [u8; 32],
+    used: Bits,
+    within: Bits,
+    first: Option<(u32, u32)>,
+}
+
+impl Walk {
+    /// The searches want the first attempt with a complete map in the
+    /// plain order that starts at attempt `split` (of `n`), and leave the
+    /// later ones unknown; or (`None`) every attempt with one.
+    pub fn want_first(&mut self, first: Option<(u32, u32)>) {
+        self.first = first;
+    }
+}
+
+impl Trie {
+    /// The trie of the plans of `attempts` (rule, pattern node), whose
+    /// plans exist and have at most 31 steps.
+    pub fn new(rules: &[CompiledRule], attempts: &[(u32, u8)]) -> Self {
+        let mut plans: Vec<((u8, u8), Vec<Key>, u32)> = attempts
+            .iter()
+            .enumerate()
+            .map(|(a, &(k, v))| {
+                let rule = &rules[k as usize];
+                let v = v as usize;
+                let plan = rule.plans[v]
+                    .as_ref()
+                    .expect("a rods-only rule is connected");
+                let mut number = vec![0u8; rule.n_nodes()];
+                let keys = plan
+                    .iter()
+                    .enumerate()
+                    .map(|(i, step)| {
+                        number[step.node] = i as u8 + 1;
+                        let mut back: Vec<u8> = step
+                            .back
+                            .iter()
+                            .map(|&w| if w == v { 0 } else { number[w] })
+                            .collect();
+                        back.sort_unstable();
+                        Key {
+                            back,
+                            degree: (step.degree as usize).min(MAX_DEGREE) as u8,
+                            distance: step.distance,
+                        }
+                    })
+                    .collect();
+                let group = (
+                    rule.eccentricity[v].min(u8::MAX as usize) as u8,
+                    rule.min_degree.min(MAX_CORE) as u8,
+                );
+                (group, keys, a as u32)
+            })
+            .collect();
+        plans.sort_unstable();
+        let attempt_of: Vec<u32> = plans.iter().map(|p| p.2).collect();
+        let mut slot_of = vec![0u32; attempts.len()];
+        for (s, &a) in attempt_of.iter().enumerate() {
+            slot_of[a as usize] = s as u32;
+        }
+        let mut trie = Trie {
+            nodes: Vec::new(),
+            backs: Vec::new(),
+            checks: Vec::new(),
+            groups: Vec::new(),
+            slot_of,
+            attempt_of,
+        };
+        let mut lo = 0;
+        while lo < plans.len() {
+            let group = plans[lo].0;
+            let hi = lo + plans[lo..].partition_point(|p| p.0 == group);
+            let root = trie.nodes.len() as u32;
+            trie.nodes.push(Node {
+                back: (0, 0),
+                degree: 0,
+                distance: 0,
+                children: (0, 0),
+                slots: (lo as u32, hi as u32),
+                ends: (lo as u32, lo as u32),
+                checks: (0, 0),
+            });
+            trie.grow(&plans, root, 0);
+            trie.groups.push((group.0, group.1, root));
+            lo = hi;
+        }
+        trie
+    }
+
+    /// Adds the children of `node`, whose prefix is the first `depth` steps
+    /// of the plans in its slots, and their subtrees.
+    fn grow(&mut self, plans: &[((u8, u8), Vec<Key>, u32)], node: u32, depth: usize) {
+        let (lo, hi) = self.nodes[node as usize].slots;
+        let (lo, hi) = (lo as usize, hi as usize);
+        // Plans that end here sort first.
+        let mut at = lo + plans[lo..hi].partition_point(|p| p.1.len() == depth);
+        self.nodes[node as usize].ends = (lo as u32, at as u32);
+        // The steps after the next that every plan below has and that touch
+        // only the prefix (none where a plan ends here).
+        if at == lo {
+            let ready = |p: &'_ ((u8, u8), Vec<Key>, u32)| -> Vec<Key> {
+                p.1.iter()
+                    .skip(depth + 1)
+                    .filter(|k| k.back.iter().all(|&b| usize::from(b) <= depth))
+                    .cloned()
+                    .collect()
+            };
+            let mut common = ready(&plans[lo]);
+            for p in &plans[lo + 1..hi] {
+                if common.is_empty() {
+                    break;
+                }
+                let theirs = ready(p);
+                common.retain(|k| theirs.contains(k));
+            }
+            common.sort_unstable();
+            common.dedup();
+            let from = self.checks.len() as u32;
+            for k in common {
+                let back = (self.backs.len() as u32, k.back.len() as u8);
+                self.backs.extend_from_slice(&k.back);
+                self.checks.push(Check {
+                    back,
+                    degree: k.degree,
+                    distance: k.distance,
+                });
+            }
+            self.nodes[node as usize].checks = (from, self.checks.len() as u32);
+        }
+        let first = self.nodes.len() as u32;
+        while at < hi {
+            let key = &plans[at].1[depth];
+            let end = at + plans[at..hi].partition_point(|p| &p.1[depth] == key);
+            let back = (self.backs.len() as u32, key.back.len() as u8);
+            self.backs.extend_from_slice(&key.back);
+            self.nodes.push(Node {
+                back,
+                degree: key.degree,
+                distance: key.distance,
+                children: (0, 0),
+                slots: (at as u32, end as u32),
+                ends: (at as u32, at as u32),
+                checks: (0, 0),
+            });
+            at = end;
+        }
+        let last = self.nodes.len() as u32;
+        self.nodes[node as usize].children = (first, last);
+        for child in first..last {
+            self.grow(plans, child, depth + 1);
+        }
+    }
+
+    /// The place of slot `s` in the plain order that starts at attempt
+    /// `split` of `n`.
+    pub fn rank(&self, s: u32, (split, n): (u32, u32)) -> u32 {
+        (self.attempt_of[s as usize] + n - split) % n
+    }
+
+    /// Finds, among the attempts whose slots are set in `pending`, those
+    /// with a complete map of their nodes into `ball` from its root, whose
+    /// eccentricity is at most `radius`: clears their slots and appends
+    /// them to `found`. When `walk` wants the first one only, each one
+    /// found also clears the slots later than it in the plain order, which
+    /// are then left unknown; those earlier than the first found and still
+    /// set have no complete map.
+    pub fn search(
+        &self,
+        ball: &mut Ball,
+        radius: usize,
+        pending: &mut [u64],
+        found: &mut Vec<u32>,
+        walk: &mut Walk,
+    ) {
+        for &(eccentricity, order, root) in &self.groups {
+            let node = &self.nodes[root as usize];
+            if eccentricity as usize > radius || !any(pending, node.slots) {
+                continue;
+            }
+            let within = ball.within(eccentricity as usize, order as usize);
+            if !within.has(ball.root) {
+                continue;
+            }
+            walk.within = within;
+            walk.local[0] = ball.root as u8;
+            walk.used = Bits::one(ball.root);
+            self.explore(root, 0, ball, pending, found, walk);
+        }
+    }
+
+    fn explore(
+        &self,
+        node: u32,
+        depth: usize,
+        ball: &Ball,
+        pending: &mut [u64],
+        found: &mut Vec<u32>,
+        walk: &mut Walk,
+    ) {
+        let (from, to) = self.nodes[node as usize].checks;
+        for check in &self.checks[from as usize..to as usize] {
+            let (back, degree, distance) = (check.back, check.degree, check.distance);
+            if self
+                .candidates(back, degree, distance, ball, walk)
+                .is_empty()
+            {
+                return;
+            }
+        }
+        let (first, last) = self.nodes[node as usize].children;
+        for c in first..last {
+            let child = &self.nodes[c as usize];
+            if !any(pending, child.slots) {
+                continue;
+            }
+            let mut bits = self.candidates(child.back, child.degree, child.distance, ball, walk);
+            if bits.is_empty() {
+                continue;
+            }
+            for s in child.ends.0..child.ends.1 {
+                let (w, b) = (s as usize / 64, s % 64);
+                if pending[w] & (1 << b) != 0 {
+                    pending[w] &= !(1 << b);
+                    found.push(s);
+                    if let Some(order) = walk.first {
+                        self.clear_later(s, order, pending);
+                    }
+                }
+            }
+            let leaf = child.children.0 == child.children.1;
+            while !leaf && any(pending, child.slots) {
+                let Some(i) = bits.pop() else {
+                    break;
+                };
+                walk.local[depth + 1] = i as u8;
+                walk.used.insert(i);
+                self.explore(c, depth + 1, ball, pending, found, walk);
+                walk.used.remove(i);
+            }
+        }
+    }
+}
+
+impl Trie {
+    /// The ball rods left for a step that touches the rods of the steps
+    /// `back` (in [`Trie::backs`]), of pattern degree `degree` and
+    /// distance `distance` from the start.
+    fn candidates(
+        &self,
+        (at, len): (u32, u8),
+        degree: u8,
+        distance: u8,
+        ball: &Ball,
+        walk: &Walk,
+    ) -> Bits {
+        let mut bits =
+            !walk.used & walk.within & ball.near[distance as usize] & ball.wide[degree as usize];
+        for &b in &self.backs[at as usize..at as usize + len as usize] {
+            bits &= ball.rows[walk.local[b as usize] as usize];
+        }
+        bits
+    }
+
+    /// Clears the slots of `pending` later than slot `s` in `order`.
+    fn clear_later(&self, s: u32, order: (u32, u32), pending: &mut [u64]) {
+        let rank = self.rank(s, order);
+        for (w, word) in pending.iter_mut().enumerate() {
+            let mut bits = *word;
+            while bits != 0 {
+                let b = bits.trailing_zeros();
+                bits &= bits - 1;
+                if self.rank(64 * w as u32 + b, order) > rank {
+                    *word &= !(1 << b);
+                }
+            }
+        }
+    }
+}
+
+/// Whether any bit of `bits` in `lo..hi` is set.
+fn any(bits: &[u64], (lo, hi): (u32, u32)) -> bool {
+    let (lo, hi) = (lo as usize, hi as usize);
+    if lo >= hi {
+        return false;
+    }
+    let (first, last) = (lo / 64, (hi - 1) / 64);
+    let head = u64::MAX << (lo % 64);
+    let tail = u64::MAX >> (63 - (hi - 1) % 64);
+    if first == last {
+        return bits[first] & head & tail != 0;
+    }
+    bits[first] & head != 0
+        || bits[first + 1..last].iter().any(|&w| w != 0)
+        || bits[last] & tail != 0
+}
