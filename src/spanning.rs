@@ -32,6 +32,37 @@ pub enum Criterion {
     /// touching rods straddling a face would span, and the spanning
     /// probability would tend to 1 at every density as `L` grows.)
     Faces,
+    /// The system resists every strain its box has: truth's strain rank
+    /// reaches the number of strains considered (MODEL §10). A property of
+    /// the whole system, not of one cluster (six separate strips can make a
+    /// solid), so truth studies only: everything that tests contacts or
+    /// compressed bodies refuses it.
+    Solid,
+}
+
+impl Criterion {
+    /// The criterion a network of contacts or a cluster is tested under:
+    /// itself, and `Wrap` for `Solid`, since a contact network must wrap
+    /// to be solid. Commands that test clusters refuse `Solid` first
+    /// ([`Criterion::check_clusters`]); this serves a solid truth study's
+    /// contact critical number and its clusters' spans.
+    pub fn of_clusters(self) -> Criterion {
+        match self {
+            Criterion::Solid => Criterion::Wrap,
+            c => c,
+        }
+    }
+
+    /// Refuses `Solid` for `what`, which tests contacts or compressed
+    /// bodies rather than the exact truth.
+    pub fn check_clusters(self, what: &str) -> crate::Result<()> {
+        if self == Criterion::Solid {
+            return Err(crate::Error::Parameter(format!(
+                "--criterion solid needs the exact truth (truth studies and `rgc truth`), not {what}"
+            )));
+        }
+        Ok(())
+    }
 }
 
 impl std::fmt::Display for Criterion {
@@ -40,6 +71,7 @@ impl std::fmt::Display for Criterion {
         f.write_str(match self {
             Criterion::Wrap => "wrap",
             Criterion::Faces => "faces",
+            Criterion::Solid => "solid",
         })
     }
 }
@@ -122,12 +154,12 @@ impl SpanChecker {
         rods: &[u32],
         criterion: Criterion,
     ) -> bool {
-        match criterion {
-            Criterion::Wrap => {
+        match criterion.of_clusters() {
+            Criterion::Faces => self.faces(system, contacts, graph, rods, [true; 3]),
+            _ => {
                 self.wraps(contacts, graph, rods)
                     || self.faces(system, contacts, graph, rods, walls(system))
             }
-            Criterion::Faces => self.faces(system, contacts, graph, rods, [true; 3]),
         }
     }
 
@@ -348,11 +380,9 @@ fn for_each_cluster(
                 }
             }
         }
-        let spans = match criterion {
-            Criterion::Wrap => {
-                wraps || checker.faces(system, contacts, graph, &members, walls(system))
-            }
+        let spans = match criterion.of_clusters() {
             Criterion::Faces => checker.faces(system, contacts, graph, &members, [true; 3]),
+            _ => wraps || checker.faces(system, contacts, graph, &members, walls(system)),
         };
         if !visit(&members, spans) {
             return;
@@ -386,9 +416,10 @@ pub struct Sweep {
 }
 
 impl Sweep {
+    /// A sweep under `criterion` ([`Criterion::of_clusters`]).
     pub fn new(criterion: Criterion) -> Self {
         Sweep {
-            criterion,
+            criterion: criterion.of_clusters(),
             parent: Vec::new(),
             offset: Vec::new(),
             size: Vec::new(),
@@ -407,8 +438,8 @@ impl Sweep {
     /// Rods added so far.
     pub fn len(&self) -> usize {
         match self.criterion {
-            Criterion::Wrap => self.parent.len(),
             Criterion::Faces => self.members.len(),
+            _ => self.parent.len(),
         }
     }
 
@@ -426,7 +457,7 @@ impl Sweep {
         );
         let rod = self.len() as u32;
         match self.criterion {
-            Criterion::Wrap => {
+            Criterion::Wrap | Criterion::Solid => {
                 self.parent.push(rod);
                 self.offset.push([0; 3]);
                 self.size.push(1);
@@ -453,7 +484,7 @@ impl Sweep {
             "contact {a}-{b} added before its rods"
         );
         match self.criterion {
-            Criterion::Wrap => self.join_wrap(a, b, contact.shift),
+            Criterion::Wrap | Criterion::Solid => self.join_wrap(a, b, contact.shift),
             Criterion::Faces => {
                 for d in 0..3 {
                     let (here, there) = (self.members[a as usize], self.members[b as usize]);

@@ -386,7 +386,8 @@ pub struct Truth {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub primes: Vec<u32>,
     /// For a generated system: whether a rigid cluster spans under the
-    /// criterion asked for.
+    /// criterion asked for (under `Solid`, whether the strain rank reaches
+    /// the strains considered; `None` where it is unknown).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub criterion: Option<Criterion>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -412,11 +413,12 @@ pub struct Spans {
 }
 
 impl Spans {
-    /// Whether it spans under `criterion`.
+    /// Whether it spans under `criterion`: under `Solid`, whether it wraps
+    /// ([`Criterion::of_clusters`]; a solid is the whole system's).
     pub fn under(self, criterion: Criterion) -> bool {
-        match criterion {
-            Criterion::Wrap => self.wrap,
+        match criterion.of_clusters() {
             Criterion::Faces => self.faces,
+            _ => self.wrap,
         }
     }
 }

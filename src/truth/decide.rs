@@ -515,7 +515,8 @@ impl<'a> Twin<'a> {
 }
 
 /// The truth of a rod system with its contacts, with the spanning of every
-/// cluster under both criteria and whether one spans under `criterion`.
+/// cluster under both criteria and whether one spans under `criterion`
+/// (under `Solid`, whether the strain rank reaches the strains considered).
 pub fn of_system(network: View, criterion: Criterion, opts: TruthOptions) -> Truth {
     let start = Instant::now();
     let View {
@@ -534,11 +535,17 @@ pub fn of_system(network: View, criterion: Criterion, opts: TruthOptions) -> Tru
         });
     }
     t.criterion = Some(criterion);
-    t.spanning = t.decided().then(|| {
-        t.clusters
-            .iter()
-            .any(|c| c.spans.expect("set above").under(criterion))
-    });
+    t.spanning = if criterion == Criterion::Solid {
+        t.strains
+            .as_ref()
+            .and_then(|s| Some(usize::from(s.rank?) == s.considered.len()))
+    } else {
+        t.decided().then(|| {
+            t.clusters
+                .iter()
+                .any(|c| c.spans.expect("set above").under(criterion))
+        })
+    };
     t.seconds = start.elapsed().as_secs_f64();
     t
 }

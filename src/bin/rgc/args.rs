@@ -277,7 +277,7 @@ pub struct SystemArgs {
     pub rods: RodsArgs,
     #[command(flatten)]
     pub engine: EngineArgs,
-    /// Spanning definition: `wrap` (a cluster meets its own periodic image; along walls, joins them) or `faces`.
+    /// Spanning definition: `wrap` (a cluster meets its own periodic image; along walls, joins them) or `faces` (`solid` is for truth studies and `rgc truth` only).
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     pub criterion: Criterion,
     /// Also decide the exact rigidity of the whole system: its true rigid clusters go into the report and --save-vtk, and `render` colours them instead of the bodies.
@@ -288,6 +288,8 @@ pub struct SystemArgs {
 impl SystemArgs {
     /// The sample these arguments ask for, checked.
     pub fn options(&self) -> Result<SampleOptions> {
+        self.criterion
+            .check_clusters("a sample's contacts and bodies")?;
         Ok(SampleOptions {
             rods: self.rods.rods()?,
             seed: self.engine.seed,
@@ -319,7 +321,7 @@ pub struct StudyArgs {
     // `--realizations` is the old spelling, kept as a hidden alias for existing scripts.
     #[arg(long, alias = "realizations", default_value_t = 200)]
     pub sequences: u64,
-    /// Spanning definition: `wrap` (a cluster meets its own periodic image) or `faces`.
+    /// Spanning definition: `wrap` (a cluster meets its own periodic image), `faces`, or, for `--kind truth` only, `solid` (the strain rank reaches the strains of the box; the contact critical number is then the wrapping one).
     #[arg(long, value_enum, default_value_t = Criterion::Wrap)]
     pub criterion: Criterion,
     /// Seed of the rods (sequence seeds derive from it, the box and the index).

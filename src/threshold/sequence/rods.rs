@@ -93,7 +93,9 @@ impl Sequence {
     }
 
     /// Rods at which the sequence first spans by contacts, generating more
-    /// rods until it does.
+    /// rods until it does. Under `Solid`, the first that wraps
+    /// ([`Criterion::of_clusters`]): a contact network must wrap to be a
+    /// solid, so a solid truth study bisects from there.
     pub fn contact_critical(&mut self, criterion: Criterion) -> Result<usize> {
         loop {
             if let Some(n) = spanning::critical_rods(&self.system, &self.contacts, criterion) {

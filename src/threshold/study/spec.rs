@@ -132,6 +132,11 @@ impl StudySpec {
         if self.method == Protocol::Fixed && self.grid_points < 2 {
             return bad("--grid-points must be at least 2".into());
         }
+        if self.kind != Kind::Truth {
+            let kind = format!("{:?}", self.kind).to_lowercase();
+            self.criterion
+                .check_clusters(&format!("a {kind} study (--kind truth)"))?;
+        }
         Ok(())
     }
 
