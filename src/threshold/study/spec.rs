@@ -135,7 +135,7 @@ impl StudySpec {
         if self.kind != Kind::Truth {
             let kind = format!("{:?}", self.kind).to_lowercase();
             self.criterion
-                .check_clusters(&format!("a {kind} study (--kind truth)"))?;
+                .check_clusters(&format!("a {kind} study (use --kind truth)"))?;
         }
         Ok(())
     }
