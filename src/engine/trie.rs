@@ -84,6 +84,14 @@ impl Walk {
 }
 
 impl Trie {
+    /// Stores a step's back steps in [`Trie::backs`]: where they start and
+    /// how many.
+    fn push_back(&mut self, back: &[u8]) -> (u32, u8) {
+        let at = (self.backs.len() as u32, back.len() as u8);
+        self.backs.extend_from_slice(back);
+        at
+    }
+
     /// The trie of the plans of `attempts` (rule, pattern node), whose
     /// plans exist and have at most 31 steps.
     pub fn new(rules: &[CompiledRule], attempts: &[(u32, u8)]) -> Self {
@@ -187,8 +195,7 @@ impl Trie {
             common.dedup();
             let from = self.checks.len() as u32;
             for k in common {
-                let back = (self.backs.len() as u32, k.back.len() as u8);
-                self.backs.extend_from_slice(&k.back);
+                let back = self.push_back(&k.back);
                 self.checks.push(Check {
                     back,
                     degree: k.degree,
@@ -201,8 +208,7 @@ impl Trie {
         while at < hi {
             let key = &plans[at].1[depth];
             let end = at + plans[at..hi].partition_point(|p| &p.1[depth] == key);
-            let back = (self.backs.len() as u32, key.back.len() as u8);
-            self.backs.extend_from_slice(&key.back);
+            let back = self.push_back(&key.back);
             self.nodes.push(Node {
                 back,
                 degree: key.degree,

@@ -255,18 +255,8 @@ fn a_rule_made_redundant_by_a_smaller_one_is_reported() {
     let dir = crate::scratch("rules-check");
     let file = dir.join("rules.json");
     write_rules(&file, &[six, seven]).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_rgc"))
-        .args(["rules", "--check"])
-        .arg(&file)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
+        crate::cli::stdout_of(&["rules", "--check", file.to_str().unwrap()]),
         format!(
             "2 rules of {}, rules sound, 8 motif orders: 1 redundant:\n  seven (7 nodes, 10 contacts): one node in motif order {} by rule, 3D2B\n",
             file.display(),

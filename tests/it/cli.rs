@@ -295,15 +295,20 @@ pub fn repo(path: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
 }
 
-/// Runs a command that must succeed and returns its stdout.
-pub fn stdout_of(args: &[&str]) -> String {
+/// Runs a command that must succeed and returns its output.
+pub fn succeeds(args: &[&str]) -> Output {
     let out = rgc(args);
     assert!(
         out.status.success(),
         "{args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    String::from_utf8(out.stdout).unwrap()
+    out
+}
+
+/// Runs a command that must succeed and returns its stdout.
+pub fn stdout_of(args: &[&str]) -> String {
+    String::from_utf8(succeeds(args).stdout).unwrap()
 }
 
 #[test]

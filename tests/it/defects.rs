@@ -7,6 +7,7 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+use crate::cli::succeeds;
 use rgc::audit::{self, AuditOptions};
 use rgc::engine::{Engine, Motif, RuleSet};
 use rgc::graph::io::parse_graph6;
@@ -34,12 +35,6 @@ fn scratch(test: &str) -> PathBuf {
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn succeeds(args: &[&str]) -> Output {
-    let out = rgc(args);
-    assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
-    out
 }
 
 /// Runs a command that must be refused before it does any work: exit code

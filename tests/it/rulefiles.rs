@@ -155,16 +155,11 @@ fn a_repeated_rule_is_dropped_with_a_message() {
     );
     assert_eq!(loaded.dropped.len(), 1);
     // The command line says so on stderr, one line each, and runs.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rgc"))
-        .args(["compress", "--graph6", "E]r?"])
-        .args([&a, &c, &a].iter().flat_map(|p| [Path::new("--motifs"), p]))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let mut args = vec!["compress", "--graph6", "E]r?"];
+    for p in [&a, &c, &a] {
+        args.extend(["--motifs", p.to_str().unwrap()]);
+    }
+    let out = crate::cli::succeeds(&args);
     let stderr = String::from_utf8_lossy(&out.stderr);
     let warnings: Vec<&str> = stderr
         .lines()

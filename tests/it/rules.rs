@@ -257,21 +257,15 @@ fn committed_studies_replay_their_sequences() {
             .map(|line| serde_json::from_str::<Record>(line).unwrap())
             .filter(|r| r.box_len == box_len && r.index < sequences);
         for committed in chosen {
-            // As the study generated them: past the typical threshold
-            // (mean contact number 5), grown when a step needs more.
-            let first = (5.0 / rgc::rods::excluded_volume(spec.gamma) * box_len.powi(3)).ceil();
-            let mut seq =
-                Sequence::new(spec.gamma, box_len, first as usize, committed.seed).unwrap();
-            let mut again = Record {
-                contact_critical: 0,
-                rigid_critical: None,
-                steps: Vec::new(),
-                fresh: None,
-                fixed: Vec::new(),
-                contacts: Vec::new(),
-                undecided: None,
-                ..committed.clone()
-            };
+            // As the study generated them.
+            let mut seq = Sequence::new(
+                spec.gamma,
+                box_len,
+                spec.first_rods(box_len),
+                committed.seed,
+            )
+            .unwrap();
+            let mut again = Record::empty(box_len, committed.index, committed.seed);
             nested(&setup, &mut seq, &mut again).unwrap();
             let key = |r: &Record| {
                 (

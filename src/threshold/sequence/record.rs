@@ -54,6 +54,26 @@ pub struct Record {
 }
 
 impl Record {
+    /// The record of sequence `index` of box `box_len` before a protocol
+    /// fills it in.
+    pub fn empty(box_len: f64, index: u64, seed: u64) -> Record {
+        Record {
+            box_len,
+            index,
+            seed,
+            contact_critical: 0,
+            rigid_critical: None,
+            steps: Vec::new(),
+            fresh: None,
+            fixed: Vec::new(),
+            contacts: Vec::new(),
+            undecided: None,
+            seconds: 0.0,
+            peak_rss_mib: 0.0,
+            cpu_seconds: None,
+        }
+    }
+
     /// Truth kind: rods in the largest true rigid cluster one rod below the
     /// critical number and at it, where the bisection evaluated both (it
     /// does unless the critical number is the first number it tried).

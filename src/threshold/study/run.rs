@@ -81,21 +81,7 @@ fn run_sequence(
     // The clock includes generating the rods and detecting their contacts.
     let t = Instant::now();
     let mut seq = Sequence::new(spec.gamma, box_len, spec.first_rods(box_len), seed)?;
-    let mut record = Record {
-        box_len,
-        index,
-        seed,
-        contact_critical: 0,
-        rigid_critical: None,
-        steps: Vec::new(),
-        fresh: None,
-        fixed: Vec::new(),
-        contacts: Vec::new(),
-        undecided: None,
-        seconds: 0.0,
-        peak_rss_mib: 0.0,
-        cpu_seconds: None,
-    };
+    let mut record = Record::empty(box_len, index, seed);
     match method {
         Protocol::Nested => sequence::nested(setup, &mut seq, &mut record)?,
         Protocol::Fixed => {

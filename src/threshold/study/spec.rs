@@ -167,7 +167,7 @@ impl StudySpec {
     /// Rods to generate first for a box: past the typical threshold, so a
     /// sequence rarely needs to grow (mean contact number 2 for contact
     /// percolation, 5 for rigidity).
-    pub(super) fn first_rods(&self, box_len: f64) -> usize {
+    pub fn first_rods(&self, box_len: f64) -> usize {
         let c0 = match self.kind {
             Kind::Contact => 2.0,
             Kind::Rigid | Kind::Truth => 5.0,
