@@ -5,7 +5,8 @@
 //! match's rods as neighbours: so a match whose least pattern degree is `k`
 //! lies in the `k`-core of the free rods, and each of its rods has at
 //! least its pattern degree of neighbours there. Rods only ever leave the
-//! free rods, so each core only shrinks: a rod that leaves lowers its
+//! free rods (and a rod whose task found no match leaves the rods kept
+//! here, as no later match can contain it), so each core only shrinks: a rod that leaves lowers its
 //! neighbours' counts, and those that fall below `k` leave in turn.
 //!
 //! A match also maps a pattern's triangles and 4-cycles onto triangles and

@@ -16,10 +16,12 @@
 //! complete matches in the same order, so it finds exactly the motifs the
 //! plain matcher finds.
 //!
-//! Two more skip what a search already showed: a rod task's trie search
-//! stops at the first attempt in the plain order with a complete map (the
-//! earlier ones have none; a later one is searched only if that attempt's
-//! own search fails), and a pair task's pattern contact with no node map
+//! Three more skip what a search already showed: a rod whose task found
+//! no rods-only match leaves the cores those rules search, since no later
+//! task can find one containing it ([`Index::retire`]); a rod task's trie
+//! search stops at the first attempt in the plain order with a complete
+//! map (the earlier ones have none; a later one is searched only if that
+//! attempt's own search fails); and a pair task's pattern contact with no node map
 //! from the pair rules out every contact of a pattern that contains it
 //! ([`Catalog::implies`]), since a node map of the larger pattern would
 //! give one of the smaller.
@@ -282,6 +284,15 @@ impl Index {
         if let Some(cores) = self.cores.as_mut() {
             cores.remove(state, r);
         }
+    }
+
+    /// Rod `r`'s task found no match of a rods-only rule: none will ever
+    /// contain it, since such a match needs only free rods and their
+    /// contacts, and rods only ever leave the free rods. So later rod tasks
+    /// search the cores without it (as if it had joined a body), though it
+    /// stays free for the rules with bodies.
+    pub fn retire(&mut self, state: &State, r: u32) {
+        self.leave(state, r);
     }
 
     /// Starts rod task `r` (a free rod), whose rules start at rule

@@ -283,7 +283,15 @@ fn compress_engine(
                     }
                 };
                 let mut rules = |state: &mut State, rng: &mut ChaCha8Rng| {
-                    work.rules(|work| rod_rules(state, engine, r, rng, index.as_mut(), work))
+                    work.rules(|work| {
+                        let hit = rod_rules(state, engine, r, rng, index.as_mut(), work);
+                        if hit.is_none()
+                            && let Some(ix) = index.as_mut()
+                        {
+                            ix.retire(state, r);
+                        }
+                        hit
+                    })
                 };
                 if rules_first {
                     rules(&mut state, &mut rng).or_else(|| base(&mut state, &mut rng))
