@@ -198,7 +198,9 @@ def truth(
 ) -> Truth:
     """The exact generic rigidity of ``rods`` (the same answer as ``rgc
     truth`` with that seed): degrees of freedom, rigid clusters and
-    spanning under 'wrap' or 'faces', and the strain rank (``strain_rank``:
+    spanning under 'wrap', 'faces' or 'solid' (the rods resist every
+    strain of the box's periodic axes, all six in a periodic box; None
+    where the strain rank is unknown), and the strain rank (``strain_rank``:
     how many strains of the box the rods resist, 6 for a solid;
     ``strains_resisted``: the coordinate strains resisted alone, 'xx' to
     'xy'; None with ``strain_reason`` where unknown). ``memory_limit`` (bytes, positive)

@@ -12,10 +12,20 @@ use rgc::spanning::Criterion;
 use crate::system::PyRods;
 use crate::{count, error, interrupt, value_error};
 
-pub(crate) fn criterion(name: &str) -> PyResult<Criterion> {
+/// A criterion by name; 'solid' only where the exact truth answers
+/// (`solid`), since a compression's bodies cannot say which strains the
+/// rods resist.
+pub(crate) fn criterion(name: &str, solid: bool) -> PyResult<Criterion> {
     match name {
         "wrap" => Ok(Criterion::Wrap),
         "faces" => Ok(Criterion::Faces),
+        "solid" if solid => Ok(Criterion::Solid),
+        "solid" => Err(value_error(
+            "criterion 'solid' needs the exact truth (rgc.truth), not a compression",
+        )),
+        _ if solid => Err(value_error(format!(
+            "criterion must be 'wrap', 'faces' or 'solid', got {name:?}"
+        ))),
         _ => Err(value_error(format!(
             "criterion must be 'wrap' or 'faces', got {name:?}"
         ))),
@@ -155,7 +165,7 @@ pub fn compress(
         self::rules(rules)?,
         runs,
         seed,
-        self::criterion(criterion)?,
+        self::criterion(criterion, false)?,
     );
     opts.check_memory(None).map_err(error)?;
     let criterion = opts.criterion;

@@ -132,7 +132,7 @@ pub(crate) fn of_rods(
 
 /// The exact generic rigidity of `rods` (the same answer as `rgc truth`
 /// with that seed): degrees of freedom, rigid clusters and spanning under
-/// 'wrap' or 'faces'. `memory_limit` in bytes (positive) refuses a system
+/// 'wrap', 'faces' or 'solid' (all six strains of the box resisted). `memory_limit` in bytes (positive) refuses a system
 /// whose elimination would pass it; an undecided answer comes back as it
 /// is here (`rgc.truth` raises `UndecidedError` for it unless asked not to).
 #[pyfunction]
@@ -148,7 +148,7 @@ pub fn truth(
     memory_limit: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyTruth> {
     let seed = crate::seed(seed)?;
-    let criterion = self::criterion(criterion)?;
+    let criterion = self::criterion(criterion, true)?;
     let memory_limit = match memory_limit {
         Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),
         None => None,

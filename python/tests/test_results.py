@@ -76,6 +76,19 @@ def test_truth_matches_the_command_line(system, cli):
         assert np.all(t.cluster_idx[c] <= k)
 
 
+def test_solid_truth_asks_for_all_six_strains(system, cli):
+    # At rho 40 the rods resist all six strains; at rho 20 they wrap no
+    # rigid cluster and resist fewer, so the system is not a solid.
+    for density, solid in ((40, True), (20, False)):
+        rods = system if density == 40 else rgc.generate(rgc.Box(5.0), density=density, gamma=23, seed=1)
+        t = rgc.truth(rods, criterion="solid", seed=1)
+        theirs = json.loads(
+            cli("truth", "--gamma", 23, "--box", 5, "--density", density, "--seed", 1, "--criterion", "solid", "--json")
+        )
+        assert t.spanning is theirs["spanning"] is solid
+        assert (t.strain_rank == 6) is solid and t.strain_rank == theirs["strains"]["rank"]
+
+
 def test_rods_from_a_csv_equivalent_give_the_same_truth(system, cli, tmp_path):
     csv = tmp_path / "rods.csv"
     rows = np.column_stack([system.centres, system.directions, system.lengths, system.radii])
@@ -113,8 +126,12 @@ def test_check_takes_graph6_and_networkx():
 def test_bad_names_are_value_errors(system):
     with pytest.raises(ValueError, match="rules must be 'sound', 'paper' or 'certified'"):
         rgc.compress(system, rules="fast")
-    with pytest.raises(ValueError, match="criterion must be 'wrap' or 'faces'"):
+    with pytest.raises(ValueError, match="criterion must be 'wrap', 'faces' or 'solid', got \"corners\""):
         rgc.truth(system, criterion="corners")
+    with pytest.raises(ValueError, match="criterion must be 'wrap' or 'faces', got \"corners\""):
+        rgc.compress(system, criterion="corners")
+    with pytest.raises(ValueError, match="criterion 'solid' needs the exact truth"):
+        rgc.compress(system, criterion="solid")
     with pytest.raises(ValueError, match="runs must be an integer from 1 to 100000, got 0"):
         rgc.compress(system, runs=0)
 
