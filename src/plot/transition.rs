@@ -1,18 +1,23 @@
 //! The chart of the order of the rigidity transition: the jump of the
-//! largest true cluster at the critical number against the box, and its
-//! share of the rods above the threshold.
+//! largest true cluster at the critical number against the box (log-log,
+//! with its power-law fits), the jump's histogram in the smallest and
+//! largest box, and the cluster's share of the rods above the threshold.
 
 use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::chart::{Chart, Drawn, error_bars, render};
+use super::chart::{Chart, Drawn, error_bars, log_ticks, render};
 use crate::Result;
 use crate::threshold::transition::Transition;
+use crate::threshold::transition::{HISTOGRAM_BIN, Jump};
 
 /// Pixel size of the chart.
-const SIZE: (u32, u32) = (1400, 600);
+const SIZE: (u32, u32) = (2100, 600);
+
+/// Boxes with fewer sequences have no histogram drawn.
+const HISTOGRAM_SEQUENCES: usize = 20;
 
 /// One colour per study.
 const COLOURS: [RGBColor; 4] = [
@@ -24,8 +29,10 @@ const COLOURS: [RGBColor; 4] = [
 
 /// Draws `all` as `svg` and `png`: left, the mean jump of the largest true
 /// cluster's share of the rods at the critical number per box (95%
-/// intervals); right, that share at spanning steps against density (`P_inf`
-/// above the threshold) in one box per study.
+/// bootstrap intervals; log-log, with the fitted power laws); middle, the
+/// share of sequences by jump in each aspect ratio's smallest and largest
+/// box; right, the cluster's share at spanning steps against density
+/// (`P_inf` above the threshold) in one box per aspect ratio.
 pub fn transition_chart(all: &[Transition], svg: &Path, png: &Path) -> Result<()> {
     render(&Chart2(all), SIZE, svg, png)
 }
@@ -39,23 +46,35 @@ impl Chart for Chart2<'_> {
             "Order of the rigidity transition (exact truth)",
             ("sans-serif", 26),
         )?;
-        let (left, right) = root.split_horizontally(SIZE.0 / 2);
-        jumps(&left, self.0)?;
-        shares(&right, self.0)?;
+        let panels = root.split_evenly((1, 3));
+        jumps(&panels[0], self.0)?;
+        histograms(&panels[1], self.0)?;
+        shares(&panels[2], self.0)?;
         root.present()
     }
 }
 
 fn jumps<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) -> Drawn<DB> {
     let js = all.iter().flat_map(|t| &t.jumps);
-    let max_l = js.clone().map(|j| j.box_len).fold(1.0, f64::max);
-    let top = js.map(|j| j.mean + j.half_width).fold(0.05, f64::max) * 1.2;
+    let l0 = js.clone().map(|j| j.box_len).fold(f64::INFINITY, f64::min) * 0.9;
+    let l1 = js.clone().map(|j| j.box_len).fold(1.0, f64::max) * 1.1;
+    let y0 = js
+        .clone()
+        .map(|j| j.interval.0)
+        .fold(1.0, f64::min)
+        .max(1e-4)
+        * 0.8;
+    let y1 = js.map(|j| j.interval.1).fold(0.01, f64::max) * 1.25;
+    let l0 = l0.min(l1 / 2.0);
     let mut chart = ChartBuilder::on(area)
         .caption("jump at the critical rod", ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d(0.0..max_l + 1.0, 0.0..top)?;
+        .build_cartesian_2d(
+            (l0..l1).log_scale().with_key_points(log_ticks(l0, l1)),
+            (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
+        )?;
     chart
         .configure_mesh()
         .x_desc("box side L")
@@ -67,7 +86,7 @@ fn jumps<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) 
         let bars = t
             .jumps
             .iter()
-            .map(|j| (j.box_len, j.mean - j.half_width, j.mean + j.half_width));
+            .map(|j| (j.box_len, j.interval.0, j.interval.1));
         error_bars(&mut chart, bars, c.to_rgba(), 6)?;
         chart
             .draw_series(
@@ -77,6 +96,100 @@ fn jumps<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) 
             )?
             .label(format!("gamma {}", t.gamma))
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, c.filled()));
+        // Each fit through the geometric mean of its boxes' means.
+        for (k, d) in t.decay.iter().enumerate() {
+            let fitted: Vec<(f64, f64)> = t
+                .jumps
+                .iter()
+                .filter(|j| d.boxes.contains(&j.box_len))
+                .map(|j| (j.box_len.ln(), j.mean.ln()))
+                .collect();
+            let n = fitted.len() as f64;
+            let (lx, ly) = fitted
+                .iter()
+                .fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
+            let at = |l: f64| (ly - d.exponent * (l.ln() - lx)).exp();
+            let (from, to) = (d.boxes[0], *d.boxes.last().expect("boxes"));
+            let style = if k == 0 {
+                c.stroke_width(1)
+            } else {
+                c.mix(0.6).stroke_width(3)
+            };
+            chart
+                .draw_series(LineSeries::new([(from, at(from)), (to, at(to))], style))?
+                .label(format!(
+                    "gamma {}, L {from}-{to}: L^{:.2}",
+                    t.gamma, -d.exponent
+                ))
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        }
+    }
+    super::chart::legend(&mut chart, SeriesLabelPosition::UpperRight)
+}
+
+fn histograms<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) -> Drawn<DB> {
+    // Each aspect ratio's smallest and largest box of enough sequences for
+    // a histogram, as shares of sequences.
+    let shown: Vec<(usize, &Jump, bool)> = all
+        .iter()
+        .enumerate()
+        .flat_map(|(i, t)| {
+            let enough: Vec<&Jump> = t
+                .jumps
+                .iter()
+                .filter(|j| j.sequences >= HISTOGRAM_SEQUENCES)
+                .collect();
+            let last = enough.len().saturating_sub(1);
+            enough
+                .into_iter()
+                .enumerate()
+                .filter(move |(k, _)| *k == 0 || *k == last)
+                .map(move |(k, j)| (i, j, k == last))
+        })
+        .collect();
+    let x1 = shown
+        .iter()
+        .map(|s| s.1.histogram.len() as f64 * HISTOGRAM_BIN)
+        .fold(0.05, f64::max);
+    let share = |j: &Jump, b: usize| j.histogram[b] as f64 / j.sequences.max(1) as f64;
+    let y1 = shown
+        .iter()
+        .flat_map(|s| (0..s.1.histogram.len()).map(|b| share(s.1, b)))
+        .fold(0.05, f64::max)
+        * 1.15;
+    let mut chart = ChartBuilder::on(area)
+        .caption("jumps of the sequences", ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..x1, 0.0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc("share of rods added at the critical rod")
+        .y_desc(format!("share of sequences per {HISTOGRAM_BIN} bin"))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    for (i, j, largest) in shown {
+        let c = COLOURS[i % COLOURS.len()];
+        let style = if largest {
+            c.stroke_width(3)
+        } else {
+            c.mix(0.5).stroke_width(1)
+        };
+        let steps = (0..j.histogram.len()).flat_map(|b| {
+            let y = share(j, b);
+            [
+                (b as f64 * HISTOGRAM_BIN, y),
+                ((b + 1) as f64 * HISTOGRAM_BIN, y),
+            ]
+        });
+        chart
+            .draw_series(LineSeries::new(steps, style))?
+            .label(format!(
+                "gamma {}, L = {} ({} sequences)",
+                all[i].gamma, j.box_len, j.sequences
+            ))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
     }
     super::chart::legend(&mut chart, SeriesLabelPosition::UpperRight)
 }

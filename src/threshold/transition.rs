@@ -13,26 +13,106 @@
 
 use std::path::{Path, PathBuf};
 
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use super::sequence::{Kind, Record};
 use super::study;
+use crate::math::stats::{line, percentile_interval};
 use crate::{Error, Result, output};
 
-/// The transition of one finished or partial truth study.
+/// Bootstrap resamples of the sequences of each box, drawn from stream `b`
+/// of a fixed seed: the intervals are the same on every run.
+const RESAMPLES: usize = 2000;
+const BOOTSTRAP_SEED: u64 = 1;
+
+/// Width of a bin of the jump's histogram, as a share of the rods.
+pub const HISTOGRAM_BIN: f64 = 0.01;
+
+/// The decay of the mean jump is fitted over every box and over this many
+/// of the largest boxes (where there are more).
+const LARGEST_BOXES: usize = 3;
+
+/// The transition of one aspect ratio: one truth study, or several whose
+/// boxes differ (the large boxes run apart from the small ones).
 #[derive(Clone, Debug, Serialize)]
 pub struct Transition {
     pub study: String,
     pub gamma: f64,
     pub jumps: Vec<Jump>,
+    /// How the mean jump falls with the box: a power law fitted over every
+    /// box, then over the largest boxes alone (none with fewer than three
+    /// boxes).
+    pub decay: Vec<Decay>,
     /// `P_inf` above the threshold, in the box asked for (by default the
     /// largest).
     pub shares: Vec<Share>,
 }
 
-/// The transition of the truth study in `dir`, with `P_inf` in `bins` bins
-/// for box `box_len` (the study's largest box with records if `None`).
-pub fn of_dir(dir: &Path, box_len: Option<f64>, bins: usize) -> Result<Transition> {
+/// The mean jump against the box side as `mean jump ~ L^(-x)`: a
+/// continuous transition has `x = beta / nu > 0`; a discontinuous one a
+/// finite limit, so `x` falls towards 0 over the largest boxes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Decay {
+    pub boxes: Vec<f64>,
+    /// The exponent `x` (minus the slope of the log of the mean jump against ln L), with
+    /// its 95% bootstrap interval (sequences resampled within each box).
+    pub exponent: f64,
+    pub interval: (f64, f64),
+    pub r2: f64,
+}
+
+/// The transitions of the truth studies in `dirs`, one per aspect ratio
+/// (studies of one aspect ratio must not share a box), with `P_inf` in
+/// `bins` bins for box `box_len` (each aspect ratio's largest box with
+/// records if `None`).
+pub fn of_dirs(dirs: &[PathBuf], box_len: Option<f64>, bins: usize) -> Result<Vec<Transition>> {
+    let mut groups: Vec<(f64, Vec<String>, Vec<Record>)> = Vec::new();
+    for dir in dirs {
+        let (gamma, records) = truth_records(dir)?;
+        let name = dir.display().to_string();
+        match groups.iter_mut().find(|g| g.0 == gamma) {
+            Some((_, names, all)) => {
+                let theirs = boxes(all);
+                if let Some(l) = boxes(&records).into_iter().find(|l| theirs.contains(l)) {
+                    return Err(Error::Parameter(format!(
+                        "box {l} of gamma {gamma} is in both {} and {name}: give each box once",
+                        names.join(" and ")
+                    )));
+                }
+                names.push(name);
+                all.extend(records);
+            }
+            None => groups.push((gamma, vec![name], records)),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(gamma, names, records)| {
+            let present = boxes(&records);
+            let largest = *present.last().expect("each study has records");
+            let l = box_len.unwrap_or(largest);
+            if !present.contains(&l) {
+                return Err(Error::Parameter(format!(
+                    "box {l} has no records in {} (boxes with records: {present:?})",
+                    names.join(" and ")
+                )));
+            }
+            let jumps = jumps(&records);
+            Ok(Transition {
+                study: names.join(" + "),
+                gamma,
+                decay: decay(&records, &jumps),
+                jumps,
+                shares: shares(&records, l, bins),
+            })
+        })
+        .collect()
+}
+
+/// A truth study's aspect ratio and records.
+fn truth_records(dir: &Path) -> Result<(f64, Vec<Record>)> {
     let spec = study::read_spec(dir)?;
     if spec.kind != Kind::Truth {
         return Err(Error::Parameter(format!(
@@ -42,33 +122,21 @@ pub fn of_dir(dir: &Path, box_len: Option<f64>, bins: usize) -> Result<Transitio
         )));
     }
     let records: Vec<Record> = study::read_records(dir, &spec)?.into_values().collect();
-    let present = boxes(&records);
-    let Some(&largest) = present.last() else {
+    if records.is_empty() {
         return Err(Error::Analysis(format!(
             "{} has no records yet",
             dir.display()
         )));
-    };
-    let l = box_len.unwrap_or(largest);
-    if !present.contains(&l) {
-        return Err(Error::Parameter(format!(
-            "box {l} has no records in {} (boxes with records: {present:?})",
-            dir.display()
-        )));
     }
-    Ok(Transition {
-        study: dir.display().to_string(),
-        gamma: spec.gamma,
-        jumps: jumps(&records),
-        shares: shares(&records, l, bins),
-    })
+    Ok((spec.gamma, records))
 }
 
-/// Writes `PREFIX.json` (with the command that made it) and `PREFIX.csv`
-/// (one row per study and box: the jump).
+/// Writes `PREFIX.json` (with the command that made it), `PREFIX.csv`
+/// (one row per aspect ratio and box: the jump) and
+/// `PREFIX.histogram.csv` (the jump's histogram per box).
 pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<PathBuf>> {
     let with = |ext: &str| output::with_extension(prefix, ext);
-    let (json, csv) = (with("json"), with("csv"));
+    let (json, csv, histogram) = (with("json"), with("csv"), with("histogram.csv"));
     let doc = serde_json::json!({ "command": command, "transitions": all });
     output::write_atomic(
         &json,
@@ -83,9 +151,18 @@ pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<Pat
         jump_mean: f64,
         jump_sd: f64,
         jump_half_width: f64,
+        jump_lo: f64,
+        jump_hi: f64,
         jump_min: f64,
         jump_max: f64,
+        share_before: f64,
         share_at_critical: f64,
+        /// Sequences whose records carry the strain rank, and those of
+        /// them with all six strains resisted one rod below and at the
+        /// critical rod.
+        strain_known: usize,
+        solid_before: usize,
+        solid_at: usize,
     }
     let rows = all.iter().flat_map(|t| {
         t.jumps.iter().map(move |j| Row {
@@ -96,13 +173,39 @@ pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<Pat
             jump_mean: j.mean,
             jump_sd: j.sd,
             jump_half_width: j.half_width,
+            jump_lo: j.interval.0,
+            jump_hi: j.interval.1,
             jump_min: j.min,
             jump_max: j.max,
+            share_before: j.before,
             share_at_critical: j.at_critical,
+            strain_known: j.strain_at.iter().sum(),
+            solid_before: j.strain_before[6],
+            solid_at: j.strain_at[6],
         })
     });
     output::write_csv(&csv, rows)?;
-    Ok(vec![json, csv])
+    #[derive(Serialize)]
+    struct Bin {
+        gamma: f64,
+        box_len: f64,
+        jump_from: f64,
+        jump_to: f64,
+        sequences: usize,
+    }
+    let bins = all.iter().flat_map(|t| {
+        t.jumps.iter().flat_map(move |j| {
+            j.histogram.iter().enumerate().map(move |(b, &count)| Bin {
+                gamma: t.gamma,
+                box_len: j.box_len,
+                jump_from: b as f64 * HISTOGRAM_BIN,
+                jump_to: (b + 1) as f64 * HISTOGRAM_BIN,
+                sequences: count,
+            })
+        })
+    });
+    output::write_csv(&histogram, bins)?;
+    Ok(vec![json, csv, histogram])
 }
 
 /// The jump at the critical number, over the sequences of one box.
@@ -118,11 +221,22 @@ pub struct Jump {
     pub mean: f64,
     pub sd: f64,
     pub half_width: f64,
+    /// The 95% bootstrap interval of the mean (percentiles of
+    /// 2,000 resamples of the sequences).
+    pub interval: (f64, f64),
     pub min: f64,
     pub max: f64,
-    /// Mean fraction of the rods in the largest cluster at the critical
-    /// number (what the spanning cluster holds when it first spans).
+    /// Mean fraction of the rods in the largest cluster one rod below the
+    /// critical number, and at it (what the spanning cluster holds when it
+    /// first spans).
+    pub before: f64,
     pub at_critical: f64,
+    /// Sequences by jump, in bins of [`HISTOGRAM_BIN`] from 0.
+    pub histogram: Vec<usize>,
+    /// Sequences by strain rank (0 to 6) one rod below the critical
+    /// number and at it, among those whose records carry it.
+    pub strain_before: [usize; 7],
+    pub strain_at: [usize; 7],
 }
 
 /// Share of the rods in the largest true cluster at spanning steps, in one
@@ -137,35 +251,153 @@ pub struct Share {
     pub sd: f64,
 }
 
-/// The jump of each box of `records` (boxes in increasing order); a box
-/// without a sequence that has both steps is left out.
-pub fn jumps(records: &[Record]) -> Vec<Jump> {
+/// One sequence at its critical rod: the largest cluster's share one rod
+/// below and at it, and the strain ranks there when known.
+struct AtCritical {
+    before: f64,
+    at: f64,
+    strains: Option<(u8, u8)>,
+}
+
+impl AtCritical {
+    fn of(r: &Record) -> Option<Self> {
+        let n = r.rigid_critical?;
+        let (below, at) = r.jump()?;
+        let strain = |m| {
+            r.steps
+                .iter()
+                .find(|s| s.n == m)
+                .and_then(|s| s.strain_rank)
+        };
+        Some(AtCritical {
+            before: below as f64 / (n - 1) as f64,
+            at: at as f64 / n as f64,
+            strains: strain(n - 1).zip(strain(n)),
+        })
+    }
+
+    fn jump(&self) -> f64 {
+        self.at - self.before
+    }
+}
+
+/// Each box's sequences at their critical rods, boxes in increasing order.
+fn by_box(records: &[Record]) -> Vec<(f64, Vec<AtCritical>)> {
     boxes(records)
         .into_iter()
-        .filter_map(|l| {
-            let pairs: Vec<(f64, f64)> = records
+        .map(|l| {
+            let seqs = records
                 .iter()
                 .filter(|r| r.box_len == l)
-                .filter_map(|r| {
-                    let n = r.rigid_critical?;
-                    let (below, at) = r.jump()?;
-                    Some((below as f64 / (n - 1) as f64, at as f64 / n as f64))
-                })
+                .filter_map(AtCritical::of)
                 .collect();
-            let d: Vec<f64> = pairs.iter().map(|(b, a)| a - b).collect();
+            (l, seqs)
+        })
+        .collect()
+}
+
+/// The bootstrap: `f` on [`RESAMPLES`] resamples of each box's values
+/// (sequences drawn with replacement within each box), in order.
+fn resampled<T>(values: &[Vec<f64>], mut f: impl FnMut(&[f64]) -> Option<T>) -> Vec<T> {
+    let mut means = vec![0.0; values.len()];
+    (0..RESAMPLES)
+        .filter_map(|b| {
+            let mut rng = ChaCha8Rng::seed_from_u64(BOOTSTRAP_SEED);
+            rng.set_stream(b as u64);
+            for (m, v) in means.iter_mut().zip(values) {
+                *m = (0..v.len())
+                    .map(|_| v[rng.random_range(0..v.len())])
+                    .sum::<f64>()
+                    / v.len() as f64;
+            }
+            f(&means)
+        })
+        .collect()
+}
+
+/// The jump of each box of `records` (boxes in increasing order); a box
+/// with fewer than two sequences that have both steps is left out.
+pub fn jumps(records: &[Record]) -> Vec<Jump> {
+    by_box(records)
+        .into_iter()
+        .filter_map(|(l, seqs)| {
+            let d: Vec<f64> = seqs.iter().map(AtCritical::jump).collect();
             let (mean, sd) = mean_sd(&d)?;
+            let mut boot = resampled(std::slice::from_ref(&d), |m| Some(m[0]));
+            let interval = percentile_interval(&mut boot, 0.95).expect("resamples");
+            let max = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let mut histogram = vec![0; (max / HISTOGRAM_BIN).floor() as usize + 1];
+            for x in &d {
+                histogram[(x.max(0.0) / HISTOGRAM_BIN).floor() as usize] += 1;
+            }
+            let (mut strain_before, mut strain_at) = ([0; 7], [0; 7]);
+            for (b, a) in seqs.iter().filter_map(|s| s.strains) {
+                strain_before[usize::from(b.min(6))] += 1;
+                strain_at[usize::from(a.min(6))] += 1;
+            }
+            let n = seqs.len() as f64;
             Some(Jump {
                 box_len: l,
                 sequences: d.len(),
                 mean,
                 sd,
-                half_width: 1.96 * sd / (d.len() as f64).sqrt(),
+                half_width: 1.96 * sd / n.sqrt(),
+                interval,
                 min: d.iter().copied().fold(f64::INFINITY, f64::min),
-                max: d.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                at_critical: pairs.iter().map(|p| p.1).sum::<f64>() / pairs.len() as f64,
+                max,
+                before: seqs.iter().map(|s| s.before).sum::<f64>() / n,
+                at_critical: seqs.iter().map(|s| s.at).sum::<f64>() / n,
+                histogram,
+                strain_before,
+                strain_at,
             })
         })
         .collect()
+}
+
+/// The power-law decay of the mean jump over every box of `jumps`, and
+/// over the [`LARGEST_BOXES`] largest where there are more boxes than that.
+fn decay(records: &[Record], jumps: &[Jump]) -> Vec<Decay> {
+    let values: Vec<(f64, Vec<f64>)> = by_box(records)
+        .into_iter()
+        .filter(|(l, _)| jumps.iter().any(|j| j.box_len == *l))
+        .map(|(l, seqs)| (l, seqs.iter().map(AtCritical::jump).collect()))
+        .collect();
+    let fit = |values: &[(f64, Vec<f64>)]| -> Option<Decay> {
+        let lens: Vec<f64> = values.iter().map(|v| v.0).collect();
+        let slope = |means: &[f64]| -> Option<(f64, f64)> {
+            if means.iter().any(|&m| m <= 0.0) {
+                return None;
+            }
+            let points: Vec<(f64, f64)> = lens
+                .iter()
+                .zip(means)
+                .map(|(l, m)| (l.ln(), m.ln()))
+                .collect();
+            line(&points).map(|f| (-f.beta[1], f.r2))
+        };
+        let means: Vec<f64> = values
+            .iter()
+            .map(|v| v.1.iter().sum::<f64>() / v.1.len() as f64)
+            .collect();
+        let (exponent, r2) = slope(&means)?;
+        let per_box: Vec<Vec<f64>> = values.iter().map(|v| v.1.clone()).collect();
+        let mut boot = resampled(&per_box, |m| slope(m).map(|s| s.0));
+        Some(Decay {
+            boxes: lens,
+            exponent,
+            interval: percentile_interval(&mut boot, 0.95)?,
+            r2,
+        })
+    };
+    let mut out = Vec::new();
+    if values.len() >= 3 {
+        out.extend(fit(&values));
+    }
+    if values.len() > LARGEST_BOXES {
+        out.extend(fit(&values[values.len() - LARGEST_BOXES..]));
+    }
+    out
 }
 
 /// The largest cluster's share of the rods at every spanning step of the
@@ -272,6 +504,67 @@ mod tests {
         assert!((j[0].half_width - 1.96 * sd / 2f64.sqrt()).abs() < 1e-12);
         assert!((j[0].at_critical - (0.4 + 50.0 / 101.0) / 2.0).abs() < 1e-12);
         assert_eq!((j[0].min, j[0].max), (d[1].min(d[0]), d[1].max(d[0])));
+    }
+
+    /// A record of box `l` that jumps from `below` to `at` rods in the
+    /// largest cluster at critical number 100, with strain ranks.
+    fn jumping(l: f64, below: usize, at: usize, strains: (u8, u8)) -> Record {
+        let mut r = record(l, 100, &[(99, false, below), (100, true, at)]);
+        r.steps[0].strain_rank = Some(strains.0);
+        r.steps[1].strain_rank = Some(strains.1);
+        r
+    }
+
+    #[test]
+    fn jumps_count_their_histogram_and_strain_ranks() {
+        // Jumps 0.30 - 0.00, 0.31 - 0.00 and 0.05 - 0.00 (below: 0 rods).
+        let records = vec![
+            jumping(4.0, 0, 30, (0, 6)),
+            jumping(4.0, 0, 31, (0, 0)),
+            jumping(4.0, 0, 5, (3, 6)),
+        ];
+        let j = &jumps(&records)[0];
+        assert_eq!(j.histogram.len(), 32);
+        assert_eq!(j.histogram.iter().sum::<usize>(), 3);
+        assert_eq!(
+            (j.histogram[5], j.histogram[30], j.histogram[31]),
+            (1, 1, 1)
+        );
+        assert_eq!(j.strain_before, [2, 0, 0, 1, 0, 0, 0]);
+        assert_eq!(j.strain_at, [1, 0, 0, 0, 0, 0, 2]);
+        assert_eq!((j.before, j.at_critical), (0.0, 0.66 / 3.0));
+        // The bootstrap interval lies within the jumps and holds the mean;
+        // it is the same on every call.
+        let (lo, hi) = j.interval;
+        assert!(
+            0.05 <= lo && lo < j.mean && j.mean < hi && hi <= 0.31,
+            "{lo} {hi}"
+        );
+        assert_eq!(jumps(&records)[0].interval, j.interval);
+    }
+
+    #[test]
+    fn the_decay_fits_the_mean_jump_as_a_power_of_the_box() {
+        // Mean jumps 0.2 (L / 4)^-1 at L = 4, 5, 8, 10: exponent 1 over all
+        // boxes and over the three largest, with no spread to resample.
+        let records: Vec<Record> = [4.0, 5.0, 8.0, 10.0]
+            .iter()
+            .flat_map(|&l: &f64| {
+                let at = (20.0 * 4.0 / l).round() as usize;
+                [jumping(l, 0, at, (0, 0)), jumping(l, 0, at, (0, 0))]
+            })
+            .collect();
+        let d = decay(&records, &jumps(&records));
+        assert_eq!(d.len(), 2);
+        assert_eq!(d[0].boxes, vec![4.0, 5.0, 8.0, 10.0]);
+        assert_eq!(d[1].boxes, vec![5.0, 8.0, 10.0]);
+        for fit in &d {
+            assert!((fit.exponent - 1.0).abs() < 1e-12, "{fit:?}");
+            assert!((fit.interval.0 - 1.0).abs() < 1e-12 && (fit.interval.1 - 1.0).abs() < 1e-12);
+            assert!(fit.r2 > 1.0 - 1e-12);
+        }
+        // Two boxes fit no decay.
+        assert!(decay(&records[..4], &jumps(&records[..4])).is_empty());
     }
 
     #[test]

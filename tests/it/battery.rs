@@ -521,7 +521,7 @@ fn paired_and_transition_make_the_folder_of_their_out_prefix() {
     );
     assert_eq!(
         names(&dir.join("other")),
-        ["t.csv", "t.json", "t.png", "t.svg"]
+        ["t.csv", "t.histogram.csv", "t.json", "t.png", "t.svg"]
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

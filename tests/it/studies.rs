@@ -856,8 +856,21 @@ fn transition_reports_the_jump_per_box_and_the_share_above_the_threshold() {
         shares.iter().all(|s| s["box_len"] == 5.0),
         "the largest box by default"
     );
-    for ext in ["json", "csv", "svg", "png"] {
+    for ext in ["json", "csv", "histogram.csv", "svg", "png"] {
         assert!(root.join(format!("transition.{ext}")).exists(), "{ext}");
+    }
+    // Every sequence of a box with a jump is in its histogram.
+    let bins = std::fs::read_to_string(root.join("transition.histogram.csv")).unwrap();
+    for j in jumps {
+        let l = j["box_len"].as_f64().unwrap();
+        let counted: u64 = bins
+            .lines()
+            .skip(1)
+            .map(|row| row.split(',').collect::<Vec<_>>())
+            .filter(|c| c[1].parse::<f64>().unwrap() == l)
+            .map(|c| c[4].parse::<u64>().unwrap())
+            .sum();
+        assert_eq!(counted, j["sequences"].as_u64().unwrap(), "box {l}");
     }
     let csv = std::fs::read_to_string(root.join("transition.csv")).unwrap();
     assert_eq!(csv.lines().count(), 4, "a header and a row per box");
@@ -887,6 +900,15 @@ fn transition_reports_the_jump_per_box_and_the_share_above_the_threshold() {
     fails(
         &["transition", study.to_str().unwrap(), "--box", "7"],
         "box 7 has no records",
+    );
+    // Studies of one aspect ratio are read as one, each box from one study.
+    fails(
+        &[
+            "transition",
+            study.to_str().unwrap(),
+            study.to_str().unwrap(),
+        ],
+        "box 3 of gamma 23 is in both",
     );
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -11,7 +11,7 @@ use rgc::threshold::transition::{self, Transition};
 
 #[derive(Args)]
 pub struct TransitionArgs {
-    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress.
+    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress; studies of one aspect ratio with different boxes (a large-box study beside the small boxes) are read as one.
     #[arg(required = true)]
     dirs: Vec<PathBuf>,
     /// The box of the P_inf curve [default: each study's largest box with records].
@@ -20,7 +20,7 @@ pub struct TransitionArgs {
     /// Density bins of the P_inf curve.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=100))]
     bins: u64,
-    /// Write PREFIX.json, PREFIX.csv, PREFIX.svg and PREFIX.png.
+    /// Write PREFIX.json, PREFIX.csv, PREFIX.histogram.csv, PREFIX.svg and PREFIX.png.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Replace those files if they exist.
@@ -34,13 +34,13 @@ pub struct TransitionArgs {
 pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
     let with = |prefix: &PathBuf, ext: &str| PathBuf::from(format!("{}.{ext}", prefix.display()));
     if let Some(prefix) = &a.out {
-        super::refuse_existing(prefix, &["json", "csv", "svg", "png"], a.force)?;
+        super::refuse_existing(
+            prefix,
+            &["json", "csv", "histogram.csv", "svg", "png"],
+            a.force,
+        )?;
     }
-    let all = a
-        .dirs
-        .iter()
-        .map(|d| transition::of_dir(d, a.box_len, a.bins as usize))
-        .collect::<Result<Vec<Transition>>>()?;
+    let all: Vec<Transition> = transition::of_dirs(&a.dirs, a.box_len, a.bins as usize)?;
     let mut files = Vec::new();
     if let Some(prefix) = &a.out {
         files = transition::write(prefix, &all, &super::command_line())?;
@@ -55,25 +55,42 @@ pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
         say!(out, "{} (gamma {}):", t.study, t.gamma);
         say!(
             out,
-            "{:>6} {:>9} {:>22} {:>8} {:>8} {:>13}",
+            "{:>6} {:>9} {:>8} {:>18} {:>8} {:>8} {:>8} {:>8} {:>16}",
             "box",
             "sequences",
-            "jump (95%)",
+            "jump",
+            "95% (bootstrap)",
             "min",
             "max",
-            "at critical"
+            "before",
+            "at",
+            "solid before/at"
         );
         for j in &t.jumps {
+            let known: usize = j.strain_at.iter().sum();
             say!(
                 out,
-                "{:>6} {:>9} {:>12.4} +- {:<6.4} {:>8.4} {:>8.4} {:>13.4}",
+                "{:>6} {:>9} {:>8.4} {:>18} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>16}",
                 j.box_len,
                 j.sequences,
                 j.mean,
-                j.half_width,
+                format!("[{:.4}, {:.4}]", j.interval.0, j.interval.1),
                 j.min,
                 j.max,
-                j.at_critical
+                j.before,
+                j.at_critical,
+                format!("{}/{} of {known}", j.strain_before[6], j.strain_at[6])
+            );
+        }
+        for d in &t.decay {
+            say!(
+                out,
+                "mean jump ~ L^-x over L = {:?}: x = {:.3} [{:.3}, {:.3}] (R^2 {:.3})",
+                d.boxes,
+                d.exponent,
+                d.interval.0,
+                d.interval.1,
+                d.r2
             );
         }
         if let Some(first) = t.shares.first() {
