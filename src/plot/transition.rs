@@ -1,7 +1,8 @@
 //! The chart of the order of the rigidity transition: the jump of the
 //! largest true cluster at the critical number against the box (log-log,
 //! with its power-law fits), the jump's histogram in the smallest and
-//! largest box, and the cluster's share of the rods above the threshold.
+//! largest box, the cluster's share of the rods above the threshold, and
+//! the Binder cumulant of that share at fixed densities.
 
 use std::path::Path;
 
@@ -14,7 +15,7 @@ use crate::threshold::transition::Transition;
 use crate::threshold::transition::{HISTOGRAM_BIN, Jump};
 
 /// Pixel size of the chart.
-const SIZE: (u32, u32) = (2100, 600);
+const SIZE: (u32, u32) = (1600, 1150);
 
 /// Boxes with fewer sequences have no histogram drawn.
 const HISTOGRAM_SEQUENCES: usize = 20;
@@ -31,8 +32,10 @@ const COLOURS: [RGBColor; 4] = [
 /// cluster's share of the rods at the critical number per box (95%
 /// bootstrap intervals; log-log, with the fitted power laws); middle, the
 /// share of sequences by jump in each aspect ratio's smallest and largest
-/// box; right, the cluster's share at spanning steps against density
-/// (`P_inf` above the threshold) in one box per aspect ratio.
+/// box; below, the cluster's share at spanning steps against density
+/// (`P_inf` above the threshold) in one box per aspect ratio, and the
+/// Binder cumulant of that share at fixed densities per box, where
+/// fixed-protocol studies give it.
 pub fn transition_chart(all: &[Transition], svg: &Path, png: &Path) -> Result<()> {
     render(&Chart2(all), SIZE, svg, png)
 }
@@ -46,10 +49,11 @@ impl Chart for Chart2<'_> {
             "Order of the rigidity transition (exact truth)",
             ("sans-serif", 26),
         )?;
-        let panels = root.split_evenly((1, 3));
+        let panels = root.split_evenly((2, 2));
         jumps(&panels[0], self.0)?;
         histograms(&panels[1], self.0)?;
         shares(&panels[2], self.0)?;
+        binder(&panels[3], self.0)?;
         root.present()
     }
 }
@@ -230,6 +234,56 @@ fn shares<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition])
                 .iter()
                 .map(|s| Circle::new((s.density, s.mean), 3, c.filled())),
         )?;
+    }
+    super::chart::legend(&mut chart, SeriesLabelPosition::LowerRight)
+}
+
+fn binder<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, all: &[Transition]) -> Drawn<DB> {
+    let cells = all.iter().flat_map(|t| &t.binder);
+    let lo = cells
+        .clone()
+        .map(|b| b.density)
+        .fold(f64::INFINITY, f64::min);
+    let hi = cells
+        .clone()
+        .map(|b| b.density)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = if lo < hi { (lo, hi) } else { (0.0, 1.0) };
+    let pad = 0.05 * (hi - lo);
+    let bottom = cells.map(|b| b.interval.0).fold(0.0, f64::min) - 0.05;
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            "Binder cumulant of the largest cluster's share",
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(lo - pad..hi + pad, bottom..0.75)?;
+    chart
+        .configure_mesh()
+        .x_desc("density (rods per unit volume)")
+        .y_desc("U = 1 - <P^4> / 3 <P^2>^2")
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    for t in all {
+        let mut lens: Vec<f64> = t.binder.iter().map(|b| b.box_len).collect();
+        lens.dedup();
+        for (k, &l) in lens.iter().enumerate() {
+            let c = COLOURS[k % COLOURS.len()];
+            let here: Vec<_> = t.binder.iter().filter(|b| b.box_len == l).collect();
+            let bars = here.iter().map(|b| (b.density, b.interval.0, b.interval.1));
+            error_bars(&mut chart, bars, c.mix(0.6), 4)?;
+            chart
+                .draw_series(LineSeries::new(
+                    here.iter().map(|b| (b.density, b.cumulant)),
+                    c.stroke_width(2),
+                ))?
+                .label(format!("gamma {}, L = {l}", t.gamma))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                });
+        }
     }
     super::chart::legend(&mut chart, SeriesLabelPosition::LowerRight)
 }

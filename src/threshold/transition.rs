@@ -48,6 +48,27 @@ pub struct Transition {
     /// `P_inf` above the threshold, in the box asked for (by default the
     /// largest).
     pub shares: Vec<Share>,
+    /// The Binder cumulant of the largest cluster's share at the densities
+    /// of fixed-protocol truth studies, per box.
+    pub binder: Vec<Binder>,
+}
+
+/// The Binder cumulant `U = 1 - <P^4> / (3 <P^2>^2)` of `P`, the largest
+/// true cluster's share of the rods, at one density in one box. Where `P`
+/// is narrowly spread about a finite value (deep in the rigid phase) `U`
+/// tends to 2/3; curves of `U` against density for growing boxes cross at
+/// a continuous transition, and dip below zero, deeper as the box grows,
+/// where two phases coexist (a discontinuous one).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Binder {
+    pub box_len: f64,
+    pub density: f64,
+    pub sequences: usize,
+    /// The mean of `P`.
+    pub mean: f64,
+    pub cumulant: f64,
+    /// The 95% bootstrap interval of the cumulant.
+    pub interval: (f64, f64),
 }
 
 /// The mean jump against the box side as `mean jump ~ L^(-x)`: a
@@ -74,8 +95,20 @@ pub fn of_dirs(dirs: &[PathBuf], box_len: Option<f64>, bins: usize) -> Result<Ve
         let name = dir.display().to_string();
         match groups.iter_mut().find(|g| g.0 == gamma) {
             Some((_, names, all)) => {
-                let theirs = boxes(all);
-                if let Some(l) = boxes(&records).into_iter().find(|l| theirs.contains(l)) {
+                // A box of nested records, or of fixed ones, comes from one study.
+                let of = |records: &[Record], fixed: bool| -> Vec<f64> {
+                    let kept: Vec<Record> = records
+                        .iter()
+                        .filter(|r| r.fixed.is_empty() != fixed)
+                        .cloned()
+                        .collect();
+                    boxes(&kept)
+                };
+                let shared = [false, true].into_iter().find_map(|fixed| {
+                    let theirs = of(all, fixed);
+                    of(&records, fixed).into_iter().find(|l| theirs.contains(l))
+                });
+                if let Some(l) = shared {
                     return Err(Error::Parameter(format!(
                         "box {l} of gamma {gamma} is in both {} and {name}: give each box once",
                         names.join(" and ")
@@ -106,6 +139,7 @@ pub fn of_dirs(dirs: &[PathBuf], box_len: Option<f64>, bins: usize) -> Result<Ve
                 decay: decay(&records, &jumps),
                 jumps,
                 shares: shares(&records, l, bins),
+                binder: binder(&records),
             })
         })
         .collect()
@@ -132,8 +166,9 @@ fn truth_records(dir: &Path) -> Result<(f64, Vec<Record>)> {
 }
 
 /// Writes `PREFIX.json` (with the command that made it), `PREFIX.csv`
-/// (one row per aspect ratio and box: the jump) and
-/// `PREFIX.histogram.csv` (the jump's histogram per box).
+/// (one row per aspect ratio and box: the jump), `PREFIX.histogram.csv`
+/// (the jump's histogram per box) and, where fixed-protocol studies give
+/// one, `PREFIX.binder.csv` (the Binder cumulant per box and density).
 pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<PathBuf>> {
     let with = |ext: &str| output::with_extension(prefix, ext);
     let (json, csv, histogram) = (with("json"), with("csv"), with("histogram.csv"));
@@ -205,7 +240,36 @@ pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<Pat
         })
     });
     output::write_csv(&histogram, bins)?;
-    Ok(vec![json, csv, histogram])
+    let mut files = vec![json, csv, histogram];
+    if all.iter().any(|t| !t.binder.is_empty()) {
+        #[derive(Serialize)]
+        struct Cell {
+            gamma: f64,
+            box_len: f64,
+            density: f64,
+            sequences: usize,
+            mean_share: f64,
+            cumulant: f64,
+            cumulant_lo: f64,
+            cumulant_hi: f64,
+        }
+        let cells = all.iter().flat_map(|t| {
+            t.binder.iter().map(move |b| Cell {
+                gamma: t.gamma,
+                box_len: b.box_len,
+                density: b.density,
+                sequences: b.sequences,
+                mean_share: b.mean,
+                cumulant: b.cumulant,
+                cumulant_lo: b.interval.0,
+                cumulant_hi: b.interval.1,
+            })
+        });
+        let path = with("binder.csv");
+        output::write_csv(&path, cells)?;
+        files.push(path);
+    }
+    Ok(files)
 }
 
 /// The jump at the critical number, over the sequences of one box.
@@ -296,23 +360,27 @@ fn by_box(records: &[Record]) -> Vec<(f64, Vec<AtCritical>)> {
         .collect()
 }
 
-/// The bootstrap: `f` on [`RESAMPLES`] resamples of each box's values
-/// (sequences drawn with replacement within each box), in order.
-fn resampled<T>(values: &[Vec<f64>], mut f: impl FnMut(&[f64]) -> Option<T>) -> Vec<T> {
-    let mut means = vec![0.0; values.len()];
+/// The bootstrap: `f` on [`RESAMPLES`] resamples of each group's values
+/// (drawn with replacement within each group: the sequences of a box), in
+/// order.
+fn resampled<T>(values: &[Vec<f64>], mut f: impl FnMut(&[Vec<f64>]) -> Option<T>) -> Vec<T> {
+    let mut drawn: Vec<Vec<f64>> = values.iter().map(|v| Vec::with_capacity(v.len())).collect();
     (0..RESAMPLES)
         .filter_map(|b| {
             let mut rng = ChaCha8Rng::seed_from_u64(BOOTSTRAP_SEED);
             rng.set_stream(b as u64);
-            for (m, v) in means.iter_mut().zip(values) {
-                *m = (0..v.len())
-                    .map(|_| v[rng.random_range(0..v.len())])
-                    .sum::<f64>()
-                    / v.len() as f64;
+            for (d, v) in drawn.iter_mut().zip(values) {
+                d.clear();
+                d.extend((0..v.len()).map(|_| v[rng.random_range(0..v.len())]));
             }
-            f(&means)
+            f(&drawn)
         })
         .collect()
+}
+
+/// The mean of `v`.
+fn average(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len() as f64
 }
 
 /// The jump of each box of `records` (boxes in increasing order); a box
@@ -323,7 +391,7 @@ pub fn jumps(records: &[Record]) -> Vec<Jump> {
         .filter_map(|(l, seqs)| {
             let d: Vec<f64> = seqs.iter().map(AtCritical::jump).collect();
             let (mean, sd) = mean_sd(&d)?;
-            let mut boot = resampled(std::slice::from_ref(&d), |m| Some(m[0]));
+            let mut boot = resampled(std::slice::from_ref(&d), |r| Some(average(&r[0])));
             let interval = percentile_interval(&mut boot, 0.95).expect("resamples");
             let max = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             let mut histogram = vec![0; (max / HISTOGRAM_BIN).floor() as usize + 1];
@@ -350,6 +418,45 @@ pub fn jumps(records: &[Record]) -> Vec<Jump> {
                 histogram,
                 strain_before,
                 strain_at,
+            })
+        })
+        .collect()
+}
+
+/// The Binder cumulant of each box and density of the fixed-protocol
+/// records among `records` (steps without truth, below contact spanning,
+/// are left out).
+pub fn binder(records: &[Record]) -> Vec<Binder> {
+    let mut cells: Vec<((f64, usize), Vec<f64>)> = Vec::new();
+    for r in records {
+        for s in &r.fixed {
+            let Some(largest) = s.largest else { continue };
+            let p = largest as f64 / s.n as f64;
+            match cells.iter_mut().find(|c| c.0 == (r.box_len, s.n)) {
+                Some(c) => c.1.push(p),
+                None => cells.push(((r.box_len, s.n), vec![p])),
+            }
+        }
+    }
+    cells.sort_by(|a, b| a.0.0.total_cmp(&b.0.0).then(a.0.1.cmp(&b.0.1)));
+    let cumulant = |p: &[f64]| {
+        let m2 = average(&p.iter().map(|x| x * x).collect::<Vec<_>>());
+        let m4 = average(&p.iter().map(|x| x.powi(4)).collect::<Vec<_>>());
+        (m2 > 0.0).then(|| 1.0 - m4 / (3.0 * m2 * m2))
+    };
+    cells
+        .into_iter()
+        .filter(|c| c.1.len() >= 2)
+        .filter_map(|((l, n), p)| {
+            let u = cumulant(&p)?;
+            let mut boot = resampled(std::slice::from_ref(&p), |r| cumulant(&r[0]));
+            Some(Binder {
+                box_len: l,
+                density: n as f64 / l.powi(3),
+                sequences: p.len(),
+                mean: average(&p),
+                cumulant: u,
+                interval: percentile_interval(&mut boot, 0.95)?,
             })
         })
         .collect()
@@ -382,7 +489,9 @@ fn decay(records: &[Record], jumps: &[Jump]) -> Vec<Decay> {
             .collect();
         let (exponent, r2) = slope(&means)?;
         let per_box: Vec<Vec<f64>> = values.iter().map(|v| v.1.clone()).collect();
-        let mut boot = resampled(&per_box, |m| slope(m).map(|s| s.0));
+        let mut boot = resampled(&per_box, |r| {
+            slope(&r.iter().map(|v| average(v)).collect::<Vec<_>>()).map(|s| s.0)
+        });
         Some(Decay {
             boxes: lens,
             exponent,
@@ -565,6 +674,42 @@ mod tests {
         }
         // Two boxes fit no decay.
         assert!(decay(&records[..4], &jumps(&records[..4])).is_empty());
+    }
+
+    #[test]
+    fn the_binder_cumulant_is_two_thirds_for_one_value_and_one_third_for_two() {
+        // Box 2 (volume 8), 80 rods: every sequence holds 40 (P = 1/2);
+        // 96 rods: half hold none, half 48 (P = 0 or 1/2).
+        let fixed = |largest: [usize; 2]| {
+            let mut r = record(2.0, 80, &[]);
+            r.rigid_critical = None;
+            r.fixed = [(80, largest[0]), (96, largest[1])]
+                .map(|(n, l)| Step {
+                    largest: Some(l),
+                    ..Step::new(n, l > 0, usize::from(l > 0))
+                })
+                .to_vec();
+            r
+        };
+        let records = vec![
+            fixed([40, 0]),
+            fixed([40, 48]),
+            fixed([40, 0]),
+            fixed([40, 48]),
+        ];
+        let b = binder(&records);
+        assert_eq!(b.len(), 2);
+        assert_eq!((b[0].density, b[0].sequences, b[0].mean), (10.0, 4, 0.5));
+        assert!((b[0].cumulant - 2.0 / 3.0).abs() < 1e-12);
+        assert!((b[0].interval.0 - 2.0 / 3.0).abs() < 1e-12);
+        assert_eq!((b[1].density, b[1].mean), (12.0, 0.25));
+        assert!((b[1].cumulant - 1.0 / 3.0).abs() < 1e-12);
+        let (lo, hi) = b[1].interval;
+        // A resample of one 48 in four has U = -1/3; of 48s alone, 2/3.
+        assert!((-1.0 / 3.0 - 1e-12..1.0 / 3.0).contains(&lo), "{lo}");
+        assert!(1.0 / 3.0 < hi && hi <= 2.0 / 3.0 + 1e-12, "{hi}");
+        // Nested records have no fixed steps: no cumulant.
+        assert!(binder(&[jumping(4.0, 0, 30, (0, 6))]).is_empty());
     }
 
     #[test]

@@ -913,6 +913,63 @@ fn transition_reports_the_jump_per_box_and_the_share_above_the_threshold() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
+#[test]
+fn a_fixed_truth_study_at_given_densities_gives_the_binder_cumulant() {
+    let root = crate::scratch("cli-binder");
+    let study = root.join("fixed");
+    let s = study.to_str().unwrap();
+    let base = [
+        ("--kind", "truth"),
+        ("--gamma", "23"),
+        ("--boxes", "3,4,5"),
+        ("--sequences", "4"),
+        ("--seed", "2"),
+    ];
+    let with = |extra: &[(&'static str, &'static str)]| {
+        let mut o = base.to_vec();
+        o.extend_from_slice(extra);
+        o
+    };
+    fails(
+        &threshold(
+            s,
+            &with(&[("--protocol", "nested"), ("--grid-densities", "30,34")]),
+        ),
+        "--grid-densities needs --protocol fixed",
+    );
+    fails(
+        &threshold(
+            s,
+            &with(&[("--protocol", "fixed"), ("--grid-densities", "34,30")]),
+        ),
+        "--grid-densities must be two or more increasing positive densities",
+    );
+    // The analysis fails on so few sequences; the records are written.
+    let _ = rgc(&threshold(
+        s,
+        &with(&[("--protocol", "fixed"), ("--grid-densities", "30,34,38")]),
+    ));
+    let grid: Value =
+        serde_json::from_str(&std::fs::read_to_string(study.join("grid.json")).unwrap()).unwrap();
+    assert_eq!(
+        grid["boxes"][1]["rods"],
+        serde_json::json!([1920, 2176, 2432]),
+        "density x 64"
+    );
+    let v = json(&["transition", s, "--json"]);
+    let cells = v[0]["binder"].as_array().unwrap();
+    assert_eq!(cells.len(), 9, "three boxes, three densities: {v}");
+    for c in cells {
+        assert_eq!(c["sequences"], 4);
+        let u = c["cumulant"].as_f64().unwrap();
+        assert!((-2.0..=2.0 / 3.0 + 1e-9).contains(&u), "{c}");
+    }
+    assert_eq!(cells[8]["density"], 38.0);
+    // Deep in the rigid phase the share is narrowly spread: U near 2/3.
+    assert!(cells[8]["cumulant"].as_f64().unwrap() > 0.6);
+    let _ = std::fs::remove_dir_all(&root);
+}
+
 /// Each record of a study's `records.jsonl`, by box and index.
 fn records_by_sequence(dir: &std::path::Path) -> std::collections::BTreeMap<String, Value> {
     std::fs::read_to_string(dir.join("records.jsonl"))

@@ -24,6 +24,7 @@ fn spec(kind: Kind, method: Protocol) -> StudySpec {
         criterion: Criterion::Wrap,
         method,
         grid_points: 6,
+        grid_densities: None,
         seed: 7,
     }
 }

@@ -25,9 +25,11 @@ pub(super) fn compress(
     let graph = seq.graph(n);
     let contacts = seq.contacts_of(n);
     if setup.kind == Kind::Truth {
-        let spans = truth_spans(setup, seq, n)?;
-        let step = Step::new(n, spans, usize::from(spans));
-        return Ok((step, vec![Vec::new(); setup.runs], false));
+        return Ok((
+            truth_step(setup, seq, n)?,
+            vec![Vec::new(); setup.runs],
+            false,
+        ));
     }
     // The runs follow one another; each holds its state, all their bodies.
     engine::check_runs_memory(
@@ -105,15 +107,26 @@ pub(super) fn refusal(seq: &Sequence, n: usize, t: truth::Truth) -> Error {
 
 /// [`truth_spanning`], where an undecided truth is an error rather than a guess.
 pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
+    truth_step(setup, seq, n).map(|s| s.spans)
+}
+
+/// The step of truth on the first `n` rods: whether it spans, its largest
+/// cluster and its strain rank; an undecided truth is an error.
+fn truth_step(setup: &Setup, seq: &Sequence, n: usize) -> Result<Step> {
     let t = truth_of(setup, seq, n);
     if t.outcome.refused().is_some() {
         return Err(refusal(seq, n, t));
     }
-    t.spanning.ok_or_else(|| {
+    let spans = t.spanning.ok_or_else(|| {
         Error::Analysis(format!(
             "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
             seq.seed,
             t.outcome.reason().unwrap_or_default()
         ))
+    })?;
+    Ok(Step {
+        largest: Some(t.largest_cluster()),
+        strain_rank: t.strain_rank(),
+        ..Step::new(n, spans, usize::from(spans))
     })
 }

@@ -68,6 +68,29 @@ fn pilot_grid(spec: &StudySpec, setup: &Setup) -> Result<Grid> {
     Ok(Grid { boxes })
 }
 
+/// The fixed protocol's grid at the given `densities` in every box (no
+/// pilot): each density's nearest number of rods, at least one.
+fn given_grid(spec: &StudySpec, densities: &[f64]) -> Grid {
+    let boxes = spec
+        .boxes
+        .iter()
+        .map(|&l| {
+            let volume = l.powi(3);
+            let mut rods: Vec<usize> = densities
+                .iter()
+                .map(|d| ((d * volume).round() as usize).max(1))
+                .collect();
+            rods.dedup();
+            GridBox {
+                box_len: l,
+                pilot: Vec::new(),
+                rods,
+            }
+        })
+        .collect();
+    Grid { boxes }
+}
+
 /// Runs one sequence.
 fn run_sequence(
     spec: &StudySpec,
@@ -223,7 +246,10 @@ fn load_or_make_grid(dir: &Path, spec: &StudySpec, setup: &Setup) -> Result<Grid
     if let Some(grid) = read_grid(dir)? {
         return Ok(grid);
     }
-    let grid = pilot_grid(spec, setup)?;
+    let grid = match &spec.grid_densities {
+        Some(densities) => given_grid(spec, densities),
+        None => pilot_grid(spec, setup)?,
+    };
     let text = serde_json::to_string_pretty(&grid).expect("grids serialize");
     output::write_atomic(&dir.join("grid.json"), text)?;
     Ok(grid)
@@ -251,6 +277,7 @@ mod tests {
             criterion: Criterion::Wrap,
             method,
             grid_points: 4,
+            grid_densities: None,
             seed: 5,
         }
     }
@@ -414,6 +441,7 @@ mod tests {
             let spec = StudySpec {
                 sequences: 12,
                 grid_points: 6,
+                grid_densities: None,
                 seed: 7,
                 ..spec(Kind::Rigid, method)
             };

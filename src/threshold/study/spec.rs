@@ -35,6 +35,11 @@ pub struct StudySpec {
     pub method: Protocol,
     /// Densities of the fixed protocol's grid per box (ignored by `nested`).
     pub grid_points: usize,
+    /// The fixed protocol's densities, the same in every box, instead of a
+    /// grid of `grid_points` found by a pilot run: what a quantity compared
+    /// across boxes at one density needs (the Binder cumulant).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid_densities: Option<Vec<f64>>,
     pub seed: u64,
 }
 
@@ -63,6 +68,7 @@ impl StudySpec {
             criterion,
             method: Protocol::Nested,
             grid_points: 12,
+            grid_densities: None,
             seed,
         }
     }
@@ -131,6 +137,19 @@ impl StudySpec {
         }
         if self.method == Protocol::Fixed && self.grid_points < 2 {
             return bad("--grid-points must be at least 2".into());
+        }
+        if let Some(d) = &self.grid_densities {
+            if self.method != Protocol::Fixed {
+                return bad("--grid-densities needs --protocol fixed".into());
+            }
+            if d.len() < 2
+                || d.iter().any(|x| !x.is_finite() || *x <= 0.0)
+                || d.windows(2).any(|w| w[0] >= w[1])
+            {
+                return bad(format!(
+                    "--grid-densities must be two or more increasing positive densities, got {d:?}"
+                ));
+            }
         }
         if self.kind != Kind::Truth {
             let kind = format!("{:?}", self.kind).to_lowercase();

@@ -35,6 +35,9 @@ pub struct ThresholdArgs {
     /// Densities per box in the fixed protocol's grid (found by a pilot run).
     #[arg(long, default_value_t = 12)]
     grid_points: usize,
+    /// The fixed protocol's densities (rods per unit volume), the same in every box, instead of a pilot's grid: for quantities compared across boxes at one density, such as the Binder cumulant of `rgc transition`.
+    #[arg(long, value_delimiter = ',', requires = "protocol")]
+    grid_densities: Option<Vec<f64>>,
     /// Run only slice i of n (`i/n`, from 0); combine the slices with `rgc merge`.
     #[arg(long)]
     shard: Option<String>,
@@ -60,6 +63,7 @@ pub fn run(a: ThresholdArgs, out: &mut String) -> Result<()> {
         runs: a.runs as usize,
         method: a.protocol,
         grid_points: a.grid_points,
+        grid_densities: a.grid_densities,
         ..a.study.spec()
     };
     // A study the analysis could not use fails before its rules are verified or its sequences run.

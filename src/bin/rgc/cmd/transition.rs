@@ -11,7 +11,7 @@ use rgc::threshold::transition::{self, Transition};
 
 #[derive(Args)]
 pub struct TransitionArgs {
-    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress; studies of one aspect ratio with different boxes (a large-box study beside the small boxes) are read as one.
+    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress; studies of one aspect ratio with different boxes (a large-box study beside the small boxes) are read as one, and fixed-protocol truth studies (`--protocol fixed --grid-densities ...`) give the Binder cumulant at their densities.
     #[arg(required = true)]
     dirs: Vec<PathBuf>,
     /// The box of the P_inf curve [default: each study's largest box with records].
@@ -20,7 +20,7 @@ pub struct TransitionArgs {
     /// Density bins of the P_inf curve.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u64).range(1..=100))]
     bins: u64,
-    /// Write PREFIX.json, PREFIX.csv, PREFIX.histogram.csv, PREFIX.svg and PREFIX.png.
+    /// Write PREFIX.json, PREFIX.csv, PREFIX.histogram.csv, PREFIX.svg and PREFIX.png (and PREFIX.binder.csv where fixed-protocol truth studies give a Binder cumulant).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Replace those files if they exist.
@@ -36,7 +36,7 @@ pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
     if let Some(prefix) = &a.out {
         super::refuse_existing(
             prefix,
-            &["json", "csv", "histogram.csv", "svg", "png"],
+            &["json", "csv", "histogram.csv", "binder.csv", "svg", "png"],
             a.force,
         )?;
     }
@@ -92,6 +92,25 @@ pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
                 d.interval.1,
                 d.r2
             );
+        }
+        if !t.binder.is_empty() {
+            say!(
+                out,
+                "Binder cumulant of the largest cluster's share (fixed densities):"
+            );
+            for b in &t.binder {
+                say!(
+                    out,
+                    "  L = {:>4}, density {:>8.3}: U = {:.4} [{:.4}, {:.4}], mean share {:.4} ({} sequences)",
+                    b.box_len,
+                    b.density,
+                    b.cumulant,
+                    b.interval.0,
+                    b.interval.1,
+                    b.mean,
+                    b.sequences
+                );
+            }
         }
         if let Some(first) = t.shares.first() {
             say!(
