@@ -32,14 +32,16 @@ fn class(degree: u8, distance: u8) -> u8 {
 
 /// A trie node: the last step of its prefix (its back steps and
 /// [`class`]), its children (contiguous), the slots of the attempts below
-/// it and of those whose plans end here, and its checks (in
-/// [`Trie::checks`]).
+/// it (and, where they lie in one word of a set of slots, that word and
+/// their bits, else `u32::MAX`) and of those whose plans end here, and its
+/// checks (in [`Trie::checks`]).
 #[derive(Clone, Debug)]
 struct Node {
     back: (u32, u8),
     class: u8,
     children: (u32, u32),
     slots: (u32, u32),
+    word: (u32, u64),
     ends: (u32, u32),
     checks: (u32, u32),
 }
@@ -193,6 +195,7 @@ impl Trie {
                 class: 0,
                 children: (0, 0),
                 slots: (lo as u32, hi as u32),
+                word: word(lo, hi),
                 ends: (lo as u32, lo as u32),
                 checks: (0, 0),
             });
@@ -251,6 +254,7 @@ impl Trie {
                 class: class(key.degree, key.distance),
                 children: (0, 0),
                 slots: (at as u32, end as u32),
+                word: word(at, end),
                 ends: (at as u32, at as u32),
                 checks: (0, 0),
             });
@@ -338,7 +342,7 @@ impl Trie {
         let (first_child, last_child) = here.children;
         for c in first_child..last_child {
             let child = &self.nodes[c as usize];
-            if !any(pending, child.slots) {
+            if !live(pending, child) {
                 continue;
             }
             let mut bits = self.candidates(child.back, child.class, free, t);
@@ -362,7 +366,7 @@ impl Trie {
             }
             while let Some(i) = bits.pop() {
                 if *changes != seen {
-                    if !any(pending, child.slots) {
+                    if !live(pending, child) {
                         break;
                     }
                     seen = *changes;
@@ -401,6 +405,25 @@ impl Trie {
                 }
             }
         }
+    }
+}
+
+/// The word of a set of slots that holds the slots `lo..hi` (not empty),
+/// and their bits there, if one does (else `u32::MAX`).
+fn word(lo: usize, hi: usize) -> (u32, u64) {
+    if lo / 64 != (hi - 1) / 64 {
+        return (u32::MAX, 0);
+    }
+    let bits = (u64::MAX << (lo % 64)) & (u64::MAX >> (63 - (hi - 1) % 64));
+    ((lo / 64) as u32, bits)
+}
+
+/// Whether any slot below `node` is set in `pending`.
+#[inline(always)]
+fn live(pending: &[u64], node: &Node) -> bool {
+    match node.word {
+        (u32::MAX, _) => any(pending, node.slots),
+        (w, bits) => pending[w as usize] & bits != 0,
     }
 }
 
