@@ -86,6 +86,86 @@ impl Bits {
     }
 }
 
+/// A set of ball rods: one word for a ball of at most 64 rods (the most
+/// common, where a search's bit operations are one instruction each), two
+/// for one of at most 128, or [`Bits`].
+pub(super) trait Set:
+    Copy
+    + Default
+    + std::ops::BitAnd<Output = Self>
+    + std::ops::BitAndAssign
+    + std::ops::Not<Output = Self>
+{
+    /// The set of the rods of `bits`, all below the set's size.
+    fn of(bits: Bits) -> Self;
+    fn is_empty(&self) -> bool;
+    fn insert(&mut self, i: usize);
+    fn remove(&mut self, i: usize);
+    /// Removes and returns the least rod of the set.
+    fn pop(&mut self) -> Option<usize>;
+}
+
+/// [`Set`] for an unsigned integer of `$words` words: the rods of
+/// `bits` (all in those words) as one number.
+macro_rules! integer_set {
+    ($t:ty, $words:expr) => {
+        impl Set for $t {
+            fn of(bits: Bits) -> Self {
+                debug_assert!(bits.0[$words..].iter().all(|&w| w == 0));
+                bits.0[..$words]
+                    .iter()
+                    .rev()
+                    .fold(0, |n, &w| n << 32 << 32 | <$t>::from(w))
+            }
+
+            fn is_empty(&self) -> bool {
+                *self == 0
+            }
+
+            fn insert(&mut self, i: usize) {
+                *self |= 1 << i;
+            }
+
+            fn remove(&mut self, i: usize) {
+                *self &= !(1 << i);
+            }
+
+            fn pop(&mut self) -> Option<usize> {
+                (*self != 0).then(|| {
+                    let i = self.trailing_zeros() as usize;
+                    *self &= *self - 1;
+                    i
+                })
+            }
+        }
+    };
+}
+
+integer_set!(u64, 1);
+integer_set!(u128, 2);
+
+impl Set for Bits {
+    fn of(bits: Bits) -> Self {
+        bits
+    }
+
+    fn is_empty(&self) -> bool {
+        Bits::is_empty(self)
+    }
+
+    fn insert(&mut self, i: usize) {
+        Bits::insert(self, i);
+    }
+
+    fn remove(&mut self, i: usize) {
+        Bits::remove(self, i);
+    }
+
+    fn pop(&mut self) -> Option<usize> {
+        Bits::pop(self)
+    }
+}
+
 impl std::ops::BitAnd for Bits {
     type Output = Bits;
     fn bitand(mut self, other: Bits) -> Bits {

@@ -720,13 +720,12 @@ impl Index {
     /// The started pair has no node map from `e`: nor from the pattern
     /// contacts that contain it.
     pub fn kill(&mut self, e: &PairEntry) {
-        let catalog = Arc::clone(&self.catalog);
-        for &id in std::iter::once(&e.id).chain(&catalog.implies[e.id as usize]) {
-            let w = id as usize / 64;
-            if self.dead[w] == 0 {
-                self.dead_words.push(w as u32);
+        for &(w, bits) in &self.catalog.implies[e.id as usize] {
+            let dead = &mut self.dead[w as usize];
+            if *dead == 0 {
+                self.dead_words.push(w);
             }
-            self.dead[w] |= 1 << (id % 64);
+            *dead |= bits;
         }
     }
 

@@ -11,7 +11,7 @@
 //! contact assignment and the induced rigidity, is left to each attempt's
 //! own search: the trie only says which attempts can match at all.
 
-use super::ball::{Ball, Bits, MAX_CORE, MAX_DEGREE};
+use super::ball::{Ball, Bits, MAX_CORE, MAX_DEGREE, Set};
 use super::rule::CompiledRule;
 
 /// One step of a plan, by step numbers: the earlier steps (0 is the start)
@@ -24,16 +24,24 @@ struct Key {
     distance: u8,
 }
 
-/// A trie node: the last step of its prefix, its children (contiguous),
-/// the slots of the attempts below it and of those whose plans end here,
-/// and its checks (in [`Trie::checks`]).
+/// The class of a step of pattern degree `degree` (up to [`MAX_DEGREE`])
+/// and distance `distance` from the start: its index in [`Tables::class`].
+fn class(degree: u8, distance: u8) -> u8 {
+    distance * (MAX_DEGREE as u8 + 1) + degree
+}
+
+/// A trie node: the last step of its prefix (its back steps and
+/// [`class`]), its children (contiguous), the slots of the attempts below
+/// it (and, where they lie in one word of a set of slots, that word and
+/// their bits, else `u32::MAX`) and of those whose plans end here, and its
+/// checks (in [`Trie::checks`]).
 #[derive(Clone, Debug)]
 struct Node {
     back: (u32, u8),
-    degree: u8,
-    distance: u8,
+    class: u8,
     children: (u32, u32),
     slots: (u32, u32),
+    word: (u32, u64),
     ends: (u32, u32),
     checks: (u32, u32),
 }
@@ -44,8 +52,7 @@ struct Node {
 #[derive(Clone, Copy, Debug)]
 struct Check {
     back: (u32, u8),
-    degree: u8,
-    distance: u8,
+    class: u8,
 }
 
 /// The attempts' plans as a trie per group of attempts that search the
@@ -62,16 +69,50 @@ pub(super) struct Trie {
     pub attempt_of: Vec<u32>,
 }
 
-/// The state of one trie search: the ball rod of each step, the rods used,
-/// the rods a match can use, and, when only the first attempt in the plain
+/// The state of one trie search: when only the first attempt in the plain
 /// order is wanted, that order (where the cycle of attempts starts, and
-/// their number).
+/// their number); how many times the pending attempts changed; and the
+/// ball's tables as one word (balls of at most 64 rods), two (at most
+/// 128) or [`Bits`].
 #[derive(Default)]
 pub(super) struct Walk {
-    local: [u8; 32],
-    used: Bits,
-    within: Bits,
     first: Option<(u32, u32)>,
+    changes: u32,
+    small: Tables<u64>,
+    medium: Tables<u128>,
+    large: Tables<Bits>,
+}
+
+/// A ball's rows, the rods a step of each [`class`] can use (those of
+/// `within` at most its distance from the root with at least its degree
+/// of neighbours in the ball), and the ball rod of each step and the rods
+/// used so far.
+#[derive(Default)]
+struct Tables<S> {
+    rows: Vec<S>,
+    class: Vec<S>,
+    local: [u8; 32],
+    used: S,
+}
+
+impl<S: Set> Tables<S> {
+    /// Takes `within` as the rods a match can use, starting at the root,
+    /// and (when `rows`) the rows of `ball`.
+    fn start(&mut self, ball: &Ball, within: Bits, rows: bool) {
+        if rows {
+            self.rows.clear();
+            self.rows.extend(ball.rows.iter().map(|&r| S::of(r)));
+        }
+        self.class.clear();
+        for near in &ball.near {
+            for wide in &ball.wide {
+                self.class.push(S::of(within & *near & *wide));
+            }
+        }
+        self.local[0] = ball.root as u8;
+        self.used = S::default();
+        self.used.insert(ball.root);
+    }
 }
 
 impl Walk {
@@ -151,10 +192,10 @@ impl Trie {
             let root = trie.nodes.len() as u32;
             trie.nodes.push(Node {
                 back: (0, 0),
-                degree: 0,
-                distance: 0,
+                class: 0,
                 children: (0, 0),
                 slots: (lo as u32, hi as u32),
+                word: word(lo, hi),
                 ends: (lo as u32, lo as u32),
                 checks: (0, 0),
             });
@@ -198,8 +239,7 @@ impl Trie {
                 let back = self.push_back(&k.back);
                 self.checks.push(Check {
                     back,
-                    degree: k.degree,
-                    distance: k.distance,
+                    class: class(k.degree, k.distance),
                 });
             }
             self.nodes[node as usize].checks = (from, self.checks.len() as u32);
@@ -211,10 +251,10 @@ impl Trie {
             let back = self.push_back(&key.back);
             self.nodes.push(Node {
                 back,
-                degree: key.degree,
-                distance: key.distance,
+                class: class(key.degree, key.distance),
                 children: (0, 0),
                 slots: (at as u32, end as u32),
+                word: word(at, end),
                 ends: (at as u32, at as u32),
                 checks: (0, 0),
             });
@@ -248,6 +288,8 @@ impl Trie {
         found: &mut Vec<u32>,
         walk: &mut Walk,
     ) {
+        let size = ball.rods.len();
+        let mut rows = false;
         for &(eccentricity, order, root) in &self.groups {
             let node = &self.nodes[root as usize];
             if eccentricity as usize > radius || !any(pending, node.slots) {
@@ -257,82 +299,95 @@ impl Trie {
             if !within.has(ball.root) {
                 continue;
             }
-            walk.within = within;
-            walk.local[0] = ball.root as u8;
-            walk.used = Bits::one(ball.root);
-            self.explore(root, 0, ball, pending, found, walk);
+            let first = walk.first;
+            let changes = &mut walk.changes;
+            if size <= 64 {
+                walk.small.start(ball, within, !rows);
+                self.explore(root, 0, &mut walk.small, first, changes, pending, found);
+            } else if size <= 128 {
+                walk.medium.start(ball, within, !rows);
+                self.explore(root, 0, &mut walk.medium, first, changes, pending, found);
+            } else {
+                walk.large.start(ball, within, !rows);
+                self.explore(root, 0, &mut walk.large, first, changes, pending, found);
+            }
+            rows = true;
         }
     }
 
-    fn explore(
+    /// Searches below `node`, whose prefix maps its `depth + 1` steps to
+    /// `t.local`: whether the later steps every plan below has can still
+    /// be mapped, then each child's candidates in turn. A subtree is left
+    /// once none of its attempts is pending (`changes` counts the times
+    /// the pending attempts changed, which only then are looked at again).
+    #[allow(clippy::too_many_arguments)]
+    fn explore<S: Set>(
         &self,
         node: u32,
         depth: usize,
-        ball: &Ball,
+        t: &mut Tables<S>,
+        first: Option<(u32, u32)>,
+        changes: &mut u32,
         pending: &mut [u64],
         found: &mut Vec<u32>,
-        walk: &mut Walk,
     ) {
-        let (from, to) = self.nodes[node as usize].checks;
+        let here = &self.nodes[node as usize];
+        let free = !t.used;
+        let (from, to) = here.checks;
         for check in &self.checks[from as usize..to as usize] {
-            let (back, degree, distance) = (check.back, check.degree, check.distance);
-            if self
-                .candidates(back, degree, distance, ball, walk)
-                .is_empty()
-            {
+            if self.candidates(check.back, check.class, free, t).is_empty() {
                 return;
             }
         }
-        let (first, last) = self.nodes[node as usize].children;
-        for c in first..last {
+        let (first_child, last_child) = here.children;
+        for c in first_child..last_child {
             let child = &self.nodes[c as usize];
-            if !any(pending, child.slots) {
+            if !live(pending, child) {
                 continue;
             }
-            let mut bits = self.candidates(child.back, child.degree, child.distance, ball, walk);
+            let mut bits = self.candidates(child.back, child.class, free, t);
             if bits.is_empty() {
                 continue;
             }
+            let mut seen = *changes;
             for s in child.ends.0..child.ends.1 {
                 let (w, b) = (s as usize / 64, s % 64);
                 if pending[w] & (1 << b) != 0 {
                     pending[w] &= !(1 << b);
                     found.push(s);
-                    if let Some(order) = walk.first {
+                    if let Some(order) = first {
                         self.clear_later(s, order, pending);
                     }
+                    *changes = changes.wrapping_add(1);
                 }
             }
-            let leaf = child.children.0 == child.children.1;
-            while !leaf && any(pending, child.slots) {
-                let Some(i) = bits.pop() else {
-                    break;
-                };
-                walk.local[depth + 1] = i as u8;
-                walk.used.insert(i);
-                self.explore(c, depth + 1, ball, pending, found, walk);
-                walk.used.remove(i);
+            if child.children.0 == child.children.1 {
+                continue;
+            }
+            while let Some(i) = bits.pop() {
+                if *changes != seen {
+                    if !live(pending, child) {
+                        break;
+                    }
+                    seen = *changes;
+                }
+                t.local[depth + 1] = i as u8;
+                t.used.insert(i);
+                self.explore(c, depth + 1, t, first, changes, pending, found);
+                t.used.remove(i);
             }
         }
     }
 }
 
 impl Trie {
-    /// The ball rods left for a step that touches the rods of the steps
-    /// `back` (in [`Trie::backs`]), of pattern degree `degree` and
-    /// distance `distance` from the start.
-    fn candidates(
-        &self,
-        (at, len): (u32, u8),
-        degree: u8,
-        distance: u8,
-        ball: &Ball,
-        walk: &Walk,
-    ) -> Bits {
-        let mut bits =
-            !walk.used & walk.within & ball.near[distance as usize] & ball.wide[degree as usize];
+    /// The rods left of `free` for a step of [`class`] `class` that touches
+    /// the rods of the steps `back` (in [`Trie::backs`]).
+    #[inline]
+    fn candidates<S: Set>(&self, (at, len): (u32, u8), class: u8, free: S, t: &Tables<S>) -> S {
+        let mut bits = free & t.class[class as usize];
         for &b in &self.backs[at as usize..at as usize + len as usize] {
-            bits &= ball.rows[walk.local[b as usize] as usize];
+            bits &= t.rows[t.local[b as usize] as usize];
         }
         bits
     }
@@ -353,7 +408,27 @@ impl Trie {
     }
 }
 
+/// The word of a set of slots that holds the slots `lo..hi` (not empty),
+/// and their bits there, if one does (else `u32::MAX`).
+fn word(lo: usize, hi: usize) -> (u32, u64) {
+    if lo / 64 != (hi - 1) / 64 {
+        return (u32::MAX, 0);
+    }
+    let bits = (u64::MAX << (lo % 64)) & (u64::MAX >> (63 - (hi - 1) % 64));
+    ((lo / 64) as u32, bits)
+}
+
+/// Whether any slot below `node` is set in `pending`.
+#[inline(always)]
+fn live(pending: &[u64], node: &Node) -> bool {
+    match node.word {
+        (u32::MAX, _) => any(pending, node.slots),
+        (w, bits) => pending[w as usize] & bits != 0,
+    }
+}
+
 /// Whether any bit of `bits` in `lo..hi` is set.
+#[inline(always)]
 fn any(bits: &[u64], (lo, hi): (u32, u32)) -> bool {
     let (lo, hi) = (lo as usize, hi as usize);
     if lo >= hi {
