@@ -50,6 +50,7 @@ pub mod network;
 pub mod body;
 pub mod spanning;
 
+pub mod moduli;
 pub mod pattern;
 pub mod rigidity;
 pub mod truth;
