@@ -134,27 +134,26 @@ fn strained(j: usize, x: V3<f64>) -> V3<f64> {
     v
 }
 
-/// The moduli of the realization `real` of the `active` rods of a
-/// periodic `topo`, kept at the exact `strain_rank`; `centres` (per rod, on
-/// its line) move with the strain in the Born tensor.
-pub fn of_realization(
+/// The springs of a realization: the contact matrix `R` (3 rows per
+/// contact, a spring each, then a spin row per rod, a gauge) by its
+/// entries over the parts' columns, and the affine stretches `B` of the
+/// six strain columns (truth's, every rod's centre moved with the strain).
+#[derive(Clone, Debug)]
+pub struct Springs {
+    pub rows: usize,
+    pub columns: usize,
+    pub entries: Vec<Triplet<usize, usize, f64>>,
+    pub affine: Mat<f64>,
+}
+
+/// The [`Springs`] of the `active` rods of `topo` at `real`, the Born
+/// tensor moving `centres`.
+pub fn springs(
     topo: &Topology,
     active: &[bool],
     real: &Realization<f64>,
     centres: &[Option<V3<f64>>],
-    strain_rank: u8,
-    stiffness: f64,
-) -> Result<Elastic> {
-    if topo.periodic != [true; 3] || topo.shifts.is_none() {
-        return Err(Error::Parameter(
-            "moduli need a box periodic along x, y and z".into(),
-        ));
-    }
-    if !(stiffness.is_finite() && stiffness > 0.0) {
-        return Err(Error::Parameter(format!(
-            "the spring stiffness k must be positive and finite, not {stiffness}"
-        )));
-    }
+) -> Result<Springs> {
     let none = no_planes(topo);
     let parts = matrix::parts(&none, active);
     let strains = matrix::StrainColumns::new(&parts, &Strain::ALL);
@@ -191,14 +190,48 @@ pub fn of_realization(
         &entries,
     )
     .map_err(|e| Error::analysis(format!("the contact matrix: {e:?}")))?;
-    let affine = &b + r.as_ref() * &u;
+    Ok(Springs {
+        rows: rows.len(),
+        columns: first,
+        affine: &b + r.as_ref() * &u,
+        entries,
+    })
+}
+
+/// The moduli of the realization `real` of the `active` rods of a
+/// periodic `topo`, kept at the exact `strain_rank`; `centres` (per rod, on
+/// its line) move with the strain in the Born tensor.
+pub fn of_realization(
+    topo: &Topology,
+    active: &[bool],
+    real: &Realization<f64>,
+    centres: &[Option<V3<f64>>],
+    strain_rank: u8,
+    stiffness: f64,
+) -> Result<Elastic> {
+    if topo.periodic != [true; 3] || topo.shifts.is_none() {
+        return Err(Error::Parameter(
+            "moduli need a box periodic along x, y and z".into(),
+        ));
+    }
+    if !(stiffness.is_finite() && stiffness > 0.0) {
+        return Err(Error::Parameter(format!(
+            "the spring stiffness k must be positive and finite, not {stiffness}"
+        )));
+    }
+    let Springs {
+        rows,
+        columns,
+        entries,
+        affine,
+    } = springs(topo, active, real, centres)?;
     let Relaxation {
         relaxed,
         affine: born,
         regularization,
         optimality,
         steps,
-    } = relax::relax(rows.len(), first, &entries, &affine).map_err(Error::analysis)?;
+    } = relax::relax(rows, columns, &entries, &affine).map_err(Error::analysis)?;
     let volume = real.side.powi(3);
     let raw = Voigt::of_strain_columns(&relaxed, stiffness / volume);
     let born = Voigt::of_strain_columns(&born, stiffness / volume);
@@ -291,11 +324,22 @@ fn scaled(mut real: Realization<f64>, side: f64) -> Realization<f64> {
     real
 }
 
-/// The moduli of a rod system with its contacts in a cubic periodic box:
-/// truth for the exact strain rank, the realization nearest the rods, the
-/// tensor.
-pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
-    let start = Instant::now();
+/// The float realization of a system's 2-core the moduli use.
+#[derive(Clone, Debug)]
+pub struct Floats {
+    /// The 2-core.
+    pub active: Vec<bool>,
+    pub real: Realization<f64>,
+    /// Per core rod, the point the Born tensor moves with the strain.
+    pub centres: Vec<Option<V3<f64>>>,
+    /// `nearest` or `projected` ([`Elastic::realization`]).
+    pub how: &'static str,
+    /// The mean rod length, the unit of lengths.
+    pub unit: f64,
+}
+
+/// A box periodic along every axis and cubic, or why not.
+fn check_box(network: View) -> Result<()> {
     let system = network.system;
     if system.domain.periodic != Periodic::Xyz {
         return Err(Error::Parameter(
@@ -308,12 +352,16 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
             "moduli need a cubic box, not sides {lx}, {ly}, {lz}"
         )));
     }
-    if !(opts.stiffness.is_finite() && opts.stiffness > 0.0) {
-        return Err(Error::Parameter(format!(
-            "the spring stiffness k must be positive and finite, not {}",
-            opts.stiffness
-        )));
-    }
+    Ok(())
+}
+
+/// The float realization of the 2-core of `network` in mean rod lengths:
+/// the one nearest the rods, or where that projection does not converge,
+/// one from a random start (`seed`) scaled to the box.
+pub fn floats(network: View, seed: u64) -> Result<Floats> {
+    check_box(network)?;
+    let system = network.system;
+    let lx = system.domain.sides[0];
     let n = system.len();
     let unit = if n == 0 {
         1.0
@@ -321,20 +369,6 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
         system.rods.iter().map(|r| r.length).sum::<f64>() / n as f64
     };
     let topo = network.topology();
-    let t = truth(&topo, opts.truth);
-    if t.outcome.refused().is_some() {
-        return Err(Error::Memory(format!(
-            "truth refused this system: {}",
-            t.outcome.reason().unwrap_or_default()
-        )));
-    }
-    let strains = t.strains.as_ref().expect("truth reports its strains");
-    let Some(rank) = strains.rank else {
-        return Err(Error::analysis(format!(
-            "the strain rank is unknown: {}",
-            strains.reason.as_deref().unwrap_or("truth is undecided")
-        )));
-    };
     let core = prune::two_core(network.graph);
     let planes = planes::forced(&topo, &core.active).map_err(|u| {
         Error::analysis(format!(
@@ -371,7 +405,7 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
     let (real, how) = match projection::nearest(&topo, &planes, &core.active, &near) {
         Ok(real) => (real, "nearest"),
         Err(_) => {
-            let mut rng = ChaCha8Rng::seed_from_u64(opts.truth.seed);
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let real = projection::project(&topo, &planes, &core.active, &mut rng)
                 .map_err(|why| Error::analysis(format!("no float realization: {why}")))?;
             (scaled(real, near.side), "projected")
@@ -393,9 +427,46 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
     } else {
         contact_centres(&topo, &real)
     };
-    let mut e = of_realization(&topo, &core.active, &real, &centres, rank, opts.stiffness)?;
-    e.realization = how.into();
-    e.length_unit = unit;
+    Ok(Floats {
+        active: core.active,
+        real,
+        centres,
+        how,
+        unit,
+    })
+}
+
+/// The moduli of a rod system with its contacts in a cubic periodic box:
+/// truth for the exact strain rank, the realization nearest the rods
+/// ([`floats`]), the tensor.
+pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
+    let start = Instant::now();
+    if !(opts.stiffness.is_finite() && opts.stiffness > 0.0) {
+        return Err(Error::Parameter(format!(
+            "the spring stiffness k must be positive and finite, not {}",
+            opts.stiffness
+        )));
+    }
+    check_box(network)?;
+    let topo = network.topology();
+    let t = truth(&topo, opts.truth);
+    if t.outcome.refused().is_some() {
+        return Err(Error::Memory(format!(
+            "truth refused this system: {}",
+            t.outcome.reason().unwrap_or_default()
+        )));
+    }
+    let strains = t.strains.as_ref().expect("truth reports its strains");
+    let Some(rank) = strains.rank else {
+        return Err(Error::analysis(format!(
+            "the strain rank is unknown: {}",
+            strains.reason.as_deref().unwrap_or("truth is undecided")
+        )));
+    };
+    let f = floats(network, opts.truth.seed)?;
+    let mut e = of_realization(&topo, &f.active, &f.real, &f.centres, rank, opts.stiffness)?;
+    e.realization = f.how.into();
+    e.length_unit = f.unit;
     e.truth_seconds = t.seconds;
     e.seconds = start.elapsed().as_secs_f64();
     Ok(e)

@@ -15,6 +15,9 @@ pub mod elastic;
 pub mod relax;
 pub mod voigt;
 
-pub use elastic::{Conditioning, Elastic, ModuliOptions, of_realization, of_system};
+pub use elastic::{
+    Conditioning, Elastic, Floats, ModuliOptions, Springs, floats, of_realization, of_system,
+    springs,
+};
 pub use relax::Relaxation;
 pub use voigt::Voigt;

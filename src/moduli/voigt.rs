@@ -65,7 +65,10 @@ impl Voigt {
                 }
             }
         }
-        Voigt(c)
+        // Symmetric to the last bit.
+        Voigt(std::array::from_fn(|i| {
+            std::array::from_fn(|j| 0.5 * (c[i][j] + c[j][i]))
+        }))
     }
 
     /// The largest absolute entry.

@@ -433,8 +433,11 @@ pub fn nearest(
                 .sum::<f64>()
         });
         let n = match scatter.self_adjoint_eigen(faer::Side::Lower) {
-            // Eigenvalues ascending: the first vector is the normal.
-            Ok(evd) => std::array::from_fn(|i| evd.U()[(i, 0)]),
+            Ok(evd) => {
+                let s = evd.S();
+                let k = (0..3).min_by(|&a, &b| s[a].total_cmp(&s[b])).unwrap_or(0);
+                std::array::from_fn(|i| evd.U()[(i, k)])
+            }
             Err(_) => [0.0, 0.0, 1.0],
         };
         let h = dot(n, centroid);
