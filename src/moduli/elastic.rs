@@ -39,11 +39,6 @@ use crate::truth::realize::Realization;
 use crate::truth::{Strain, TruthOptions, matrix, projection, prune, truth};
 use crate::{Error, Result};
 
-/// The largest eigenvalue of the float tensor beyond the exact strain rank,
-/// over the Born tensor's largest, at most, and the smallest kept one at
-/// least: a less clear gap is refused rather than rounded.
-pub const RANK_TOL: f64 = 1e-8;
-
 /// What a moduli computation takes.
 #[derive(Clone, Copy, Debug)]
 pub struct ModuliOptions {
@@ -244,16 +239,14 @@ pub fn of_realization(
     let over = |k: usize| if top > 0.0 { eigenvalues[k] / top } else { 0.0 };
     let kept = (s > 0).then(|| over(s - 1));
     let dropped = (s < 6).then(|| over(s));
-    if s > 0 && kept.is_none_or(|k| k <= RANK_TOL) {
+    // The exact rank says where the gap is; the floats must show one there.
+    if let (Some(k), Some(d)) = (kept, dropped.or(Some(0.0)))
+        && k <= d
+    {
         return Err(Error::analysis(format!(
-            "the float tensor resists fewer strains than the exact strain rank {s} (eigenvalue {} of the largest): ill-conditioned",
-            crate::error::four(kept.unwrap_or(0.0))
-        )));
-    }
-    if dropped.is_some_and(|d| d > RANK_TOL) {
-        return Err(Error::analysis(format!(
-            "the float tensor resists more strains than the exact strain rank {s} (eigenvalue {} of the largest): ill-conditioned",
-            crate::error::four(dropped.unwrap_or(0.0))
+            "the float tensor shows no gap at the exact strain rank {s} (kept eigenvalue {}, dropped {} of Born's largest): ill-conditioned",
+            crate::error::four(k),
+            crate::error::four(d)
         )));
     }
     let tensor = raw.truncated(s);
