@@ -27,6 +27,8 @@
 //! * [`sample`] — one Monte Carlo system from rods to rigid bodies;
 //! * [`vtk`] — rod systems as VTK PolyData, with their bodies, for ParaView;
 //! * [`audit`] — which rigid motifs the engine misses; extended rule sets;
+//! * [`moduli`] — the elastic tensor in floats: contact springs, rigid rods,
+//!   kept at truth's exact strain rank;
 //! * [`mine`] — the motifs the engine misses in generated systems, found by truth;
 //! * [`stability`] — where float ranks fail against the exact verdict;
 //! * [`threshold`] — rod sequences, studies, finite-size scaling, variants;
@@ -50,10 +52,11 @@ pub mod network;
 pub mod body;
 pub mod spanning;
 
-pub mod moduli;
 pub mod pattern;
 pub mod rigidity;
 pub mod truth;
+
+pub mod moduli;
 
 pub mod enumerate;
 pub mod rule_file;
