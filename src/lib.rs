@@ -21,14 +21,14 @@
 //!   rigidity matrix and the exact verdict;
 //! * [`truth`] — the exact rigidity of a whole system: forced planes, an
 //!   exact realization, sparse exact rank and rigid clusters;
+//! * [`moduli`] — the elastic tensor in floats: contact springs, rigid rods,
+//!   kept at truth's exact strain rank;
 //! * [`enumerate`] — non-isomorphic graphs and typed patterns, canonical forms;
 //! * [`rule_file`] — motif rule files, verified by exact rank on load;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC);
 //! * [`sample`] — one Monte Carlo system from rods to rigid bodies;
 //! * [`vtk`] — rod systems as VTK PolyData, with their bodies, for ParaView;
 //! * [`audit`] — which rigid motifs the engine misses; extended rule sets;
-//! * [`moduli`] — the elastic tensor in floats: contact springs, rigid rods,
-//!   kept at truth's exact strain rank;
 //! * [`mine`] — the motifs the engine misses in generated systems, found by truth;
 //! * [`stability`] — where float ranks fail against the exact verdict;
 //! * [`threshold`] — rod sequences, studies, finite-size scaling, variants;

@@ -92,14 +92,13 @@ mod tests {
     fn an_isotropic_tensor_averages_to_its_own_moduli() {
         // Lamé lambda = 2, mu = 3: C11 = lambda + 2 mu, C12 = lambda, C44 = mu.
         let (lambda, mu) = (2.0, 3.0);
-        let mut c = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = lambda + if i == j { 2.0 * mu } else { 0.0 };
-            }
-            c[i + 3][i + 3] = mu;
-        }
-        let v = Voigt(c);
+        let v = Voigt(std::array::from_fn(|i| {
+            std::array::from_fn(|j| match (i < 3, j < 3) {
+                (true, true) => lambda + if i == j { 2.0 * mu } else { 0.0 },
+                _ if i == j => mu,
+                _ => 0.0,
+            })
+        }));
         assert!((v.shear() - mu).abs() < 1e-12);
         assert!((v.bulk() - (lambda + 2.0 * mu / 3.0)).abs() < 1e-12);
         // Eigenvalues 3 K (once), 2 mu (twice), mu (three times).
