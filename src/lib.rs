@@ -21,6 +21,8 @@
 //!   rigidity matrix and the exact verdict;
 //! * [`truth`] — the exact rigidity of a whole system: forced planes, an
 //!   exact realization, sparse exact rank and rigid clusters;
+//! * [`moduli`] — the elastic tensor in floats: contact springs, rigid rods,
+//!   kept at truth's exact strain rank;
 //! * [`enumerate`] — non-isomorphic graphs and typed patterns, canonical forms;
 //! * [`rule_file`] — motif rule files, verified by exact rank on load;
 //! * [`engine`] — the 3D rigid graph compression (3D-RGC);
@@ -53,6 +55,8 @@ pub mod spanning;
 pub mod pattern;
 pub mod rigidity;
 pub mod truth;
+
+pub mod moduli;
 
 pub mod enumerate;
 pub mod rule_file;

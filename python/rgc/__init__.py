@@ -21,9 +21,11 @@ import numpy as np
 from ._rgc import Box, Compression, Contacts, Rods, Truth
 from ._rgc import check_graph6 as _check_graph6
 from ._rgc import compress, contacts, generate
+from ._rgc import moduli as _moduli
 from ._rgc import truth as _truth
 
 __all__ = [
+    "moduli",
     "Box",
     "Rods",
     "Contacts",
@@ -216,6 +218,27 @@ def truth(
     if t.undecided and not allow_undecided:
         raise (UndecidedMemoryError if t.memory_refused else UndecidedError)(t)
     return t
+
+
+def moduli(
+    rods: Rods,
+    k: float = 1.0,
+    seed: int = 1,
+    memory_limit: Optional[int] = None,
+) -> dict:
+    """The elastic moduli of ``rods`` in a cubic periodic box (the same
+    answer as ``rgc moduli --json`` with that seed): a spring of stiffness
+    ``k`` at every contact, the rods rigid, the non-affine relaxation.
+    ``tensor`` and ``born`` are 6 x 6 float64 arrays in Voigt's notation
+    (xx, yy, zz, yz, xz, xy) in ``k / L_rod``; ``shear`` and ``bulk`` are
+    Voigt's averages, ``nonaffinity`` is ``1 - G / G_Born``, ``strain_rank``
+    is truth's exact strain rank, at which the tensor is kept; and the
+    ``conditioning``. A system whose float tensor shows no gap at the
+    strain rank, or whose strain rank is unknown, raises ValueError."""
+    out = json.loads(_moduli(rods, k=k, seed=seed, memory_limit=memory_limit))
+    for key in ("tensor", "born", "eigenvalues"):
+        out[key] = np.asarray(out[key], dtype=np.float64)
+    return out
 
 
 def check(graph: Any, seed: int = 1) -> dict:

@@ -161,6 +161,9 @@ def generate(
 def contacts(rods: Rods) -> Contacts: ...
 def compress(rods: Rods, rules: str = "sound", runs: int = 1, seed: int = 1, criterion: str = "wrap") -> Compression:
     """runs from 1 to MAX_RUNS (100,000, the command line's cap), else ValueError."""
+def moduli(rods: Rods, k: float = 1.0, seed: int = 1, memory_limit: Optional[int] = None) -> str:
+    """The moduli as the JSON text of ``rgc moduli --json`` (``rgc.moduli`` reads it into arrays)."""
+
 def truth(rods: Rods, criterion: str = "wrap", seed: int = 1, memory_limit: Optional[int] = None) -> Truth:
     """The answer as it is, undecided too (``rgc.truth`` raises ``UndecidedError`` for that)."""
 def check_graph6(graph6: str, seed: int = 1) -> str: ...

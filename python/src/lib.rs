@@ -13,6 +13,7 @@ mod check;
 mod compress;
 mod contacts;
 mod interrupt;
+mod moduli;
 mod pickle;
 mod system;
 mod truth;
@@ -81,6 +82,7 @@ fn _rgc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(contacts::contacts, m)?)?;
     m.add_function(wrap_pyfunction!(compress::compress, m)?)?;
     m.add_function(wrap_pyfunction!(truth::truth, m)?)?;
+    m.add_function(wrap_pyfunction!(moduli::moduli, m)?)?;
     m.add_function(wrap_pyfunction!(check::check_graph6, m)?)?;
     m.add_function(wrap_pyfunction!(bench::library_seconds, m)?)?;
     pickle::register(m)?;

@@ -155,3 +155,19 @@ def test_load_study_reads_a_committed_study(root):
     assert s["summary"]["study"]["boxes"] == [5.0, 6.0, 7.0, 8.0]
     with pytest.raises(ValueError, match="not a study directory"):
         rgc.load_study(root / "results")
+
+
+def test_moduli_match_the_command_line(cli):
+    rods = rgc.generate(rgc.Box(3.0), density=38, gamma=23, seed=1)
+    m = rgc.moduli(rods, k=2.0, seed=1)
+    theirs = json.loads(cli("moduli", "--gamma", 23, "--box", 3, "--density", 38, "--seed", 1, "--k", 2, "--json"))
+    assert m["strain_rank"] == theirs["strain_rank"] == 6
+    assert m["tensor"].shape == (6, 6) and m["tensor"].dtype == np.float64
+    assert np.allclose(m["tensor"], np.asarray(theirs["tensor"]), rtol=1e-9, atol=0)
+    # Symmetric, positive definite at rank 6, under the Born tensor.
+    assert np.array_equal(m["tensor"], m["tensor"].T)
+    assert np.linalg.eigvalsh(m["tensor"]).min() > 0
+    assert np.linalg.eigvalsh(m["born"] - m["tensor"]).min() > -1e-9 * m["born"].max()
+    assert 0 < m["shear"] < m["born_shear"]
+    with pytest.raises(ValueError, match="stiffness k must be positive"):
+        rgc.moduli(rods, k=-1.0)

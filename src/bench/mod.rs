@@ -11,6 +11,7 @@ pub mod aspects;
 pub mod foundation;
 pub mod growth;
 pub mod measure;
+pub mod moduli;
 pub mod networkx;
 pub mod rule_load;
 pub mod rules;

@@ -380,6 +380,83 @@ pub fn project(
     Err(last.map_or_else(String::new, |s| s.why))
 }
 
+/// The float realization Levenberg–Marquardt reaches from `start` (the
+/// actual rods, for the elastic moduli): its lines, its box side, each
+/// contact where it sits on both lines (`start.points`, in the frame of the
+/// edge's first rod), each class's plane fitted to its members. The steps
+/// are least-norm, so the solution stays near the start; it is not moved or
+/// scaled. `Err` says why it is refused: no convergence, or a solution that
+/// is no generic member of the family ([`degenerate`]).
+pub fn nearest(
+    topo: &Topology,
+    planes: &Planes,
+    active: &[bool],
+    start: &Realization<f64>,
+) -> Result<Realization<f64>, String> {
+    let system = System::new(topo, planes, active, start.side);
+    let mut u = vec![0.0; system.unknowns];
+    for (r, at) in system.line.iter().enumerate() {
+        let (Some(at), Some(l)) = (*at, start.lines[r]) else {
+            continue;
+        };
+        let d = scale(l.d, 1.0 / dot(l.d, l.d).sqrt());
+        u[at..at + 3].copy_from_slice(&sub(l.p, scale(d, dot(l.p, d))));
+        u[at + 3..at + 6].copy_from_slice(&d);
+    }
+    for (e, c) in system.contacts_of_edges().enumerate() {
+        let (Some(Unknowns { at, la, lb, shift }), Some(x)) = (c, start.points[e]) else {
+            continue;
+        };
+        u[at] = dot(sub(x, v3(&u, la)), v3(&u, la + 3));
+        u[at + 1] = dot(sub(sub(x, shift), v3(&u, lb)), v3(&u, lb + 3));
+    }
+    for (c, class) in planes.classes.iter().enumerate() {
+        // The plane nearest the members' points `p ± d / 2` (`p` as the
+        // start gives it, the rod's centre): through their centroid,
+        // normal to their least spread.
+        let points: Vec<V3<f64>> = class
+            .rods
+            .iter()
+            .filter_map(|&(r, o)| start.lines[r as usize].map(|l| (l, o)))
+            .flat_map(|(l, o)| {
+                let p = add(l.p, lattice(start.side, o));
+                let d = scale(l.d, 0.5 / dot(l.d, l.d).sqrt());
+                [add(p, d), sub(p, d)]
+            })
+            .collect();
+        let k = 1.0 / points.len().max(1) as f64;
+        let centroid = points.iter().fold([0.0; 3], |m, &p| add(m, scale(p, k)));
+        let scatter = faer::Mat::from_fn(3, 3, |i, j| {
+            points
+                .iter()
+                .map(|p| (p[i] - centroid[i]) * (p[j] - centroid[j]))
+                .sum::<f64>()
+        });
+        let n = match scatter.self_adjoint_eigen(faer::Side::Lower) {
+            Ok(evd) => {
+                let s = evd.S();
+                let k = (0..3).min_by(|&a, &b| s[a].total_cmp(&s[b])).unwrap_or(0);
+                std::array::from_fn(|i| evd.U()[(i, k)])
+            }
+            Err(_) => [0.0, 0.0, 1.0],
+        };
+        let h = dot(n, centroid);
+        let at = system.plane + 4 * c;
+        u[at..at + 3].copy_from_slice(&n);
+        u[at + 3] = h;
+    }
+    let solution = marquardt::solve(&system, u)
+        .ok_or("the projection from the rods did not converge".to_string())?;
+    let real = system.realization(&solution);
+    match degenerate(topo, planes, &real) {
+        Some(special) => Err(format!(
+            "the realization nearest the rods is special: {}",
+            special.why
+        )),
+        None => Ok(real),
+    }
+}
+
 /// The centroid and largest distance from it of the contact points.
 fn spread(real: &Realization<f64>) -> (V3<f64>, f64) {
     let pts: Vec<V3<f64>> = real.points.iter().flatten().copied().collect();

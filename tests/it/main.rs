@@ -22,6 +22,7 @@ mod layers;
 mod locality;
 mod memory;
 mod mine;
+mod moduli;
 mod planes;
 mod projection;
 mod rank;

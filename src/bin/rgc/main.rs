@@ -78,6 +78,8 @@ enum Command {
     /// What is certain and what is not. The rank is taken at random exact realizations, each over a prime field F_q with q drawn at random below 2^24. A realization can only lose rank, never gain it, so the rank found never exceeds the generic rank: a system found rigid (DOF 0) is rigid for certain. A flexibility (DOF above 0), a rigid cluster and a spanning verdict rest on realizations that did not hit a special position: a second realization (twin) checks every answer and the larger rank wins; `realizations agree` (`twins_agree` in JSON) says whether they differed. A rigid cluster is not certain even where the rank is the generic one: a special position can lock a mechanism, as a four-bar at its dead centre. No proven bound makes that chance small for whole systems (the Schwartz-Zippel bound, degree over q, exceeds 1 there); `rgc twins` measures it on the evaluations of truth studies: at gamma 23, 48 and 98 the twins differed once in 11,952 evaluations, and 3 of 35,856 realizations lost one rank (results/truth-twins/).
     #[command(verbatim_doc_comment)]
     Truth(cmd::truth::TruthArgs),
+    /// The elastic tensor of a rod system in a cubic periodic box: a spring k at every contact, rigid rods, the non-affine relaxation; C, Voigt G and K, the Born tensor, the non-affinity, kept at truth's exact strain rank.
+    Moduli(cmd::moduli::ModuliArgs),
     /// Chart the thresholds of finished studies at several aspect ratios against 1/V_ex.
     AspectRatios(cmd::aspect_ratios::AspectArgs),
     /// Where forced planes percolate (and force the line model flat), per aspect ratio, against the committed thresholds.
@@ -184,6 +186,7 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),
         Command::AspectRatios(a) => cmd::aspect_ratios::run(a, out),
         Command::Truth(a) => cmd::truth::run(a, out),
+        Command::Moduli(a) => cmd::moduli::run(a, out),
         Command::Bias(a) => cmd::bias::run(a, out),
         Command::Planes(a) => cmd::planes::run(a, out),
         Command::Mine(a) => cmd::mine::run(a, out),

@@ -80,6 +80,9 @@ pub struct BenchArgs {
     /// Instead: truth on systems near the true threshold at gamma 23, 48 and 98, one thread each; their growth with the rods per gamma, and the cost per rod of gamma 98 (L 7) over gamma 23 (L 12) in the same run.
     #[arg(long, conflicts_with = "truth")]
     truth_aspects: bool,
+    /// Instead: the elastic moduli against truth on gamma 23 systems near and above its threshold (box 3), both timed in one run.
+    #[arg(long, conflicts_with_all = ["rank", "truth", "truth_aspects"])]
+    moduli: bool,
     /// With --truth-aspects: add gamma 98, L 10 (165,000 rods; minutes and gigabytes).
     #[arg(long, requires = "truth_aspects")]
     truth_large: bool,
@@ -128,6 +131,22 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
     }
     if a.truth_aspects {
         return truth_aspects(a, out);
+    }
+    if a.moduli {
+        for (density, l, seed) in rgc::bench::moduli::SYSTEMS {
+            let r = rgc::bench::moduli::measure(density, l, seed)?;
+            say!(
+                out,
+                "gamma 23, rho {density}, L {l}, seed {seed}: strain rank {}, G {:.3e} ({}); moduli {:.3} s, truth {:.3} s: {:.1}x",
+                r.strain_rank,
+                r.shear,
+                r.realization,
+                r.seconds,
+                r.truth_seconds,
+                r.ratio
+            );
+        }
+        return Ok(());
     }
     if a.rule_sets {
         return rule_sets(a, out);

@@ -28,6 +28,7 @@ pub mod horizon;
 pub mod locality;
 pub mod merge;
 pub mod mine;
+pub mod moduli;
 pub mod paired;
 pub mod planes;
 pub mod render;

@@ -1,0 +1,47 @@
+//! The elastic moduli of a rod system, as `rgc moduli --json` prints them.
+
+use pyo3::prelude::*;
+
+use rgc::moduli::{ModuliOptions, of_system};
+use rgc::truth::TruthOptions;
+
+use crate::compress::check_memory;
+use crate::system::PyRods;
+use crate::{count, interrupt, value_error};
+
+/// The elastic tensor of `rods` (a spring `k` at every contact, rigid
+/// rods), as the JSON text of `rgc moduli --json` with that seed;
+/// `rgc.moduli` reads it into arrays.
+#[pyfunction]
+#[pyo3(
+    signature = (rods, k=1.0, seed=None, memory_limit=None),
+    text_signature = "(rods, k=1.0, seed=1, memory_limit=None)"
+)]
+pub fn moduli(
+    py: Python<'_>,
+    rods: &PyRods,
+    k: f64,
+    seed: Option<&Bound<'_, PyAny>>,
+    memory_limit: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let seed = crate::seed(seed)?;
+    let memory_limit = match memory_limit {
+        Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),
+        None => None,
+    };
+    check_memory(rods, memory_limit)?;
+    let system = rods.system.clone();
+    let opts = ModuliOptions {
+        stiffness: k,
+        truth: TruthOptions {
+            memory_limit,
+            ..TruthOptions::seeded(seed)
+        },
+    };
+    let e = interrupt::run(py, move || {
+        let network = rgc::network::Network::detect((*system).clone());
+        of_system(network.view(), opts)
+    })?
+    .map_err(crate::error)?;
+    serde_json::to_string(&e).map_err(value_error)
+}

@@ -1,0 +1,60 @@
+//! The elastic moduli against truth on the same gamma 23 systems near and
+//! above truth's threshold: both timed in one run (the moduli include the
+//! truth they take the strain rank from, so the ratio is at least 1).
+
+use serde::Serialize;
+
+use super::truth::TRUTH_GAMMA;
+use crate::moduli::{ModuliOptions, of_system};
+use crate::network::Network;
+use crate::rods::{RodParams, RodSystem};
+use crate::truth::TruthOptions;
+
+/// The systems: density near (34) and above (38, 45) the threshold, box 3, seeds 1 and 2.
+pub const SYSTEMS: [(f64, usize, u64); 6] = [
+    (34.0, 3, 1),
+    (34.0, 3, 2),
+    (38.0, 3, 1),
+    (38.0, 3, 2),
+    (45.0, 3, 1),
+    (45.0, 3, 2),
+];
+
+/// One system's moduli and their cost against truth's.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModuliRow {
+    pub density: f64,
+    pub box_len: usize,
+    pub seed: u64,
+    pub strain_rank: u8,
+    pub shear: f64,
+    pub realization: String,
+    pub truth_seconds: f64,
+    pub seconds: f64,
+    /// `seconds / truth_seconds`.
+    pub ratio: f64,
+}
+
+/// The moduli of one system at gamma 23, timed with the truth inside them.
+pub fn measure(density: f64, box_len: usize, seed: u64) -> crate::Result<ModuliRow> {
+    let params = RodParams::new(TRUTH_GAMMA, box_len as f64, density)?;
+    let network = Network::detect(RodSystem::generate(params, seed));
+    let e = of_system(
+        network.view(),
+        ModuliOptions {
+            stiffness: 1.0,
+            truth: TruthOptions::seeded(seed),
+        },
+    )?;
+    Ok(ModuliRow {
+        density,
+        box_len,
+        seed,
+        strain_rank: e.strain_rank,
+        shear: e.shear,
+        realization: e.realization,
+        truth_seconds: e.truth_seconds,
+        seconds: e.seconds,
+        ratio: e.seconds / e.truth_seconds.max(f64::MIN_POSITIVE),
+    })
+}
