@@ -429,6 +429,8 @@ fn committed_rule_files_are_verified_on_load() {
         ("rods-8.json", 13),
         ("mixed-4.json", 124),
         ("mined.json", 20),
+        ("mined-g48.json", 20),
+        ("mined-g98.json", 20),
         ("rods-9.json", 313),
         ("rods-10.json", 1118),
         ("mixed-5.json", 1738),
@@ -449,8 +451,10 @@ fn committed_rule_files_are_verified_on_load() {
         }
     }
     // The whole directory, in name order: base.json repeats three
-    // patterns under two variant ids each, mined-11 is base-3D2A-2-11, and
-    // the audit found mined-10 again among the mixed motifs of 5 components.
+    // patterns under two variant ids each, mined-11 (and mined-g98-19) is
+    // base-3D2A-2-11, the audit found mined-10 again among the mixed motifs
+    // of 5 components (and mined-g48-8), the three minings share 8
+    // patterns, and mining at gamma 98 found rods-6-0.
     let all = load(&[Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs")]).unwrap();
     let dropped: Vec<(&str, &str)> = all
         .dropped
@@ -466,13 +470,23 @@ fn committed_rule_files_are_verified_on_load() {
             ("base-3D2A-5-1", "base-3D2A-4-10"),
             ("base-3D2A-6-10", "base-3D2A-3-1"),
             ("base-3D2A-8-10", "base-3D2A-7-1"),
+            ("mined-g98-9", "mined-g48-6"),
+            ("mined-g98-19", "base-3D2A-2-11"),
+            ("mined-0", "mined-g48-0"),
+            ("mined-1", "mined-g48-12"),
+            ("mined-7", "mined-g98-1"),
             ("mined-11", "base-3D2A-2-11"),
+            ("mined-14", "mined-g48-3"),
+            ("mined-15", "mined-g98-0"),
+            ("mined-19", "mined-g48-14"),
+            ("mixed-5-10", "mined-g48-8"),
             ("mixed-5-15", "mined-10"),
+            ("rods-6-0", "mined-g98-11"),
         ]
     );
     assert_eq!(
         all.rules.len(),
-        59 + 1 + 13 + 124 + 20 + 313 + 1118 + 1738 - 5
+        59 + 1 + 13 + 124 + 20 + 20 + 20 + 313 + 1118 + 1738 - 15
     );
     let (mut base, _) = rgc::engine::shapes::base_rules().unwrap();
     base.retain(|r| !dropped[..3].iter().any(|(id, _)| r.id == *id));
