@@ -18,7 +18,7 @@
 //!
 //! Three more skip what a search already showed: a rod whose task found
 //! no rods-only match leaves the cores those rules search, since no later
-//! task can find one containing it ([`Index::retire`]); a rod task's trie
+//! task can find one containing it ([`Index::leave`]); a rod task's trie
 //! search stops at the first attempt in the plain order with a complete
 //! map (the earlier ones have none; a later one is searched only if that
 //! attempt's own search fails); and a pair task's pattern contact with no node map
@@ -279,20 +279,15 @@ impl Index {
         self.adjacency[x as usize][i]
     }
 
-    /// Rod `r`, free until now, joins a body.
+    /// Rod `r` leaves the rods a rods-only match can use: it joined a body,
+    /// or its task found no such match, and none will ever contain it, since
+    /// such a match needs only free rods and their contacts and rods only
+    /// ever leave the free rods (a rod left so stays free for the rules with
+    /// bodies).
     pub fn leave(&mut self, state: &State, r: u32) {
         if let Some(cores) = self.cores.as_mut() {
             cores.remove(state, r);
         }
-    }
-
-    /// Rod `r`'s task found no match of a rods-only rule: none will ever
-    /// contain it, since such a match needs only free rods and their
-    /// contacts, and rods only ever leave the free rods. So later rod tasks
-    /// search the cores without it (as if it had joined a body), though it
-    /// stays free for the rules with bodies.
-    pub fn retire(&mut self, state: &State, r: u32) {
-        self.leave(state, r);
     }
 
     /// Starts rod task `r` (a free rod), whose rules start at rule

@@ -288,7 +288,7 @@ fn compress_engine(
                         if hit.is_none()
                             && let Some(ix) = index.as_mut()
                         {
-                            ix.retire(state, r);
+                            ix.leave(state, r);
                         }
                         hit
                     })

@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use super::sequence::{Kind, Record};
 use super::study;
-use crate::math::stats::{line, percentile_interval};
+use crate::math::stats::{line, mean_sd, percentile_interval};
 use crate::{Error, Result, output};
 
 /// Bootstrap resamples of the sequences of each box, drawn from stream `b`
@@ -132,11 +132,12 @@ pub fn of_dirs(dirs: &[PathBuf], box_len: Option<f64>, bins: usize) -> Result<Ve
                     names.join(" and ")
                 )));
             }
-            let jumps = jumps(&records);
+            let per_box = by_box(&records);
+            let jumps = jumps_of(&per_box);
             Ok(Transition {
                 study: names.join(" + "),
                 gamma,
-                decay: decay(&records, &jumps),
+                decay: decay(&per_box, &jumps),
                 jumps,
                 shares: shares(&records, l, bins),
                 binder: binder(&records),
@@ -386,11 +387,16 @@ fn average(v: &[f64]) -> f64 {
 /// The jump of each box of `records` (boxes in increasing order); a box
 /// with fewer than two sequences that have both steps is left out.
 pub fn jumps(records: &[Record]) -> Vec<Jump> {
-    by_box(records)
-        .into_iter()
-        .filter_map(|(l, seqs)| {
+    jumps_of(&by_box(records))
+}
+
+/// [`jumps`] of the sequences at their critical rods, by box.
+fn jumps_of(per_box: &[(f64, Vec<AtCritical>)]) -> Vec<Jump> {
+    per_box
+        .iter()
+        .filter_map(|&(l, ref seqs)| {
             let d: Vec<f64> = seqs.iter().map(AtCritical::jump).collect();
-            let (mean, sd) = mean_sd(&d)?;
+            let (mean, sd) = (d.len() >= 2).then(|| mean_sd(&d))?;
             let mut boot = resampled(std::slice::from_ref(&d), |r| Some(average(&r[0])));
             let interval = percentile_interval(&mut boot, 0.95).expect("resamples");
             let max = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -440,8 +446,8 @@ pub fn binder(records: &[Record]) -> Vec<Binder> {
     }
     cells.sort_by(|a, b| a.0.0.total_cmp(&b.0.0).then(a.0.1.cmp(&b.0.1)));
     let cumulant = |p: &[f64]| {
-        let m2 = average(&p.iter().map(|x| x * x).collect::<Vec<_>>());
-        let m4 = average(&p.iter().map(|x| x.powi(4)).collect::<Vec<_>>());
+        let moment = |k: i32| p.iter().map(|x| x.powi(k)).sum::<f64>() / p.len() as f64;
+        let (m2, m4) = (moment(2), moment(4));
         (m2 > 0.0).then(|| 1.0 - m4 / (3.0 * m2 * m2))
     };
     cells
@@ -464,11 +470,11 @@ pub fn binder(records: &[Record]) -> Vec<Binder> {
 
 /// The power-law decay of the mean jump over every box of `jumps`, and
 /// over the [`LARGEST_BOXES`] largest where there are more boxes than that.
-fn decay(records: &[Record], jumps: &[Jump]) -> Vec<Decay> {
-    let values: Vec<(f64, Vec<f64>)> = by_box(records)
-        .into_iter()
+fn decay(per_box: &[(f64, Vec<AtCritical>)], jumps: &[Jump]) -> Vec<Decay> {
+    let values: Vec<(f64, Vec<f64>)> = per_box
+        .iter()
         .filter(|(l, _)| jumps.iter().any(|j| j.box_len == *l))
-        .map(|(l, seqs)| (l, seqs.iter().map(AtCritical::jump).collect()))
+        .map(|(l, seqs)| (*l, seqs.iter().map(AtCritical::jump).collect()))
         .collect();
     let fit = |values: &[(f64, Vec<f64>)]| -> Option<Decay> {
         let lens: Vec<f64> = values.iter().map(|v| v.0).collect();
@@ -483,10 +489,7 @@ fn decay(records: &[Record], jumps: &[Jump]) -> Vec<Decay> {
                 .collect();
             line(&points).map(|f| (-f.beta[1], f.r2))
         };
-        let means: Vec<f64> = values
-            .iter()
-            .map(|v| v.1.iter().sum::<f64>() / v.1.len() as f64)
-            .collect();
+        let means: Vec<f64> = values.iter().map(|v| average(&v.1)).collect();
         let (exponent, r2) = slope(&means)?;
         let per_box: Vec<Vec<f64>> = values.iter().map(|v| v.1.clone()).collect();
         let mut boot = resampled(&per_box, |r| {
@@ -535,7 +538,7 @@ pub fn shares(records: &[Record], box_len: f64, bins: usize) -> Vec<Share> {
                 .filter(|p| ((p.0 - lo) / width).floor().min((bins - 1) as f64) as usize == b)
                 .map(|p| p.1)
                 .collect();
-            let (mean, sd) = mean_sd(&inside).or_else(|| inside.first().map(|&v| (v, 0.0)))?;
+            let (mean, sd) = (!inside.is_empty()).then(|| mean_sd(&inside))?;
             Some(Share {
                 box_len,
                 density: lo + (b as f64 + 0.5) * width,
@@ -553,17 +556,6 @@ fn boxes(records: &[Record]) -> Vec<f64> {
     b.sort_by(f64::total_cmp);
     b.dedup();
     b
-}
-
-/// Mean and sample standard deviation; `None` below two values.
-fn mean_sd(v: &[f64]) -> Option<(f64, f64)> {
-    if v.len() < 2 {
-        return None;
-    }
-    let n = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    Some((mean, var.sqrt()))
 }
 
 #[cfg(test)]
@@ -663,7 +655,7 @@ mod tests {
                 [jumping(l, 0, at, (0, 0)), jumping(l, 0, at, (0, 0))]
             })
             .collect();
-        let d = decay(&records, &jumps(&records));
+        let d = decay(&by_box(&records), &jumps(&records));
         assert_eq!(d.len(), 2);
         assert_eq!(d[0].boxes, vec![4.0, 5.0, 8.0, 10.0]);
         assert_eq!(d[1].boxes, vec![5.0, 8.0, 10.0]);
@@ -673,7 +665,7 @@ mod tests {
             assert!(fit.r2 > 1.0 - 1e-12);
         }
         // Two boxes fit no decay.
-        assert!(decay(&records[..4], &jumps(&records[..4])).is_empty());
+        assert!(decay(&by_box(&records[..4]), &jumps(&records[..4])).is_empty());
     }
 
     #[test]
