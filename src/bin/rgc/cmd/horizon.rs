@@ -60,19 +60,23 @@ pub fn run(a: HorizonArgs, out: &mut String) -> Result<()> {
         );
     }
     for t in &trends {
-        let opt = |x: Option<f64>| {
-            x.map_or("never (the bias does not fall)".into(), |x| {
-                format!("{x:.0}")
-            })
+        let series: Vec<String> = t
+            .points
+            .iter()
+            .map(|(n, b)| format!("{n} rods {:.2}%", 100.0 * b))
+            .collect();
+        let halving = match (t.halving_size_linear, t.halving_rods_exponential) {
+            (Some(size), Some(every)) => format!(
+                "half the base bias at a largest motif of {size:.0} rods if it falls linearly, or every {every:.0} added rods if it decays exponentially"
+            ),
+            _ => "it does not fall, so no motif size halves it".into(),
         };
         say!(
             out,
-            "gamma {}: rods-only series {:?}; the bias falls {:.4} of truth per added motif rod: half the base bias at a largest motif of {} rods on that line; halving every {} added rods if it decays exponentially",
+            "gamma {}: rods-only bias by largest motif {}; it changes by {:+.4} of truth per added motif rod: {halving}",
             t.gamma,
-            t.points,
-            t.slope,
-            opt(t.halving_size_linear),
-            opt(t.halving_rods_exponential)
+            series.join(", "),
+            -t.slope,
         );
     }
     let mut written = horizon::write(&a.out, &variants, &trends, &super::command_line())?;
