@@ -191,3 +191,30 @@ fn rule_load_times_the_extended_sets_and_names_a_missing_file() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `bench --moduli`'s row is the moduli of the very system it names, and
+/// its ratio counts the truth inside them (so it is at least 1).
+#[test]
+fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
+    use rgc::moduli::{ModuliOptions, of_system};
+    use rgc::network::Network;
+    use rgc::truth::TruthOptions;
+    let (density, box_len, seed) = bench::moduli::SYSTEMS[0];
+    let row = bench::moduli::measure(density, box_len, seed).unwrap();
+    let params = RodParams::new(23.0, box_len as f64, density).unwrap();
+    let network = Network::detect(RodSystem::generate(params, seed));
+    let e = of_system(
+        network.view(),
+        ModuliOptions {
+            stiffness: 1.0,
+            truth: TruthOptions::seeded(seed),
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        (row.strain_rank, row.shear, row.realization.as_str()),
+        (e.strain_rank, e.shear, e.realization.as_str())
+    );
+    assert!(row.truth_seconds > 0.0 && row.seconds >= row.truth_seconds);
+    assert_eq!(row.ratio, row.seconds / row.truth_seconds);
+}
