@@ -4,17 +4,15 @@
 //! The equations say what they are through [`Residual`]: their residuals
 //! and a sparse Jacobian by rows at a point, and the residual accepted
 //! there. [`solve`] owns the rest: the damped normal equations
-//! `(JᵀJ + λ·top·I) δ = −Jᵀr` by faer's sparse Cholesky on one thread (so
-//! a solution does not depend on the thread count), with the pattern
-//! analysed once per start, and the damping schedule: `λ` from 1e-3,
+//! `(JᵀJ + λ·top·I) δ = −Jᵀr` by faer's sparse Cholesky on one thread
+//! ([`super::cholesky`]), with the pattern analysed once per start, and the damping schedule: `λ` from 1e-3,
 //! divided by 4 after a step that lowers the cost and multiplied by 4
 //! after one that does not, given up past 1e8.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::factorize_symbolic_cholesky;
+use faer::MatMut;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+
+use super::cholesky::Llt;
 
 /// Damped steps per start.
 const MAX_STEPS: usize = 300;
@@ -93,11 +91,9 @@ pub trait Residual {
 struct Normal {
     symbolic: SymbolicSparseColMat<usize>,
     argsort: faer::sparse::Argsort<usize>,
-    chol: faer::sparse::linalg::cholesky::SymbolicCholesky<usize>,
+    llt: Llt,
     /// Per off-diagonal-or-diagonal product: the two Jacobian entries.
     from: Vec<(usize, usize)>,
-    factor: Vec<f64>,
-    mem: MemBuffer,
 }
 
 impl Normal {
@@ -119,25 +115,12 @@ impl Normal {
         }
         pairs.extend((0..n).map(|c| Pair { row: c, col: c }));
         let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs).ok()?;
-        let chol = factorize_symbolic_cholesky(
-            symbolic.as_ref(),
-            Side::Lower,
-            Default::default(),
-            Default::default(),
-        )
-        .ok()?;
-        let factor = vec![0.0; chol.len_val()];
-        let mem = MemBuffer::new(
-            chol.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-                .or(chol.solve_in_place_scratch::<f64>(1, Par::Seq)),
-        );
+        let llt = Llt::analyse(symbolic.as_ref())?;
         Some(Normal {
             symbolic,
             argsort,
-            chol,
+            llt,
             from,
-            factor,
-            mem,
         })
     }
 
@@ -148,25 +131,12 @@ impl Normal {
         let mut vals = jtj.to_vec();
         vals.extend(std::iter::repeat_n(shift, n));
         let a = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &vals).ok()?;
-        let llt = self
-            .chol
-            .factorize_numeric_llt(
-                &mut self.factor,
-                a.as_ref(),
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                MemStack::new(&mut self.mem),
-                Default::default(),
-            )
-            .ok()?;
+        if !self.llt.factor(a.as_ref()) {
+            return None;
+        }
         let mut x: Vec<f64> = grad.iter().map(|g| -g).collect();
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut x, n, 1),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-        );
+        self.llt
+            .solve(MatMut::from_column_major_slice_mut(&mut x, n, 1));
         Some(x)
     }
 }

@@ -22,8 +22,9 @@
 
 use std::time::Instant;
 
-use faer::Mat;
 use faer::sparse::Triplet;
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::{Accum, Mat, Par};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -185,10 +186,19 @@ pub fn springs(
         &entries,
     )
     .map_err(|e| Error::analysis(format!("the contact matrix: {e:?}")))?;
+    let mut affine = b;
+    sparse_dense_matmul(
+        affine.as_mut(),
+        Accum::Add,
+        r.as_ref(),
+        u.as_ref(),
+        1.0,
+        Par::Seq,
+    );
     Ok(Springs {
         rows: rows.len(),
         columns: first,
-        affine: &b + r.as_ref() * &u,
+        affine,
         entries,
     })
 }

@@ -5,7 +5,7 @@
 //! `R` has a kernel (the box's translations, the floppy motions), so the
 //! normal equations are regularized, `(RᵀR + λ I) δ = Rᵀ r`, with `λ` a
 //! small multiple of the largest diagonal entry, factored once by faer's
-//! sparse Cholesky; the solution is then refined with the same factor
+//! sparse Cholesky on one thread ([`crate::math::cholesky`]); the solution is then refined with the same factor
 //! (iterated Tikhonov): each step divides a mode of singular value `σ` by
 //! `1 + σ²/λ`, and never touches the kernel, since `Rᵀ r` has no part
 //! there. The steps stop once `Rᵀ r` (the optimality of the least
@@ -13,9 +13,11 @@
 //! kernel, which the caller's rank check against the exact strain rank
 //! catches.
 
-use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::matmul::{sparse_dense_matmul, sparse_sparse_matmul};
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::{Accum, Mat, MatRef, Par};
+
+use crate::math::cholesky::Llt;
 
 /// `λ` over the largest diagonal entry of `RᵀR`.
 pub const REGULARIZATION: f64 = 1e-12;
@@ -68,7 +70,8 @@ pub fn relax(
         .collect();
     let rt = SparseColMat::<usize, f64>::try_new_from_triplets(columns, rows, &transposed)
         .map_err(|e| format!("the contact matrix: {e:?}"))?;
-    let normal = rt.as_ref() * r.as_ref();
+    let normal = sparse_sparse_matmul(rt.as_ref(), r.as_ref(), 1.0, Par::Seq)
+        .map_err(|e| format!("the normal equations: {e:?}"))?;
     let top = (0..columns)
         .filter_map(|c| normal.get(c, c).copied())
         .fold(0.0_f64, f64::max);
@@ -79,16 +82,24 @@ pub fn relax(
     let shift = SparseColMat::<usize, f64>::try_new_from_triplets(columns, columns, &shift)
         .map_err(|e| format!("the regularization: {e:?}"))?;
     let regularized = normal + shift;
-    let llt = regularized
-        .sp_cholesky(Side::Lower)
-        .map_err(|e| format!("the regularized normal equations: {e:?}"))?;
+    let mut llt = Llt::analyse(regularized.symbolic())
+        .ok_or("the regularized normal equations: no Cholesky ordering")?;
+    if !llt.factor(regularized.as_ref()) {
+        return Err("the regularized normal equations are not positive definite".into());
+    }
+    // `m x` for sparse `m`, on one thread.
+    let times = |m: &SparseColMat<usize, f64>, x: MatRef<'_, f64>| {
+        let mut y = Mat::<f64>::zeros(m.nrows(), x.ncols());
+        sparse_dense_matmul(y.as_mut(), Accum::Replace, m.as_ref(), x, 1.0, Par::Seq);
+        y
+    };
     let mut u = Mat::<f64>::zeros(columns, 6);
     let mut res = b.clone();
     let mut steps = 0;
     let mut optimality = f64::INFINITY;
     let mut best = 0;
     loop {
-        let g = rt.as_ref() * &res;
+        let g = times(&rt, res.as_ref());
         let worst = (0..6)
             .filter_map(|j| {
                 let rn = res.col(j).norm_l2();
@@ -102,9 +113,10 @@ pub fn relax(
         if worst <= OPTIMAL || steps == MAX_STEPS || steps >= best + STALL {
             break;
         }
-        let delta = llt.solve(&g);
+        let mut delta = g;
+        llt.solve(delta.as_mut());
         u -= &delta;
-        res = b + r.as_ref() * &u;
+        res = b + times(&r, u.as_ref());
         steps += 1;
     }
     Ok(Relaxation {

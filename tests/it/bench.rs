@@ -19,6 +19,24 @@ fn rgc(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// `rgc ARGS --json --out PATH`'s figures, checked to succeed and to be
+/// what it wrote.
+fn printed_as_written(args: &[&str], path: &std::path::Path) -> serde_json::Value {
+    let mut all = args.to_vec();
+    all.extend(["--json", "--out", path.to_str().unwrap()]);
+    let out = rgc(&all);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert_eq!(printed, written);
+    printed
+}
+
 fn mined() -> Vec<CompiledRule> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("motifs/mined.json");
     rule_file::load_rules(&[path])
@@ -64,26 +82,10 @@ fn rows_match_the_systems_they_time_and_rules_are_set_against_the_base_engine() 
 fn the_cli_writes_the_figures_it_prints_and_refuses_what_it_cannot_run() {
     let dir = crate::scratch("bench-cli");
     let path = dir.join("bench.json");
-    let out = rgc(&[
-        "bench",
-        "--max-rods",
-        "5000",
-        "--repeat",
-        "1",
-        "--no-rules",
-        "--json",
-        "--out",
-        path.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let printed = printed_as_written(
+        &["bench", "--max-rods", "5000", "--repeat", "1", "--no-rules"],
+        &path,
     );
-    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let written: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    assert_eq!(printed, written);
     assert_eq!(printed["systems"].as_array().unwrap().len(), 1);
     assert_eq!(printed["rules"], serde_json::json!([]));
     assert!(printed.get("networkx").is_none());
@@ -217,4 +219,23 @@ fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
     );
     assert!(row.truth_seconds > 0.0 && row.seconds >= row.truth_seconds);
     assert_eq!(row.ratio, row.seconds / row.truth_seconds);
+
+    // The command writes the rows it prints, one per system, in order.
+    let dir = crate::scratch("bench-moduli");
+    let printed = printed_as_written(&["bench", "--moduli"], &dir.join("moduli.json"));
+    let rows = printed.as_array().unwrap();
+    assert_eq!(rows.len(), bench::moduli::SYSTEMS.len());
+    for (r, &(density, box_len, seed)) in rows.iter().zip(&bench::moduli::SYSTEMS) {
+        assert_eq!(
+            (
+                r["density"].as_f64(),
+                r["box_len"].as_u64(),
+                r["seed"].as_u64()
+            ),
+            (Some(density), Some(box_len as u64), Some(seed))
+        );
+        assert!(r["ratio"].as_f64().unwrap() >= 1.0, "{r}");
+    }
+    assert_eq!(rows[0]["shear"].as_f64(), Some(e.shear));
+    std::fs::remove_dir_all(dir).unwrap();
 }

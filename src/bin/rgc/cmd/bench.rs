@@ -133,20 +133,7 @@ pub fn run(a: BenchArgs, out: &mut String) -> Result<()> {
         return truth_aspects(a, out);
     }
     if a.moduli {
-        for (density, l, seed) in rgc::bench::moduli::SYSTEMS {
-            let r = rgc::bench::moduli::measure(density, l, seed)?;
-            say!(
-                out,
-                "gamma 23, rho {density}, L {l}, seed {seed}: strain rank {}, G {:.3e} ({}); moduli {:.3} s, truth {:.3} s: {:.1}x",
-                r.strain_rank,
-                r.shear,
-                r.realization,
-                r.seconds,
-                r.truth_seconds,
-                r.ratio
-            );
-        }
-        return Ok(());
+        return moduli(a, out);
     }
     if a.rule_sets {
         return rule_sets(a, out);
@@ -487,6 +474,32 @@ fn law(l: Option<Growth>) -> String {
 
 /// Writes the figures to --out when asked, and prints them as JSON with
 /// --json: then nothing else is printed (true).
+fn moduli(a: BenchArgs, out: &mut String) -> Result<()> {
+    let rows = rgc::bench::moduli::SYSTEMS
+        .iter()
+        .map(|&(density, l, seed)| rgc::bench::moduli::measure(density, l, seed))
+        .collect::<rgc::Result<Vec<_>>>()?;
+    if written(&rows, &a, out)? {
+        return Ok(());
+    }
+    for r in &rows {
+        say!(
+            out,
+            "gamma 23, rho {}, L {}, seed {}: strain rank {}, G {:.3e} ({}); moduli {:.3} s, truth {:.3} s: {:.1}x",
+            r.density,
+            r.box_len,
+            r.seed,
+            r.strain_rank,
+            r.shear,
+            r.realization,
+            r.seconds,
+            r.truth_seconds,
+            r.ratio
+        );
+    }
+    Ok(())
+}
+
 fn written(figures: &impl Serialize, a: &BenchArgs, out: &mut String) -> Result<bool> {
     if let Some(path) = &a.out {
         let text = serde_json::to_string_pretty(figures).expect("bench figures serialize");
