@@ -98,6 +98,11 @@ pub struct Elastic {
     /// scaled to the box side: the same family and strain rank, not the
     /// rods' own geometry).
     pub realization: String,
+    /// How far the realization moved the rods, in mean rod lengths: the
+    /// root mean square distance of the contact points from the rods' own
+    /// (on the first rod's axis), and of the rods' centres from their lines
+    /// (none for `projected`).
+    pub moved: Option<Moved>,
     pub rods: usize,
     pub contacts: usize,
     /// Rods and contacts of the 2-core, where the springs are.
@@ -288,6 +293,7 @@ pub fn of_realization(
             dropped,
         },
         realization: "given".into(),
+        moved: None,
         rods: topo.graph.n_nodes(),
         contacts: topo.graph.n_edges(),
         core_rods,
@@ -296,6 +302,47 @@ pub fn of_realization(
         truth_seconds: 0.0,
         seconds: 0.0,
     })
+}
+
+/// How far a realization lies from the rods it was projected from.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Moved {
+    /// Root mean square distance of the contact points.
+    pub contacts: f64,
+    /// Root mean square distance of the rods' centres from their lines.
+    pub centres: f64,
+}
+
+impl Moved {
+    /// From `rods` (lines through the centres, points on the first rod's
+    /// axis) to `real`, in their common unit.
+    fn between(rods: &Realization<f64>, real: &Realization<f64>) -> Moved {
+        let rms = |d: Vec<f64>| {
+            let n = d.len().max(1) as f64;
+            (d.iter().map(|x| x * x).sum::<f64>() / n).sqrt()
+        };
+        let norm = |v: V3<f64>| dot(v, v).sqrt();
+        let contacts = rods
+            .points
+            .iter()
+            .zip(&real.points)
+            .filter_map(|(a, b)| Some(norm(sub((*a)?, (*b)?))))
+            .collect();
+        let centres = rods
+            .lines
+            .iter()
+            .zip(&real.lines)
+            .filter_map(|(a, b)| {
+                let (c, l) = ((*a)?.p, (*b)?);
+                let foot = add(l.p, scale(l.d, dot(sub(c, l.p), l.d) / dot(l.d, l.d)));
+                Some(norm(sub(c, foot)))
+            })
+            .collect();
+        Moved {
+            contacts: rms(contacts),
+            centres: rms(centres),
+        }
+    }
 }
 
 /// Per rod, the mean of its contact points in its own frame.
@@ -337,6 +384,8 @@ pub struct Floats {
     pub centres: Vec<Option<V3<f64>>>,
     /// `nearest` or `projected` ([`Elastic::realization`]).
     pub how: &'static str,
+    /// How far it moved the rods (none for `projected`).
+    pub moved: Option<Moved>,
     /// The mean rod length, the unit of lengths.
     pub unit: f64,
 }
@@ -405,10 +454,10 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
         lines,
         points,
     };
-    let (real, how) = match projection::nearest(&topo, &planes, &core.active, &near) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (real, how) = match projection::nearest(&topo, &planes, &core.active, &near, &mut rng) {
         Ok(real) => (real, "nearest"),
         Err(_) => {
-            let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let real = projection::project(&topo, &planes, &core.active, &mut rng)
                 .map_err(|why| Error::analysis(format!("no float realization: {why}")))?;
             (scaled(real, near.side), "projected")
@@ -416,6 +465,7 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
     };
     // The centres the Born tensor moves: the rods' own on the lines nearest
     // them, else the mean of each rod's contact points.
+    let moved = (how == "nearest").then(|| Moved::between(&near, &real));
     let centres: Vec<Option<V3<f64>>> = if how == "nearest" {
         system
             .rods
@@ -435,6 +485,7 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
         real,
         centres,
         how,
+        moved,
         unit,
     })
 }
@@ -469,6 +520,7 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
     let f = floats(network, opts.truth.seed)?;
     let mut e = of_realization(&topo, &f.active, &f.real, &f.centres, rank, opts.stiffness)?;
     e.realization = f.how.into();
+    e.moved = f.moved;
     e.length_unit = f.unit;
     e.truth_seconds = t.seconds;
     e.seconds = start.elapsed().as_secs_f64();

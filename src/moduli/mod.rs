@@ -16,8 +16,8 @@ pub mod relax;
 pub mod voigt;
 
 pub use elastic::{
-    Conditioning, Elastic, Floats, ModuliOptions, Springs, floats, of_realization, of_system,
-    springs,
+    Conditioning, Elastic, Floats, ModuliOptions, Moved, Springs, floats, of_realization,
+    of_system, springs,
 };
 pub use relax::Relaxation;
 pub use voigt::Voigt;

@@ -56,6 +56,11 @@ pub const PAIR_SEPARATION: f64 = 1e-8;
 /// gave a realization without repairs, 17 of 20 with up to 8.
 const REPAIRS: usize = 8;
 
+/// How far [`nearest`] kicks the rods of a special position, in mean rod
+/// lengths: far below the rods' own gaps (their diameter), far above the
+/// separations that make a position special.
+const NUDGE: f64 = 0.01;
+
 /// The unknowns of a system: where each object's start.
 struct System<'a> {
     topo: &'a Topology<'a>,
@@ -68,6 +73,13 @@ struct System<'a> {
     /// Class `c` has `n` at `plane + 4 c`, then `h`.
     plane: usize,
     unknowns: usize,
+    /// How the scale of each direction (a line's `d`, a plane's `n`) is
+    /// fixed: `|d|² = 1`, or, with a reference direction `d0` per
+    /// unknown's start, `d · d0 = 1` ([`nearest`]). The sphere has a trap
+    /// at `n = 0`, where a plane's every membership holds and no step can
+    /// leave: a start whose rods lie far from their forced planes (the
+    /// actual rods) falls into it; the linear gauge has none.
+    anchors: Option<Vec<V3<f64>>>,
 }
 
 impl Residual for System<'_> {
@@ -129,6 +141,29 @@ impl<'a> System<'a> {
             contact,
             plane,
             unknowns: next,
+            anchors: None,
+        }
+    }
+
+    /// The linear gauge, each direction against its value in `u`.
+    fn anchored(mut self, u: &[f64]) -> Self {
+        let mut anchors = vec![[0.0; 3]; self.unknowns];
+        let directions = self.line.iter().flatten().map(|&at| at + 3);
+        let normals = (0..self.planes.classes.len()).map(|c| self.plane + 4 * c);
+        for at in directions.chain(normals) {
+            let d = v3(u, at);
+            anchors[at] = scale(d, 1.0 / dot(d, d));
+        }
+        self.anchors = Some(anchors);
+        self
+    }
+
+    /// The row fixing the scale of the direction at `at`.
+    fn gauge(&self, ev: &mut Residuals, u: &[f64], at: usize) {
+        let d = v3(u, at);
+        match &self.anchors {
+            None => ev.row(dot(d, d) - 1.0, (0..3).map(|k| (at + k, 2.0 * d[k]))),
+            Some(a) => ev.row(dot(d, a[at]) - 1.0, (0..3).map(|k| (at + k, a[at][k]))),
         }
     }
 
@@ -154,7 +189,7 @@ impl<'a> System<'a> {
         let mut ev = Residuals::new(jacobian);
         for at in self.line.iter().flatten().copied() {
             let (p, d) = (v3(u, at), v3(u, at + 3));
-            ev.row(dot(d, d) - 1.0, (0..3).map(|k| (at + 3 + k, 2.0 * d[k])));
+            self.gauge(&mut ev, u, at + 3);
             ev.row(
                 dot(p, d),
                 (0..3).flat_map(|k| [(at + k, d[k]), (at + 3 + k, p[k])]),
@@ -186,7 +221,7 @@ impl<'a> System<'a> {
         for (c, class) in self.planes.classes.iter().enumerate() {
             let at = self.plane + 4 * c;
             let (n, h) = (v3(u, at), u[at + 3]);
-            ev.row(dot(n, n) - 1.0, (0..3).map(|k| (at + k, 2.0 * n[k])));
+            self.gauge(&mut ev, u, at);
             for w in &class.wraps {
                 let w = w.map(f64::from);
                 ev.row(dot(n, w), (0..3).map(|k| (at + k, w[k])));
@@ -272,6 +307,27 @@ impl<'a> System<'a> {
             u[at..at + 3].copy_from_slice(&sub(p, scale(d, dot(p, d))));
             u[at + 3..at + 6].copy_from_slice(&d);
         }
+        self.closest_contacts(u, &moved);
+    }
+
+    /// Moves every coordinate of the lines of `rods` by up to `step` at
+    /// random: a kick off a special position that stays near the start.
+    fn nudge(&self, u: &mut [f64], rods: &[u32], step: f64, rng: &mut impl Rng) {
+        let mut moved = vec![false; self.line.len()];
+        for &r in rods {
+            let Some(at) = self.line[r as usize] else {
+                continue;
+            };
+            moved[r as usize] = true;
+            for x in &mut u[at..at + 6] {
+                *x += step * rng.random_range(-1.0..=1.0);
+            }
+        }
+        self.closest_contacts(u, &moved);
+    }
+
+    /// Each contact of a `moved` rod where its two lines pass closest.
+    fn closest_contacts(&self, u: &mut [f64], moved: &[bool]) {
         let edges = self.topo.graph.edges();
         for (e, c) in edges.iter().zip(self.contacts_of_edges()) {
             let Some(Unknowns { at, la, lb, shift }) = c else {
@@ -385,13 +441,17 @@ pub fn project(
 /// contact where it sits on both lines (`start.points`, in the frame of the
 /// edge's first rod), each class's plane fitted to its members. The steps
 /// are least-norm, so the solution stays near the start; it is not moved or
-/// scaled. `Err` says why it is refused: no convergence, or a solution that
-/// is no generic member of the family ([`degenerate`]).
+/// scaled. Where that fails, again with each direction's scale fixed
+/// linearly against its start (`d · d0 = 1`), kicking the rods of a
+/// special solution by up to 0.01 rod lengths (drawn from `rng`) and
+/// projecting again, up to 8 times. `Err` says why it is refused: no convergence, or a
+/// solution that is no generic member of the family ([`degenerate`]).
 pub fn nearest(
     topo: &Topology,
     planes: &Planes,
     active: &[bool],
     start: &Realization<f64>,
+    rng: &mut impl Rng,
 ) -> Result<Realization<f64>, String> {
     let system = System::new(topo, planes, active, start.side);
     let mut u = vec![0.0; system.unknowns];
@@ -445,16 +505,44 @@ pub fn nearest(
         u[at..at + 3].copy_from_slice(&n);
         u[at + 3] = h;
     }
-    let solution = marquardt::solve(&system, u)
-        .ok_or("the projection from the rods did not converge".to_string())?;
-    let real = system.realization(&solution);
-    match degenerate(topo, planes, &real) {
-        Some(special) => Err(format!(
-            "the realization nearest the rods is special: {}",
-            special.why
-        )),
-        None => Ok(real),
+    // First with every direction on the unit sphere; only where that fails,
+    // with the linear scale and repairs. Where both converge they can land
+    // on different members, and on one small solid the linear scale's was
+    // nearly special (a singular value of R at 1e-12 of its largest).
+    if let Some(solution) = marquardt::solve(&system, u.clone()) {
+        let real = system.realization(&solution);
+        if degenerate(topo, planes, &real).is_none() {
+            return Ok(real);
+        }
     }
+    let system = system.anchored(&u);
+    let mut special = String::new();
+    for _ in 0..=REPAIRS {
+        let solution = marquardt::solve(&system, u)
+            .ok_or("the projection from the rods did not converge".to_string())?;
+        let real = system.realization(&solution);
+        let Some(s) = degenerate(topo, planes, &real) else {
+            return Ok(real);
+        };
+        if s.rods.is_empty() {
+            return Err(format!(
+                "the realization nearest the rods is special: {}",
+                s.why
+            ));
+        }
+        // Kick the rods that show it and their neighbours by a hundredth of
+        // a rod length, and project again.
+        let mut rods = s.rods.clone();
+        for &r in &s.rods {
+            rods.extend(topo.graph.neighbors(r).iter().map(|&(m, _)| m));
+        }
+        u = solution;
+        system.nudge(&mut u, &rods, NUDGE, rng);
+        special = s.why;
+    }
+    Err(format!(
+        "the realization nearest the rods is special after {REPAIRS} repairs: {special}"
+    ))
 }
 
 /// The centroid and largest distance from it of the contact points.

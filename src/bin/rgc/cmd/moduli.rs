@@ -61,6 +61,14 @@ pub fn run(a: ModuliArgs, out: &mut String) -> Result<()> {
         e.core_contacts,
         e.realization
     );
+    if let Some(m) = e.moved {
+        say!(
+            out,
+            "it moved the contact points by {:.3} and the rods' centres by {:.3} rod lengths (root mean square)",
+            m.contacts,
+            m.centres
+        );
+    }
     say!(out, "strain rank {} (exact, from truth)", e.strain_rank);
     say!(out, "C (Voigt: xx yy zz yz xz xy), k / L_rod:");
     tensor(&e.tensor, out);
