@@ -90,9 +90,12 @@ pub fn observations(spec: &StudySpec, records: &[Record]) -> Vec<BoxData> {
                         Protocol::Nested => r.critical(spec.kind).map(|n| n as f64 / volume),
                         Protocol::Fixed => None,
                     },
+                    // A step without a verdict (truth where the model has
+                    // no realization) is no observation.
                     fixed: r
                         .fixed
                         .iter()
+                        .filter(|s| !s.undecided)
                         .map(|s| (s.n as f64 / volume, s.spans))
                         .collect(),
                     contacts: r.contacts.clone(),

@@ -989,6 +989,56 @@ fn a_fixed_truth_study_at_given_densities_gives_the_binder_cumulant() {
     let _ = std::fs::remove_dir_all(&root);
 }
 
+/// Where the model has no realization (rho 50 at gamma 23, where forced
+/// planes percolate), truth has no verdict: a fixed study records that step
+/// as undecided, without a cluster, and goes on; the Binder cumulant counts
+/// only the decided sequences.
+#[test]
+fn a_fixed_truth_study_records_an_undecided_density_and_goes_on() {
+    let root = crate::scratch("cli-fixed-undecided");
+    let study = root.join("fixed");
+    let s = study.to_str().unwrap();
+    // The analysis fails on so few sequences; the records are written.
+    let _ = rgc(&threshold(
+        s,
+        &[
+            ("--kind", "truth"),
+            ("--protocol", "fixed"),
+            ("--grid-densities", "34,50"),
+            ("--gamma", "23"),
+            ("--boxes", "2.5,3,3.5"),
+            ("--sequences", "4"),
+            ("--seed", "1"),
+        ],
+    ));
+    let records: Vec<Value> = std::fs::read_to_string(study.join("records.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(records.len(), 12);
+    let steps: Vec<&Value> = records
+        .iter()
+        .flat_map(|r| r["fixed"].as_array().unwrap())
+        .collect();
+    assert_eq!(steps.len(), 24);
+    let undecided: Vec<&&Value> = steps.iter().filter(|s| s["undecided"] == true).collect();
+    assert_eq!(undecided.len(), 2, "{records:?}");
+    for u in &undecided {
+        assert_eq!((&u["spans"], u.get("largest")), (&Value::Bool(false), None));
+    }
+    let v = json(&["transition", s, "--json"]);
+    let at_50: Vec<u64> = v[0]["binder"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["density"].as_f64().unwrap() > 49.0)
+        .map(|c| c["sequences"].as_u64().unwrap())
+        .collect();
+    assert_eq!(at_50, [4, 4, 2]);
+    let _ = std::fs::remove_dir_all(&root);
+}
+
 /// Each record of a study's `records.jsonl`, by box and index.
 fn records_by_sequence(dir: &std::path::Path) -> std::collections::BTreeMap<String, Value> {
     std::fs::read_to_string(dir.join("records.jsonl"))

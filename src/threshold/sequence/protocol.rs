@@ -7,7 +7,7 @@ use super::record::Record;
 use super::rods::Sequence;
 use super::setup::{Kind, Setup};
 use super::step::Step;
-use super::verdict::{compress, refusal, truth_of};
+use super::verdict::{compress, refusal, truth_of, truth_step_or_undecided};
 use crate::{Error, Result};
 
 /// The nested protocol on one sequence: the exact contact critical
@@ -115,7 +115,10 @@ pub fn fixed(setup: &Setup, seq: &mut Sequence, grid: &[usize], record: &mut Rec
             }
             // Rigid spanning needs contact spanning: no need to compress below it.
             Kind::Rigid | Kind::Truth if n < n_c => Step::new(n, false, 0),
-            Kind::Rigid | Kind::Truth => compress(setup, seq, n, None)?.0,
+            // Where the model has no realization truth has no verdict: the
+            // step says so, and the other densities of the sequence still count.
+            Kind::Truth => truth_step_or_undecided(setup, seq, n)?,
+            Kind::Rigid => compress(setup, seq, n, None)?.0,
         };
         record.fixed.push(step);
         record.contacts.push(seq.contact_point(n));

@@ -113,20 +113,37 @@ pub fn truth_spans(setup: &Setup, seq: &Sequence, n: usize) -> Result<bool> {
 /// The step of truth on the first `n` rods: whether it spans, its largest
 /// cluster and its strain rank; an undecided truth is an error.
 fn truth_step(setup: &Setup, seq: &Sequence, n: usize) -> Result<Step> {
+    truth_verdict(setup, seq, n)?.map_err(|why| {
+        Error::Analysis(format!(
+            "truth is undecided for the first {n} rods of the sequence seeded {}: {why}",
+            seq.seed
+        ))
+    })
+}
+
+/// [`truth_step`], where an undecided truth is an undecided step.
+pub(super) fn truth_step_or_undecided(setup: &Setup, seq: &Sequence, n: usize) -> Result<Step> {
+    Ok(truth_verdict(setup, seq, n)?.unwrap_or_else(|_| Step::undecided(n)))
+}
+
+/// The step of truth on the first `n` rods, or why truth is undecided
+/// there; a truth refused for the memory limit is an error (a rerun with
+/// more memory resumes the study).
+fn truth_verdict(
+    setup: &Setup,
+    seq: &Sequence,
+    n: usize,
+) -> Result<std::result::Result<Step, String>> {
     let t = truth_of(setup, seq, n);
     if t.outcome.refused().is_some() {
         return Err(refusal(seq, n, t));
     }
-    let spans = t.spanning.ok_or_else(|| {
-        Error::Analysis(format!(
-            "truth is undecided for the first {n} rods of the sequence seeded {}: {}",
-            seq.seed,
-            t.outcome.reason().unwrap_or_default()
-        ))
-    })?;
-    Ok(Step {
+    let Some(spans) = t.spanning else {
+        return Ok(Err(t.outcome.reason().unwrap_or_default().to_string()));
+    };
+    Ok(Ok(Step {
         largest: Some(t.largest_cluster()),
         strain_rank: t.strain_rank(),
         ..Step::new(n, spans, usize::from(spans))
-    })
+    }))
 }
