@@ -57,6 +57,18 @@ pub fn truth_records(
     Ok(chosen)
 }
 
+/// [`truth_records`] with a critical number (truth decided there).
+pub fn decided_truth_records(
+    dirs: &[PathBuf],
+    boxes: &[f64],
+    sequences: u64,
+    what: &str,
+) -> Result<Vec<(f64, Record)>> {
+    let mut chosen = truth_records(dirs, boxes, sequences, what)?;
+    chosen.retain(|(_, r)| r.rigid_critical.is_some());
+    Ok(chosen)
+}
+
 /// Writes `spec` into a new directory's `path`, or checks that the one
 /// there is the same: another measurement never appends to this one's lines.
 pub fn claim<S>(path: &Path, spec: &S, format: &'static str) -> Result<()>

@@ -135,7 +135,7 @@ pub fn run(
     progress: &dyn Progress,
 ) -> Result<Vec<LocalitySummary>> {
     spec.search.validate()?;
-    let chosen = journal::truth_records(
+    let decided = journal::decided_truth_records(
         dirs,
         &spec.boxes,
         spec.sequences,
@@ -143,10 +143,6 @@ pub fn run(
     )?;
     output::check_dir(out)?;
     let (spec_file, lines) = files(out);
-    let decided: Vec<(f64, Record)> = chosen
-        .into_iter()
-        .filter(|(_, r)| r.rigid_critical.is_some())
-        .collect();
     let engine = Engine::with_rules(RuleSet::Sound, rules);
     let all = journal::measure(
         (&spec_file, spec, "locality spec"),

@@ -16,6 +16,7 @@ pub mod paired;
 pub mod planes;
 pub mod report;
 pub mod sequence;
+pub mod stiffening;
 pub mod study;
 pub mod tradeoff;
 pub mod transition;

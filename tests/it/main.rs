@@ -36,6 +36,7 @@ mod spanning;
 mod stability;
 mod stamp;
 mod stdin;
+mod stiffening;
 mod studies;
 mod threshold;
 mod truth;

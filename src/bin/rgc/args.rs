@@ -385,3 +385,31 @@ pub struct ExtendedArgs {
     )]
     pub files: Vec<PathBuf>,
 }
+
+/// The sequences of truth studies a measurement takes (`rgc locality`,
+/// `rgc stiffening`), and where it keeps one line per sequence.
+#[derive(Args)]
+pub struct MeasuredArgs {
+    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress.
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Boxes to measure [default: every box of each study].
+    #[arg(long, value_delimiter = ',')]
+    pub boxes: Vec<f64>,
+    /// The first this many sequences of each box.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..))]
+    pub sequences: u64,
+    /// The measurement's directory: its spec and one line per sequence (rerun to resume).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl MeasuredArgs {
+    /// The study directories as given, for a spec.
+    pub fn studies(&self) -> Vec<String> {
+        self.dirs.iter().map(|d| d.display().to_string()).collect()
+    }
+}

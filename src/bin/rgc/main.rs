@@ -65,6 +65,8 @@ enum Command {
     Twins(cmd::twins::TwinsArgs),
     /// How far the rigidity 3D-RGC misses at the true threshold reaches: on truth studies' sequences, the spanning true cluster against a compression's bodies, and the minimal rigid sets joining two of its nodes (their sizes are the motif size it would take).
     Locality(cmd::locality::LocalityArgs),
+    /// The elastic moduli one rod below and at each sequence's critical number in truth studies: does the shear modulus jump where the largest true cluster does?
+    Stiffening(cmd::stiffening::StiffeningArgs),
     /// The motif horizon: 3D-RGC's paired bias against truth for studies with growing motif sets, against the largest motif and the number of rules, with CPU per sequence; where the rods-only series would halve the bias.
     Horizon(cmd::horizon::HorizonArgs),
     /// Thresholds under the paper's base motifs, the sound base motifs and sound + extended motifs, on the same sequences.
@@ -181,6 +183,7 @@ fn run(cli: Cli, out: &mut String) -> rgc::Result<()> {
         Command::Transition(a) => cmd::transition::run(a, out),
         Command::Twins(a) => cmd::twins::run(a, out),
         Command::Locality(a) => cmd::locality::run(a, out),
+        Command::Stiffening(a) => cmd::stiffening::run(a, out),
         Command::Horizon(a) => cmd::horizon::run(a, out),
         Command::Compare(a) => cmd::compare::run(a, out),
         Command::Tradeoff(a) => cmd::tradeoff::run(a, out),

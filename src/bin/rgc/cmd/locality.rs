@@ -11,19 +11,13 @@ use rgc::threshold::locality::{self, LocalitySpec};
 use rgc::threshold::study::MotifSet;
 use rgc::{Result, output};
 
+use crate::args::MeasuredArgs;
 use crate::progress::Reporter;
 
 #[derive(Args)]
 pub struct LocalityArgs {
-    /// Truth study directories (`rgc threshold --kind truth`), finished or in progress.
-    #[arg(required = true)]
-    dirs: Vec<PathBuf>,
-    /// Boxes to probe [default: every box of each study].
-    #[arg(long, value_delimiter = ',')]
-    boxes: Vec<f64>,
-    /// The first this many sequences of each box.
-    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..))]
-    sequences: u64,
+    #[command(flatten)]
+    measured: MeasuredArgs,
     /// Motif rule files the compression adds to the base motifs.
     #[arg(long)]
     rule_files: Vec<PathBuf>,
@@ -36,26 +30,21 @@ pub struct LocalityArgs {
     /// Rods in a ball truth is asked about, at most.
     #[arg(long, default_value_t = 3000)]
     max_ball_rods: usize,
-    /// The measurement's directory: its spec and one line per sequence (rerun to resume).
-    #[arg(long)]
-    out: PathBuf,
     /// Also write the summary as PREFIX.json and PREFIX.csv.
     #[arg(long)]
     summary: Option<PathBuf>,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
 }
 
 pub fn run(a: LocalityArgs, out: &mut String) -> Result<()> {
     if let Some(prefix) = &a.summary {
         output::check_file(prefix)?;
     }
+    let m = &a.measured;
     let rules = rule_file::load_rules(&a.rule_files)?;
     let spec = LocalitySpec {
-        studies: a.dirs.iter().map(|d| d.display().to_string()).collect(),
-        boxes: a.boxes.clone(),
-        sequences: a.sequences,
+        studies: m.studies(),
+        boxes: m.boxes.clone(),
+        sequences: m.sequences,
         motifs: MotifSet::of(&rules, &a.rule_files),
         search: Search {
             pairs: a.pairs,
@@ -64,7 +53,7 @@ pub fn run(a: LocalityArgs, out: &mut String) -> Result<()> {
         },
     };
     let compiled: Vec<CompiledRule> = rules.iter().map(CompiledRule::new).collect();
-    let summaries = locality::run(&a.dirs, &spec, &compiled, &a.out, &Reporter::new(a.quiet))?;
+    let summaries = locality::run(&m.dirs, &spec, &compiled, &m.out, &Reporter::new(m.quiet))?;
     say!(
         out,
         "{:>6} {:>5} {:>4} {:>8} {:>8} {:>8} {:>6} {:>6} {:>7} {:>5} {:>8} {:>8} {:>7}",

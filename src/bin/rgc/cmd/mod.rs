@@ -35,6 +35,7 @@ pub mod render;
 pub mod rules;
 pub mod sample;
 pub mod stability;
+pub mod stiffening;
 pub mod threshold;
 pub mod tradeoff;
 pub mod transition;

@@ -1,0 +1,82 @@
+//! `rgc stiffening`: the elastic moduli one rod below and at the critical
+//! number of each sequence of truth studies.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use rgc::threshold::stiffening::{self, Mean, StiffeningSpec};
+use rgc::{Result, output};
+
+use crate::args::MeasuredArgs;
+use crate::progress::Reporter;
+
+#[derive(Args)]
+pub struct StiffeningArgs {
+    #[command(flatten)]
+    measured: MeasuredArgs,
+    /// Spring stiffness k of a contact.
+    #[arg(long, default_value_t = 1.0)]
+    k: f64,
+    /// Also write the summary as PREFIX.json.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+}
+
+pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
+    if let Some(prefix) = &a.summary {
+        output::check_file(prefix)?;
+    }
+    let m = &a.measured;
+    let spec = StiffeningSpec {
+        studies: m.studies(),
+        boxes: m.boxes.clone(),
+        sequences: m.sequences,
+        stiffness: a.k,
+    };
+    let summaries = stiffening::run(&m.dirs, &spec, &m.out, &Reporter::new(m.quiet))?;
+    let mean = |m: Option<Mean>, scale: f64| {
+        m.map_or("-".to_string(), |m| {
+            format!("{:.3e} +- {:.1e}", scale * m.mean, scale * m.half_width)
+        })
+    };
+    say!(
+        out,
+        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>8}",
+        "gamma",
+        "box",
+        "seqs",
+        "failed",
+        "rank below",
+        "rank at",
+        "0->r>0",
+        "solid",
+        "G below",
+        "G at",
+        "G jump",
+        "nearest"
+    );
+    for s in &summaries {
+        let rank = |m: Option<Mean>| m.map_or("-".to_string(), |m| format!("{:.2}", m.mean));
+        say!(
+            out,
+            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>8}",
+            s.gamma,
+            s.box_len,
+            s.sequences,
+            s.failed,
+            rank(s.strain_rank_before),
+            rank(s.strain_rank_at),
+            s.rank_rises_from_zero,
+            s.solid_at,
+            mean(s.shear_before, 1.0),
+            mean(s.shear_at, 1.0),
+            mean(s.shear_jump, 1.0),
+            s.both_nearest
+        );
+    }
+    if let Some(prefix) = &a.summary {
+        let f = stiffening::write(prefix, &summaries, &super::command_line())?;
+        say!(out, "wrote {}", f.display());
+    }
+    Ok(())
+}

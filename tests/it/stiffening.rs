@@ -1,0 +1,103 @@
+//! `rgc stiffening`: the elastic moduli one rod below and at each
+//! sequence's critical number of a truth study, resumable, one line per
+//! sequence.
+
+use crate::cli::{fails, rgc};
+use rgc::threshold::sequence::Record;
+use rgc::threshold::stiffening::{self, SequenceStiffening};
+
+fn ok(args: &[&str]) -> String {
+    let o = rgc(args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// At the rod where the rods first resist every strain of the box (a study
+/// of the solid criterion), the strain rank reaches 6 from below, and the
+/// shear modulus is zero exactly where the strain rank is. A rerun adds
+/// nothing.
+#[test]
+fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
+    let dir = crate::scratch("stiffening");
+    let study = dir.join("solid");
+    let s = study.to_str().unwrap();
+    // The analysis of so few sequences may fail; the records are written.
+    let _ = rgc(&[
+        "threshold",
+        "--kind",
+        "truth",
+        "--criterion",
+        "solid",
+        "--gamma",
+        "23",
+        "--boxes",
+        "3,3.5,4",
+        "--sequences",
+        "5",
+        "--seed",
+        "1",
+        "--quiet",
+        "--out",
+        s,
+    ]);
+    let out = dir.join("moduli");
+    let o = out.to_str().unwrap();
+    let summary = dir.join("summary");
+    let args = [
+        "stiffening",
+        s,
+        "--boxes",
+        "3",
+        "--sequences",
+        "2",
+        "--quiet",
+        "--out",
+        o,
+        "--summary",
+        summary.to_str().unwrap(),
+    ];
+    let printed = ok(&args);
+    assert!(printed.contains("    23     3    2 "), "{printed}");
+    let lines = out.join("stiffening.jsonl");
+    let all = stiffening::read(&lines).unwrap();
+    assert_eq!(all.len(), 2);
+    let records: Vec<Record> = std::fs::read_to_string(study.join("records.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .filter(|r: &Record| r.box_len == 3.0)
+        .collect();
+    for SequenceStiffening {
+        index, before, at, ..
+    } in &all
+    {
+        let r = records.iter().find(|r| r.index == *index).unwrap();
+        assert_eq!(Some(at.rods), r.rigid_critical);
+        assert_eq!(before.rods + 1, at.rods);
+        assert_eq!(at.strain_rank, Some(6));
+        assert!(before.strain_rank < Some(6), "{before:?}");
+        for side in [before, at] {
+            assert_eq!(side.failed, None);
+            let g = side.shear.unwrap();
+            assert_eq!(g == 0.0, side.strain_rank == Some(0), "{side:?}");
+            assert!(g < side.born_shear.unwrap(), "{side:?}");
+        }
+    }
+    let text = std::fs::read_to_string(&lines).unwrap();
+    ok(&args[..args.len() - 2]);
+    assert_eq!(std::fs::read_to_string(&lines).unwrap(), text);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let b = &doc["boxes"][0];
+    assert_eq!(
+        (b["sequences"].as_u64(), b["measured"].as_u64()),
+        (Some(2), Some(2))
+    );
+    assert_eq!(b["solid_at"], 2);
+    assert_eq!(b["strain_rank_at"]["mean"], 6.0);
+    fails(
+        &["stiffening", s, "--k", "0", "--out", o],
+        "the spring stiffness k must be positive and finite, not 0",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
