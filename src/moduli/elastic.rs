@@ -108,6 +108,9 @@ pub struct Elastic {
     /// Rods and contacts of the 2-core, where the springs are.
     pub core_rods: usize,
     pub core_contacts: usize,
+    /// Rods in truth's largest rigid cluster (none for a given realization,
+    /// where truth was not asked).
+    pub largest_cluster: Option<usize>,
     /// The length unit in the rods' own units: their mean length.
     pub length_unit: f64,
     /// Seconds of truth (for the strain rank) and of the whole.
@@ -298,6 +301,7 @@ pub fn of_realization(
         contacts: topo.graph.n_edges(),
         core_rods,
         core_contacts,
+        largest_cluster: None,
         length_unit: 1.0,
         truth_seconds: 0.0,
         seconds: 0.0,
@@ -523,6 +527,7 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
     e.moved = f.moved;
     e.length_unit = f.unit;
     e.truth_seconds = t.seconds;
+    e.largest_cluster = Some(t.largest_cluster());
     e.seconds = start.elapsed().as_secs_f64();
     Ok(e)
 }

@@ -6,7 +6,9 @@
 //! rod ([`super::transition`]); whether the shear modulus jumps with it is
 //! what tells a rigidity transition that stiffens at once from one whose
 //! moduli rise continuously, as Chubynsky and Thorpe found for central
-//! forces. Each sequence is one line of `stiffening.jsonl` (a
+//! forces. At given densities too, the moduli against the density (the
+//! stiffening curve `G(rho)`, `K(rho)`) beside the largest true cluster's
+//! share of the rods. Each sequence is one line of `stiffening.jsonl` (a
 //! [`journal`]), so a killed run resumes.
 
 use std::path::{Path, PathBuf};
@@ -35,6 +37,10 @@ pub struct StiffeningSpec {
     pub sequences: u64,
     /// The spring stiffness `k` of a contact.
     pub stiffness: f64,
+    /// Densities (rods per unit volume) at which each sequence is measured
+    /// too.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub densities: Vec<f64>,
 }
 
 /// The moduli of one prefix of a sequence, or why there are none.
@@ -52,6 +58,9 @@ pub struct Side {
     /// contact points (root mean square, rod lengths).
     pub realization: Option<String>,
     pub moved: Option<f64>,
+    /// Rods in truth's largest rigid cluster.
+    #[serde(default)]
+    pub largest: Option<usize>,
     pub failed: Option<String>,
 }
 
@@ -64,6 +73,9 @@ pub struct SequenceStiffening {
     pub index: u64,
     pub before: Side,
     pub at: Side,
+    /// At each of the spec's densities, in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub grid: Vec<Side>,
     pub seconds: f64,
 }
 
@@ -91,6 +103,7 @@ fn side(gamma: f64, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
             born_shear: Some(e.born_shear),
             realization: Some(e.realization),
             moved: e.moved.map(|m| m.contacts),
+            largest: e.largest_cluster,
             failed: None,
         },
         // Over the memory limit is no answer about the sequence: stop.
@@ -103,21 +116,34 @@ fn side(gamma: f64, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
             born_shear: None,
             realization: None,
             moved: None,
+            largest: None,
             failed: Some(e.to_string()),
         },
     })
 }
 
-/// One sequence: its moduli one rod below and at the critical number.
-fn probe(gamma: f64, r: &Record, stiffness: f64) -> Result<SequenceStiffening> {
+/// Rods at `density` in a cubic box of side `box_len`.
+fn rods_at(density: f64, box_len: f64) -> usize {
+    (density * box_len.powi(3)).round() as usize
+}
+
+/// One sequence: its moduli one rod below and at the critical number, and
+/// at each density of `spec`.
+fn probe(gamma: f64, r: &Record, spec: &StiffeningSpec) -> Result<SequenceStiffening> {
     let start = Instant::now();
     let n = r.rigid_critical.expect("chosen records are decided");
+    let k = spec.stiffness;
     Ok(SequenceStiffening {
         gamma,
         box_len: r.box_len,
         index: r.index,
-        before: side(gamma, r, n - 1, stiffness)?,
-        at: side(gamma, r, n, stiffness)?,
+        before: side(gamma, r, n - 1, k)?,
+        at: side(gamma, r, n, k)?,
+        grid: spec
+            .densities
+            .iter()
+            .map(|&d| side(gamma, r, rods_at(d, r.box_len), k))
+            .collect::<Result<_>>()?,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -141,6 +167,14 @@ pub fn run(
             spec.stiffness
         )));
     }
+    if spec.densities.iter().any(|d| !(d.is_finite() && *d > 0.0))
+        || spec.densities.windows(2).any(|w| w[0] >= w[1])
+    {
+        return Err(Error::Parameter(format!(
+            "--densities must increase and be positive, not {:?}",
+            spec.densities
+        )));
+    }
     let decided = journal::decided_truth_records(
         dirs,
         &spec.boxes,
@@ -154,9 +188,9 @@ pub fn run(
         &lines,
         &decided,
         progress,
-        |gamma, r| probe(gamma, r, spec.stiffness),
+        |gamma, r| probe(gamma, r, spec),
     )?;
-    Ok(summarize(&all))
+    Ok(summarize(&all, spec))
 }
 
 /// The sequences measured so far.
@@ -209,10 +243,56 @@ pub struct StiffeningSummary {
     pub shear_jump: Option<Mean>,
     /// Where both realizations were the one nearest the rods.
     pub both_nearest: usize,
+    /// At each density of the spec.
+    pub grid: Vec<GridPoint>,
 }
 
-/// Per aspect ratio and box, in that order.
-pub fn summarize(all: &[SequenceStiffening]) -> Vec<StiffeningSummary> {
+/// One density of one box: the moduli over the sequences measured there.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GridPoint {
+    pub density: f64,
+    pub rods: usize,
+    pub measured: usize,
+    pub failed: usize,
+    /// How many resist every strain; the mean strain rank.
+    pub solid: usize,
+    pub strain_rank: Option<Mean>,
+    /// `k / L_rod`.
+    pub shear: Option<Mean>,
+    pub bulk: Option<Mean>,
+    /// The largest true cluster's share of the rods.
+    pub largest_share: Option<Mean>,
+    /// Realizations nearest the rods (the rest projected from a random
+    /// start: not comparable).
+    pub nearest: usize,
+}
+
+impl GridPoint {
+    fn of(density: f64, sides: &[&Side]) -> GridPoint {
+        let ok: Vec<&&Side> = sides.iter().filter(|s| s.failed.is_none()).collect();
+        let mean = |f: &dyn Fn(&Side) -> Option<f64>| {
+            Mean::of(&ok.iter().filter_map(|s| f(s)).collect::<Vec<_>>())
+        };
+        GridPoint {
+            density,
+            rods: sides.first().map_or(0, |s| s.rods),
+            measured: ok.len(),
+            failed: sides.len() - ok.len(),
+            solid: ok.iter().filter(|s| s.strain_rank == Some(6)).count(),
+            strain_rank: mean(&|s| s.strain_rank.map(f64::from)),
+            shear: mean(&|s| s.shear),
+            bulk: mean(&|s| s.bulk),
+            largest_share: mean(&|s| s.largest.map(|l| l as f64 / s.rods as f64)),
+            nearest: ok
+                .iter()
+                .filter(|s| s.realization.as_deref() == Some("nearest"))
+                .count(),
+        }
+    }
+}
+
+/// Per aspect ratio and box, in that order, at the densities of `spec`.
+pub fn summarize(all: &[SequenceStiffening], spec: &StiffeningSpec) -> Vec<StiffeningSummary> {
     let mut keys: Vec<(f64, f64)> = all.iter().map(|s| (s.gamma, s.box_len)).collect();
     keys.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
     keys.dedup();
@@ -258,6 +338,15 @@ pub fn summarize(all: &[SequenceStiffening]) -> Vec<StiffeningSummary> {
                             .all(|s| s.realization.as_deref() == Some("nearest"))
                     })
                     .count(),
+                grid: spec
+                    .densities
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &d)| {
+                        let sides: Vec<&Side> = of.iter().filter_map(|s| s.grid.get(i)).collect();
+                        GridPoint::of(d, &sides)
+                    })
+                    .collect(),
             }
         })
         .collect()

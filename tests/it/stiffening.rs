@@ -46,6 +46,8 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     let args = [
         "stiffening",
         s,
+        "--densities",
+        "30,38",
         "--boxes",
         "3",
         "--sequences",
@@ -68,19 +70,26 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         .filter(|r: &Record| r.box_len == 3.0)
         .collect();
     for SequenceStiffening {
-        index, before, at, ..
+        index,
+        before,
+        at,
+        grid,
+        ..
     } in &all
     {
+        // The grid's prefixes: density times the box's volume, 27.
+        assert_eq!(grid.iter().map(|g| g.rods).collect::<Vec<_>>(), [810, 1026]);
         let r = records.iter().find(|r| r.index == *index).unwrap();
         assert_eq!(Some(at.rods), r.rigid_critical);
         assert_eq!(before.rods + 1, at.rods);
         assert_eq!(at.strain_rank, Some(6));
         assert!(before.strain_rank < Some(6), "{before:?}");
-        for side in [before, at] {
+        for side in [before, at].into_iter().chain(grid) {
             assert_eq!(side.failed, None);
             let g = side.shear.unwrap();
             assert_eq!(g == 0.0, side.strain_rank == Some(0), "{side:?}");
             assert!(g < side.born_shear.unwrap(), "{side:?}");
+            assert!(side.largest.unwrap() <= side.rods);
         }
     }
     let text = std::fs::read_to_string(&lines).unwrap();
@@ -95,6 +104,25 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     );
     assert_eq!(b["solid_at"], 2);
     assert_eq!(b["strain_rank_at"]["mean"], 6.0);
+    let densities: Vec<f64> = b["grid"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["density"].as_f64().unwrap())
+        .collect();
+    assert_eq!(densities, [30.0, 38.0]);
+    // Far above the threshold both sequences are solids, and G averages theirs.
+    let top = &b["grid"][1];
+    assert_eq!(
+        (top["measured"].as_u64(), top["solid"].as_u64()),
+        (Some(2), Some(2))
+    );
+    let g: Vec<f64> = all.iter().map(|s| s.grid[1].shear.unwrap()).collect();
+    assert!((top["shear"]["mean"].as_f64().unwrap() - (g[0] + g[1]) / 2.0).abs() < 1e-15);
+    fails(
+        &["stiffening", s, "--densities", "38,30", "--out", o],
+        "--densities must increase and be positive, not [38.0, 30.0]",
+    );
     fails(
         &["stiffening", s, "--k", "0", "--out", o],
         "the spring stiffness k must be positive and finite, not 0",

@@ -17,6 +17,9 @@ pub struct StiffeningArgs {
     /// Spring stiffness k of a contact.
     #[arg(long, default_value_t = 1.0)]
     k: f64,
+    /// Also measure each sequence at these densities (rods per unit volume, increasing): the stiffening curve.
+    #[arg(long, value_delimiter = ',')]
+    densities: Vec<f64>,
     /// Also write the summary as PREFIX.json.
     #[arg(long)]
     summary: Option<PathBuf>,
@@ -32,6 +35,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         boxes: m.boxes.clone(),
         sequences: m.sequences,
         stiffness: a.k,
+        densities: a.densities.clone(),
     };
     let summaries = stiffening::run(&m.dirs, &spec, &m.out, &Reporter::new(m.quiet))?;
     let mean = |m: Option<Mean>, scale: f64| {
@@ -73,6 +77,24 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             mean(s.shear_jump, 1.0),
             s.both_nearest
         );
+    }
+    for s in &summaries {
+        for p in &s.grid {
+            say!(
+                out,
+                "gamma {} box {} rho {}: {} measured ({} failed, {} nearest the rods), solid {}, G {}, K {}, largest cluster {}",
+                s.gamma,
+                s.box_len,
+                p.density,
+                p.measured,
+                p.failed,
+                p.nearest,
+                p.solid,
+                mean(p.shear, 1.0),
+                mean(p.bulk, 1.0),
+                mean(p.largest_share, 1.0)
+            );
+        }
     }
     if let Some(prefix) = &a.summary {
         let f = stiffening::write(prefix, &summaries, &super::command_line())?;
