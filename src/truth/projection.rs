@@ -74,11 +74,12 @@ struct System<'a> {
     plane: usize,
     unknowns: usize,
     /// How the scale of each direction (a line's `d`, a plane's `n`) is
-    /// fixed: `|d|² = 1`, or, with a reference direction `d0` per
-    /// unknown's start, `d · d0 = 1` ([`nearest`]). The sphere has a trap
-    /// at `n = 0`, where a plane's every membership holds and no step can
-    /// leave: a start whose rods lie far from their forced planes (the
-    /// actual rods) falls into it; the linear gauge has none.
+    /// fixed: `|d|² = 1`, or, with a reference direction `d0` from the
+    /// start, `d · d0 = 1` ([`nearest`]; per direction in the order of
+    /// [`System::directions`]). The sphere has a trap at `n = 0`, where a
+    /// plane's every membership holds and no step can leave: a start whose
+    /// rods lie far from their forced planes (the actual rods) falls into
+    /// it; the linear gauge has none.
     anchors: Option<Vec<V3<f64>>>,
 }
 
@@ -145,25 +146,32 @@ impl<'a> System<'a> {
         }
     }
 
+    /// Where each direction starts: every active rod's line's `d`, then
+    /// every class's plane's `n`.
+    fn directions(&self) -> impl Iterator<Item = usize> + '_ {
+        let lines = self.line.iter().flatten().map(|&at| at + 3);
+        lines.chain((0..self.planes.classes.len()).map(|c| self.plane + 4 * c))
+    }
+
     /// The linear gauge, each direction against its value in `u`.
     fn anchored(mut self, u: &[f64]) -> Self {
-        let mut anchors = vec![[0.0; 3]; self.unknowns];
-        let directions = self.line.iter().flatten().map(|&at| at + 3);
-        let normals = (0..self.planes.classes.len()).map(|c| self.plane + 4 * c);
-        for at in directions.chain(normals) {
-            let d = v3(u, at);
-            anchors[at] = scale(d, 1.0 / dot(d, d));
-        }
+        let anchors = self
+            .directions()
+            .map(|at| {
+                let d = v3(u, at);
+                scale(d, 1.0 / dot(d, d))
+            })
+            .collect();
         self.anchors = Some(anchors);
         self
     }
 
-    /// The row fixing the scale of the direction at `at`.
-    fn gauge(&self, ev: &mut Residuals, u: &[f64], at: usize) {
+    /// The row fixing the scale of the `k`-th direction, at `at`.
+    fn gauge(&self, ev: &mut Residuals, u: &[f64], k: usize, at: usize) {
         let d = v3(u, at);
         match &self.anchors {
-            None => ev.row(dot(d, d) - 1.0, (0..3).map(|k| (at + k, 2.0 * d[k]))),
-            Some(a) => ev.row(dot(d, a[at]) - 1.0, (0..3).map(|k| (at + k, a[at][k]))),
+            None => ev.row(dot(d, d) - 1.0, (0..3).map(|i| (at + i, 2.0 * d[i]))),
+            Some(a) => ev.row(dot(d, a[k]) - 1.0, (0..3).map(|i| (at + i, a[k][i]))),
         }
     }
 
@@ -187,9 +195,10 @@ impl<'a> System<'a> {
 
     fn residuals(&self, u: &[f64], jacobian: bool) -> Residuals {
         let mut ev = Residuals::new(jacobian);
-        for at in self.line.iter().flatten().copied() {
+        let lines = self.line.iter().flatten().count();
+        for (k, at) in self.line.iter().flatten().copied().enumerate() {
             let (p, d) = (v3(u, at), v3(u, at + 3));
-            self.gauge(&mut ev, u, at + 3);
+            self.gauge(&mut ev, u, k, at + 3);
             ev.row(
                 dot(p, d),
                 (0..3).flat_map(|k| [(at + k, d[k]), (at + 3 + k, p[k])]),
@@ -221,7 +230,7 @@ impl<'a> System<'a> {
         for (c, class) in self.planes.classes.iter().enumerate() {
             let at = self.plane + 4 * c;
             let (n, h) = (v3(u, at), u[at + 3]);
-            self.gauge(&mut ev, u, at);
+            self.gauge(&mut ev, u, lines + c, at);
             for w in &class.wraps {
                 let w = w.map(f64::from);
                 ev.row(dot(n, w), (0..3).map(|k| (at + k, w[k])));
