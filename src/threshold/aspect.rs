@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use serde::{Serialize, Serializer};
 
 use super::fss::{ContactFits, Estimate, LinearFit};
-use super::report::Summary;
+use super::report;
 use super::sequence::Kind;
 use crate::{Error, Result};
 
@@ -166,12 +166,7 @@ pub fn read(studies: &[PathBuf]) -> Result<AspectRatios> {
     let mut contacts = Vec::new();
     let mut kind = None;
     for dir in studies {
-        let path = dir.join("summary.json");
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        let s: Summary = serde_json::from_str(&text).map_err(|e| Error::Study {
-            path: path.clone(),
-            reason: format!("not a study summary: {e}"),
-        })?;
+        let s = report::read_summary(dir)?;
         if kind.is_some_and(|k| k != s.study.kind) {
             return Err(Error::Parameter(format!(
                 "{} is a {:?} study; the others are {:?}",

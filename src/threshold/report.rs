@@ -76,6 +76,16 @@ pub struct Summary {
     pub order: OrderEffects,
 }
 
+/// The `summary.json` of the finished study in `dir`.
+pub fn read_summary(dir: &Path) -> Result<Summary> {
+    let path = dir.join("summary.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+    serde_json::from_str(&text).map_err(|e| Error::Study {
+        path,
+        reason: format!("not a study summary: {e}"),
+    })
+}
+
 /// The observations finite-size scaling works on, one [`BoxData`] per box.
 pub fn observations(spec: &StudySpec, records: &[Record]) -> Vec<BoxData> {
     spec.boxes

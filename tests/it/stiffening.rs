@@ -55,6 +55,8 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         "--quiet",
         "--out",
         o,
+        "--marks",
+        "results/g23-truth",
         "--summary",
         summary.to_str().unwrap(),
     ];
@@ -93,7 +95,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         }
     }
     let text = std::fs::read_to_string(&lines).unwrap();
-    ok(&args[..args.len() - 2]);
+    ok(&args[..args.len() - 4]);
     assert_eq!(std::fs::read_to_string(&lines).unwrap(), text);
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
@@ -104,6 +106,9 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     );
     assert_eq!(b["solid_at"], 2);
     assert_eq!(b["strain_rank_at"]["mean"], 6.0);
+    for chart in ["summary.svg", "summary.png"] {
+        assert!(dir.join(chart).metadata().unwrap().len() > 1000, "{chart}");
+    }
     let densities: Vec<f64> = b["grid"]
         .as_array()
         .unwrap()

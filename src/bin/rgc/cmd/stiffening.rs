@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use rgc::threshold::stiffening::{self, Mean, StiffeningSpec};
-use rgc::{Result, output};
+use rgc::{Result, output, plot, threshold};
 
 use crate::args::MeasuredArgs;
 use crate::progress::Reporter;
@@ -20,9 +20,12 @@ pub struct StiffeningArgs {
     /// Also measure each sequence at these densities (rods per unit volume, increasing): the stiffening curve.
     #[arg(long, value_delimiter = ',')]
     densities: Vec<f64>,
-    /// Also write the summary as PREFIX.json.
+    /// Also write the summary as PREFIX.json, and with --densities the chart as PREFIX.svg and PREFIX.png.
     #[arg(long)]
     summary: Option<PathBuf>,
+    /// Finished studies whose thresholds the chart marks (for example the truth study's and 3D-RGC's on the same sequences), each labelled by its directory's name.
+    #[arg(long, value_delimiter = ',', requires = "summary")]
+    marks: Vec<PathBuf>,
 }
 
 pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
@@ -97,8 +100,36 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         }
     }
     if let Some(prefix) = &a.summary {
-        let f = stiffening::write(prefix, &summaries, &super::command_line())?;
-        say!(out, "wrote {}", f.display());
+        let mut written = vec![stiffening::write(
+            prefix,
+            &summaries,
+            &super::command_line(),
+        )?];
+        if !a.densities.is_empty() {
+            let marks = a
+                .marks
+                .iter()
+                .map(|dir| {
+                    let label = dir.file_name().map_or_else(
+                        || dir.display().to_string(),
+                        |n| n.to_string_lossy().into_owned(),
+                    );
+                    Ok((
+                        label,
+                        threshold::report::read_summary(dir)?.fss.threshold.value,
+                    ))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let (svg, png) = (
+                output::with_extension(prefix, "svg"),
+                output::with_extension(prefix, "png"),
+            );
+            plot::stiffening_chart(&summaries, &marks, &svg, &png)?;
+            written.extend([svg, png]);
+        }
+        for f in written {
+            say!(out, "wrote {}", f.display());
+        }
     }
     Ok(())
 }

@@ -1,0 +1,161 @@
+//! The stiffening curve: the shear and bulk moduli against the density,
+//! beside the largest true cluster's share of the rods, one colour per box,
+//! with the thresholds of given studies marked (truth's, 3D-RGC's: where an
+//! experiment would see stiffening if each were right).
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::chart::{Chart, Drawn, PALETTE, error_bars, legend, render};
+use crate::Result;
+use crate::threshold::stiffening::{GridPoint, Mean, StiffeningSummary};
+
+/// Pixel size of the chart.
+const SIZE: (u32, u32) = (1400, 600);
+
+/// Draws the density grids of `summaries` as `svg` and `png`: left, G
+/// (filled) and K (open) in `k / L_rod` with 95% intervals; right, the
+/// largest true cluster's share of the rods; `marks` (label, density) as
+/// vertical lines on both.
+pub fn stiffening_chart(
+    summaries: &[StiffeningSummary],
+    marks: &[(String, f64)],
+    svg: &Path,
+    png: &Path,
+) -> Result<()> {
+    render(&Stiffening { summaries, marks }, SIZE, svg, png)
+}
+
+struct Stiffening<'a> {
+    summaries: &'a [StiffeningSummary],
+    marks: &'a [(String, f64)],
+}
+
+impl Chart for Stiffening<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Drawn<DB> {
+        root.fill(&WHITE)?;
+        let root = root.titled(
+            "Stiffening: the moduli and the largest true cluster against the density",
+            ("sans-serif", 26),
+        )?;
+        let (left, right) = root.split_horizontally(SIZE.0 / 2);
+        self.panel(&left, Panel::Moduli)?;
+        self.panel(&right, Panel::Cluster)?;
+        root.present()
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Panel {
+    Moduli,
+    Cluster,
+}
+
+/// A mean and its interval as (value, low, high).
+fn span(m: Option<Mean>) -> Option<(f64, f64, f64)> {
+    m.map(|m| (m.mean, m.mean - m.half_width, m.mean + m.half_width))
+}
+
+impl Stiffening<'_> {
+    fn points(&self) -> impl Iterator<Item = (usize, &GridPoint)> {
+        self.summaries
+            .iter()
+            .enumerate()
+            .flat_map(|(i, s)| s.grid.iter().map(move |p| (i, p)))
+    }
+
+    fn panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, panel: Panel) -> Drawn<DB> {
+        let values = |p: &GridPoint| match panel {
+            Panel::Moduli => vec![span(p.shear), span(p.bulk)],
+            Panel::Cluster => vec![span(p.largest_share)],
+        };
+        let top = self
+            .points()
+            .flat_map(|(_, p)| values(p))
+            .flatten()
+            .map(|v| v.2)
+            .fold(f64::MIN_POSITIVE, f64::max)
+            * 1.1;
+        let xs = self
+            .points()
+            .map(|(_, p)| p.density)
+            .chain(self.marks.iter().map(|m| m.1));
+        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+        let (lo, hi) = if lo < hi {
+            (lo, hi)
+        } else {
+            (lo - 1.0, lo + 1.0)
+        };
+        let pad = 0.05 * (hi - lo);
+        let (caption, y_desc) = match panel {
+            Panel::Moduli => (
+                "G (filled) and K (open), Voigt averages",
+                "modulus, k / L_rod",
+            ),
+            Panel::Cluster => ("the largest true rigid cluster", "share of the rods"),
+        };
+        let mut chart = ChartBuilder::on(area)
+            .caption(caption, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(lo - pad..hi + pad, 0.0..top)?;
+        chart
+            .configure_mesh()
+            .x_desc("density, rods per unit volume")
+            .y_desc(y_desc)
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        for (mark, grey) in self.marks.iter().zip([0u8, 110, 170].iter().cycle()) {
+            let c = RGBColor(*grey, *grey, *grey);
+            chart
+                .draw_series([PathElement::new(
+                    vec![(mark.1, 0.0), (mark.1, top)],
+                    c.stroke_width(2),
+                )])?
+                .label(format!("{} ({:.2})", mark.0, mark.1))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
+                });
+        }
+        for (i, s) in self.summaries.iter().enumerate() {
+            let c = PALETTE[i % PALETTE.len()];
+            let series = if panel == Panel::Moduli { 2 } else { 1 };
+            for k in 0..series {
+                let filled = k == 0;
+                let pts: Vec<(f64, (f64, f64, f64))> = s
+                    .grid
+                    .iter()
+                    .filter_map(|p| Some((p.density, values(p)[k]?)))
+                    .collect();
+                error_bars(
+                    &mut chart,
+                    pts.iter().map(|(x, v)| (*x, v.1, v.2)),
+                    c.to_rgba(),
+                    4,
+                )?;
+                chart.draw_series(LineSeries::new(
+                    pts.iter().map(|(x, v)| (*x, v.0)),
+                    c.stroke_width(if filled { 2 } else { 1 }),
+                ))?;
+                let style = if filled {
+                    c.filled()
+                } else {
+                    c.stroke_width(2)
+                };
+                let series =
+                    chart.draw_series(pts.iter().map(|(x, v)| Circle::new((*x, v.0), 5, style)))?;
+                if k == 0 {
+                    series
+                        .label(format!("gamma {}, box {}", s.gamma, s.box_len))
+                        .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.filled()));
+                }
+            }
+        }
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    }
+}
