@@ -55,7 +55,10 @@ enum Panel {
 
 /// A mean and its interval as (value, low, high).
 fn span(m: Option<Mean>) -> Option<(f64, f64, f64)> {
-    m.map(|m| (m.mean, m.mean - m.half_width, m.mean + m.half_width))
+    m.map(|m| {
+        let h = m.half_width.unwrap_or(0.0);
+        (m.mean, m.mean - h, m.mean + h)
+    })
 }
 
 impl Stiffening<'_> {

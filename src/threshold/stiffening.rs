@@ -198,12 +198,12 @@ pub fn read(lines: &Path) -> Result<Vec<SequenceStiffening>> {
     journal::read(lines, "stiffening")
 }
 
-/// A mean with its 95% normal interval (`1.96 sd / sqrt n`), over the
-/// sequences where both sides have moduli.
+/// A mean with the half-width of its 95% normal interval (`1.96 sd /
+/// sqrt n`; none from a single value).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Mean {
     pub mean: f64,
-    pub half_width: f64,
+    pub half_width: Option<f64>,
 }
 
 impl Mean {
@@ -212,7 +212,7 @@ impl Mean {
             let (mean, sd) = stats::mean_sd(x);
             Mean {
                 mean,
-                half_width: 1.96 * sd / (x.len() as f64).sqrt(),
+                half_width: (x.len() > 1).then(|| 1.96 * sd / (x.len() as f64).sqrt()),
             }
         })
     }

@@ -41,9 +41,10 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         densities: a.densities.clone(),
     };
     let summaries = stiffening::run(&m.dirs, &spec, &m.out, &Reporter::new(m.quiet))?;
-    let mean = |m: Option<Mean>, scale: f64| {
+    let mean = |m: Option<Mean>| {
         m.map_or("-".to_string(), |m| {
-            format!("{:.3e} +- {:.1e}", scale * m.mean, scale * m.half_width)
+            let half = m.half_width.map_or("-".to_string(), |h| format!("{h:.1e}"));
+            format!("{:.3e} +- {half}", m.mean)
         })
     };
     say!(
@@ -75,9 +76,9 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             rank(s.strain_rank_at),
             s.rank_rises_from_zero,
             s.solid_at,
-            mean(s.shear_before, 1.0),
-            mean(s.shear_at, 1.0),
-            mean(s.shear_jump, 1.0),
+            mean(s.shear_before),
+            mean(s.shear_at),
+            mean(s.shear_jump),
             s.both_nearest
         );
     }
@@ -93,9 +94,9 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
                 p.failed,
                 p.nearest,
                 p.solid,
-                mean(p.shear, 1.0),
-                mean(p.bulk, 1.0),
-                mean(p.largest_share, 1.0)
+                mean(p.shear),
+                mean(p.bulk),
+                mean(p.largest_share)
             );
         }
     }
