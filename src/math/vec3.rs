@@ -53,6 +53,11 @@ pub fn cross<S: Scalar>(a: V3<S>, b: V3<S>) -> V3<S> {
     ]
 }
 
+/// The point of the float line `l` nearest `x`.
+pub fn foot(l: &Line<f64>, x: V3<f64>) -> V3<f64> {
+    add(l.p, scale(l.d, dot(sub(x, l.p), l.d) / dot(l.d, l.d)))
+}
+
 pub fn is_null<S: Scalar>(a: V3<S>) -> bool {
     a.iter().all(|x| x.negligible())
 }

@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use super::relax::{self, Relaxation};
 use super::voigt::Voigt;
 use crate::graph::Topology;
-use crate::math::vec3::{Line, V3, add, dot, scale, sub};
+use crate::math::vec3::{Line, V3, add, dot, foot, scale, sub};
 use crate::network::View;
 use crate::rods::Periodic;
 use crate::truth::planes::{self, Planes};
@@ -338,8 +338,7 @@ impl Moved {
             .zip(&real.lines)
             .filter_map(|(a, b)| {
                 let (c, l) = ((*a)?.p, (*b)?);
-                let foot = add(l.p, scale(l.d, dot(sub(c, l.p), l.d) / dot(l.d, l.d)));
-                Some(norm(sub(c, foot)))
+                Some(norm(sub(c, foot(&l, c))))
             })
             .collect();
         Moved {
@@ -418,11 +417,12 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
     check_box(network)?;
     let system = network.system;
     let lx = system.domain.sides[0];
-    let n = system.len();
-    let unit = if n == 0 {
+    // The view's rods: a prefix of a sequence's system.
+    let rods = &system.rods[..network.graph.n_nodes()];
+    let unit = if rods.is_empty() {
         1.0
     } else {
-        system.rods.iter().map(|r| r.length).sum::<f64>() / n as f64
+        rods.iter().map(|r| r.length).sum::<f64>() / rods.len() as f64
     };
     let topo = network.topology();
     let core = prune::two_core(network.graph);
@@ -433,8 +433,7 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
         ))
     })?;
     let to = |x: nalgebra::Vector3<f64>| [x[0] / unit, x[1] / unit, x[2] / unit];
-    let lines: Vec<Option<Line<f64>>> = system
-        .rods
+    let lines: Vec<Option<Line<f64>>> = rods
         .iter()
         .zip(&core.active)
         .map(|(rod, &on)| {
@@ -458,11 +457,18 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
         lines,
         points,
     };
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let (real, how) = match projection::nearest(&topo, &planes, &core.active, &near, &mut rng) {
+    // The repairs' kicks and the random start draw from streams of their
+    // own, so that the start does not depend on how many kicks failed.
+    let draws = |stream: u64| {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        rng.set_stream(stream);
+        rng
+    };
+    let near_rods = projection::nearest(&topo, &planes, &core.active, &near, &mut draws(1));
+    let (real, how) = match near_rods {
         Ok(real) => (real, "nearest"),
         Err(_) => {
-            let real = projection::project(&topo, &planes, &core.active, &mut rng)
+            let real = projection::project(&topo, &planes, &core.active, &mut draws(0))
                 .map_err(|why| Error::analysis(format!("no float realization: {why}")))?;
             (scaled(real, near.side), "projected")
         }
@@ -470,16 +476,10 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
     // The centres the Born tensor moves: the rods' own on the lines nearest
     // them, else the mean of each rod's contact points.
     let moved = (how == "nearest").then(|| Moved::between(&near, &real));
-    let centres: Vec<Option<V3<f64>>> = if how == "nearest" {
-        system
-            .rods
-            .iter()
+    let centres: Vec<Option<V3<f64>>> = if moved.is_some() {
+        rods.iter()
             .zip(&real.lines)
-            .map(|(rod, line)| {
-                let l = (*line)?;
-                let c = to(rod.center);
-                Some(add(l.p, scale(l.d, dot(sub(c, l.p), l.d))))
-            })
+            .map(|(rod, line)| Some(foot(&(*line)?, to(rod.center))))
             .collect()
     } else {
         contact_centres(&topo, &real)

@@ -62,11 +62,8 @@ fn span(m: Option<Mean>) -> Option<(f64, f64, f64)> {
 }
 
 impl Stiffening<'_> {
-    fn points(&self) -> impl Iterator<Item = (usize, &GridPoint)> {
-        self.summaries
-            .iter()
-            .enumerate()
-            .flat_map(|(i, s)| s.grid.iter().map(move |p| (i, p)))
+    fn points(&self) -> impl Iterator<Item = &GridPoint> {
+        self.summaries.iter().flat_map(|s| &s.grid)
     }
 
     fn panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, panel: Panel) -> Drawn<DB> {
@@ -76,14 +73,14 @@ impl Stiffening<'_> {
         };
         let top = self
             .points()
-            .flat_map(|(_, p)| values(p))
+            .flat_map(values)
             .flatten()
             .map(|v| v.2)
             .fold(f64::MIN_POSITIVE, f64::max)
             * 1.1;
         let xs = self
             .points()
-            .map(|(_, p)| p.density)
+            .map(|p| p.density)
             .chain(self.marks.iter().map(|m| m.1));
         let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
             (a.min(x), b.max(x))

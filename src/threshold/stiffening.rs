@@ -85,10 +85,9 @@ impl journal::Line for SequenceStiffening {
     }
 }
 
-/// The moduli of the first `n` rods of `r`'s sequence, truth's
+/// The moduli of the first `n` rods of `r`'s sequence `seq`, truth's
 /// realizations seeded as the study's step at `n`.
-fn side(gamma: f64, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
-    let seq = Sequence::new(gamma, r.box_len, n, r.seed)?;
+fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
     let graph = seq.graph(n);
     let opts = ModuliOptions {
         stiffness,
@@ -133,16 +132,23 @@ fn probe(gamma: f64, r: &Record, spec: &StiffeningSpec) -> Result<SequenceStiffe
     let start = Instant::now();
     let n = r.rigid_critical.expect("chosen records are decided");
     let k = spec.stiffness;
+    let grid: Vec<usize> = spec
+        .densities
+        .iter()
+        .map(|&d| rods_at(d, r.box_len))
+        .collect();
+    // One sequence to the most rods any side needs; each side a prefix.
+    let most = grid.iter().copied().fold(n, usize::max);
+    let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
     Ok(SequenceStiffening {
         gamma,
         box_len: r.box_len,
         index: r.index,
-        before: side(gamma, r, n - 1, k)?,
-        at: side(gamma, r, n, k)?,
-        grid: spec
-            .densities
-            .iter()
-            .map(|&d| side(gamma, r, rods_at(d, r.box_len), k))
+        before: side(&seq, r, n - 1, k)?,
+        at: side(&seq, r, n, k)?,
+        grid: grid
+            .into_iter()
+            .map(|m| side(&seq, r, m, k))
             .collect::<Result<_>>()?,
         seconds: start.elapsed().as_secs_f64(),
     })

@@ -324,7 +324,8 @@ impl<'a> System<'a> {
     fn nudge(&self, u: &mut [f64], rods: &[u32], step: f64, rng: &mut impl Rng) {
         let mut moved = vec![false; self.line.len()];
         for &r in rods {
-            let Some(at) = self.line[r as usize] else {
+            // A rod named twice (a neighbour of two) is kicked once.
+            let Some(at) = self.line[r as usize].filter(|_| !moved[r as usize]) else {
                 continue;
             };
             moved[r as usize] = true;
