@@ -1,8 +1,10 @@
 //! Sample statistics, each written once: mean and standard deviation, one
-//! quantile rule, percentile intervals, and least squares.
+//! quantile rule, percentile intervals, the bootstrap, and least squares.
 
 use faer::linalg::solvers::SolveLstsq;
 use faer::{Mat, MatRef};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 /// Mean and sample standard deviation (0 for a single value; NaN mean for none).
 pub fn mean_sd(xs: &[f64]) -> (f64, f64) {
@@ -100,6 +102,30 @@ pub fn least_squares(x: MatRef<'_, f64>, y: &[f64]) -> Option<Fit> {
         r2,
         rms: (ss_res / n as f64).sqrt(),
     })
+}
+
+/// The bootstrap: `f` on `resamples` resamples of `groups`, each drawn
+/// with replacement within its group (the sequences of one box), in order
+/// (the resamples `f` declines are left out). Resample `b` draws from
+/// stream `b` of `seed`, so the intervals are the same on every machine.
+pub fn bootstrap<T: Clone, R>(
+    groups: &[Vec<T>],
+    resamples: usize,
+    seed: u64,
+    mut f: impl FnMut(&[Vec<T>]) -> Option<R>,
+) -> Vec<R> {
+    let mut drawn: Vec<Vec<T>> = groups.iter().map(|v| Vec::with_capacity(v.len())).collect();
+    (0..resamples)
+        .filter_map(|b| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            rng.set_stream(b as u64);
+            for (d, v) in drawn.iter_mut().zip(groups) {
+                d.clear();
+                d.extend((0..v.len()).map(|_| v[rng.random_range(0..v.len())].clone()));
+            }
+            f(&drawn)
+        })
+        .collect()
 }
 
 /// The straight line `y = beta[0] + beta[1] x` through `(x, y)` points by

@@ -17,6 +17,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::journal;
+use super::report;
 use super::sequence::{Record, Sequence};
 use crate::engine::run_seed;
 use crate::math::stats;
@@ -196,7 +197,17 @@ pub fn run(
         progress,
         |gamma, r| probe(gamma, r, spec),
     )?;
-    Ok(summarize(&all, spec))
+    // Each aspect ratio's threshold from its finished study (the first
+    // given, where several have one aspect ratio).
+    let mut thresholds: Vec<(f64, f64)> = Vec::new();
+    for dir in dirs {
+        if let Ok(s) = report::read_summary(dir)
+            && !thresholds.iter().any(|t| t.0 == s.study.gamma)
+        {
+            thresholds.push((s.study.gamma, s.fss.threshold.value));
+        }
+    }
+    Ok(summarize(&all, spec, &thresholds))
 }
 
 /// The sequences measured so far.
@@ -251,6 +262,108 @@ pub struct StiffeningSummary {
     pub both_nearest: usize,
     /// At each density of the spec.
     pub grid: Vec<GridPoint>,
+    /// The exponent `f` of `G ~ (rho - rho_t)^f` from the mean shear
+    /// modulus at the densities above the studies' threshold `rho_t`, and
+    /// from every sequence's moduli above its own critical density.
+    pub exponent: Option<Exponent>,
+    pub exponent_own: Option<Exponent>,
+}
+
+/// The exponent `f` of `G ~ (rho - rho_c)^f`: the slope of `ln G` against
+/// `ln (rho - rho_c)` by least squares, with its 95% bootstrap interval
+/// over the sequences. Only realizations nearest the rods count (one from a
+/// random start is another member of the family, with another `G`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Exponent {
+    pub f: f64,
+    pub interval: Option<(f64, f64)>,
+    /// `rho_c`: the studies' threshold, or none where each sequence's own
+    /// critical density (its critical number over the volume) is used.
+    pub threshold: Option<f64>,
+    /// Points fitted (densities, or sequences times densities), and the
+    /// range of `rho - rho_c` they span.
+    pub points: usize,
+    pub from: f64,
+    pub to: f64,
+}
+
+/// Bootstrap resamples of an exponent's sequences, and their seed.
+const RESAMPLES: usize = 1000;
+const BOOTSTRAP_SEED: u64 = 1;
+
+impl Exponent {
+    /// The slope through `(rho - rho_c, G)` points on log-log axes, with
+    /// at least two distinct `rho - rho_c`.
+    fn slope(points: &[(f64, f64)]) -> Option<(f64, usize, f64, f64)> {
+        let logs: Vec<(f64, f64)> = points.iter().map(|&(x, g)| (x.ln(), g.ln())).collect();
+        let fit = stats::line(&logs)?;
+        let from = points.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+        let to = points.iter().map(|p| p.0).fold(0.0, f64::max);
+        (to > from).then_some((fit.beta[1], points.len(), from, to))
+    }
+
+    /// `points` of the sequences, fitted, with the bootstrap over them.
+    fn fit(
+        of: &[&SequenceStiffening],
+        threshold: Option<f64>,
+        points: impl Fn(&[&SequenceStiffening]) -> Vec<(f64, f64)>,
+    ) -> Option<Exponent> {
+        let (f, n, from, to) = Exponent::slope(&points(of))?;
+        let mut boot = stats::bootstrap(&[of.to_vec()], RESAMPLES, BOOTSTRAP_SEED, |r| {
+            Exponent::slope(&points(&r[0])).map(|s| s.0)
+        });
+        Some(Exponent {
+            f,
+            interval: stats::percentile_interval(&mut boot, 0.95),
+            threshold,
+            points: n,
+            from,
+            to,
+        })
+    }
+
+    /// From the mean `G` over the sequences at each density above `rho_t`
+    /// (a sequence that resists no strain there counts with `G = 0`).
+    fn of_threshold(of: &[&SequenceStiffening], densities: &[f64], rho_t: f64) -> Option<Self> {
+        Exponent::fit(of, Some(rho_t), |seqs| {
+            densities
+                .iter()
+                .enumerate()
+                .filter(|&(_, &d)| d > rho_t)
+                .filter_map(|(i, &d)| {
+                    let g: Vec<f64> = seqs
+                        .iter()
+                        .filter_map(|s| s.grid.get(i))
+                        .filter(|s| s.realization.as_deref() == Some("nearest"))
+                        .filter_map(|s| s.shear)
+                        .collect();
+                    let mean = g.iter().sum::<f64>() / g.len() as f64;
+                    (mean > 0.0).then_some((d - rho_t, mean))
+                })
+                .collect()
+        })
+    }
+
+    /// From every sequence's `G` at each density above its own critical
+    /// density.
+    fn of_own(of: &[&SequenceStiffening], densities: &[f64]) -> Option<Self> {
+        Exponent::fit(of, None, |seqs| {
+            seqs.iter()
+                .flat_map(|s| {
+                    let critical = s.at.rods as f64 / s.box_len.powi(3);
+                    densities
+                        .iter()
+                        .zip(&s.grid)
+                        .filter(move |&(&d, side)| {
+                            d > critical && side.realization.as_deref() == Some("nearest")
+                        })
+                        .filter_map(move |(&d, side)| {
+                            side.shear.filter(|&g| g > 0.0).map(|g| (d - critical, g))
+                        })
+                })
+                .collect()
+        })
+    }
 }
 
 /// One density of one box: the moduli over the sequences measured there.
@@ -297,8 +410,14 @@ impl GridPoint {
     }
 }
 
-/// Per aspect ratio and box, in that order, at the densities of `spec`.
-pub fn summarize(all: &[SequenceStiffening], spec: &StiffeningSpec) -> Vec<StiffeningSummary> {
+/// Per aspect ratio and box, in that order, at the densities of `spec`;
+/// the exponent `f` against each aspect ratio's threshold `rho_t` in
+/// `thresholds` (aspect ratio, threshold) where it has one.
+pub fn summarize(
+    all: &[SequenceStiffening],
+    spec: &StiffeningSpec,
+    thresholds: &[(f64, f64)],
+) -> Vec<StiffeningSummary> {
     let mut keys: Vec<(f64, f64)> = all.iter().map(|s| (s.gamma, s.box_len)).collect();
     keys.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
     keys.dedup();
@@ -353,6 +472,11 @@ pub fn summarize(all: &[SequenceStiffening], spec: &StiffeningSpec) -> Vec<Stiff
                         GridPoint::of(d, &sides)
                     })
                     .collect(),
+                exponent: thresholds
+                    .iter()
+                    .find(|t| t.0 == gamma)
+                    .and_then(|t| Exponent::of_threshold(&of, &spec.densities, t.1)),
+                exponent_own: Exponent::of_own(&of, &spec.densities),
             }
         })
         .collect()
@@ -368,4 +492,100 @@ pub fn write(prefix: &Path, summaries: &[StiffeningSummary], command: &str) -> R
         serde_json::to_string_pretty(&doc).expect("summaries serialize"),
     )?;
     Ok(json)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn side(rods: usize, shear: f64, realization: &str) -> Side {
+        Side {
+            rods,
+            strain_rank: Some(if shear > 0.0 { 6 } else { 0 }),
+            shear: Some(shear),
+            bulk: Some(shear),
+            born_shear: Some(1.0),
+            realization: Some(realization.into()),
+            moved: None,
+            largest: None,
+            failed: None,
+        }
+    }
+
+    /// A sequence in a box of volume 8 critical at `critical` rods, with
+    /// `G = (rho - rho_c)^f` at each density (rho_c its own critical
+    /// density, or `threshold`).
+    fn sequence(
+        index: u64,
+        critical: usize,
+        densities: &[f64],
+        g: impl Fn(f64) -> f64,
+    ) -> SequenceStiffening {
+        SequenceStiffening {
+            gamma: 23.0,
+            box_len: 2.0,
+            index,
+            before: side(critical - 1, 0.0, "nearest"),
+            at: side(critical, 1e-9, "nearest"),
+            grid: densities
+                .iter()
+                .map(|&d| side((d * 8.0) as usize, g(d), "nearest"))
+                .collect(),
+            seconds: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_exponent_is_the_log_log_slope_above_the_critical_density() {
+        let densities = [30.0, 34.0, 36.0, 40.0, 44.0];
+        let spec = StiffeningSpec {
+            studies: vec![],
+            boxes: vec![],
+            sequences: 3,
+            stiffness: 1.0,
+            densities: densities.to_vec(),
+        };
+        // Each sequence's own G = (rho - rho_c)^2.5, rho_c = 33, 32.5, 33.5.
+        let own: Vec<SequenceStiffening> = [264, 260, 268]
+            .iter()
+            .enumerate()
+            .map(|(i, &c)| {
+                let rc = c as f64 / 8.0;
+                sequence(i as u64, c, &densities, |d| {
+                    if d > rc { (d - rc).powf(2.5) } else { 0.0 }
+                })
+            })
+            .collect();
+        let s = &summarize(&own, &spec, &[])[0];
+        assert_eq!(s.exponent, None, "no threshold given");
+        let e = s.exponent_own.unwrap();
+        assert!((e.f - 2.5).abs() < 1e-9, "{e:?}");
+        assert_eq!((e.points, e.threshold), (12, None));
+        assert!(
+            (e.from - 0.5).abs() < 1e-12 && (e.to - 11.5).abs() < 1e-12,
+            "{e:?}"
+        );
+        let (lo, hi) = e.interval.unwrap();
+        assert!(
+            (lo - 2.5).abs() < 1e-9 && (hi - 2.5).abs() < 1e-9,
+            "exact on every resample"
+        );
+        // The mean G against a common threshold 33: G = (rho - 33)^1.5 in
+        // every sequence; a realization from a random start is left out.
+        let mut common: Vec<SequenceStiffening> = (0..3)
+            .map(|i| {
+                sequence(i, 264, &densities, |d| {
+                    if d > 33.0 { (d - 33.0).powf(1.5) } else { 0.0 }
+                })
+            })
+            .collect();
+        common[0].grid[4] = side(352, 1e3, "projected");
+        let s = &summarize(&common, &spec, &[(48.0, 30.0), (23.0, 33.0)])[0];
+        let e = s.exponent.unwrap();
+        assert!((e.f - 1.5).abs() < 1e-9, "{e:?}");
+        assert_eq!(
+            (e.points, e.threshold, e.from, e.to),
+            (4, Some(33.0), 1.0, 11.0)
+        );
+    }
 }

@@ -13,13 +13,11 @@
 
 use std::path::{Path, PathBuf};
 
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use super::sequence::{Kind, Record};
 use super::study;
-use crate::math::stats::{line, mean_sd, percentile_interval};
+use crate::math::stats::{self, line, mean_sd, percentile_interval};
 use crate::{Error, Result, output};
 
 /// Bootstrap resamples of the sequences of each box, drawn from stream `b`
@@ -361,22 +359,10 @@ fn by_box(records: &[Record]) -> Vec<(f64, Vec<AtCritical>)> {
         .collect()
 }
 
-/// The bootstrap: `f` on [`RESAMPLES`] resamples of each group's values
-/// (drawn with replacement within each group: the sequences of a box), in
-/// order.
-fn resampled<T>(values: &[Vec<f64>], mut f: impl FnMut(&[Vec<f64>]) -> Option<T>) -> Vec<T> {
-    let mut drawn: Vec<Vec<f64>> = values.iter().map(|v| Vec::with_capacity(v.len())).collect();
-    (0..RESAMPLES)
-        .filter_map(|b| {
-            let mut rng = ChaCha8Rng::seed_from_u64(BOOTSTRAP_SEED);
-            rng.set_stream(b as u64);
-            for (d, v) in drawn.iter_mut().zip(values) {
-                d.clear();
-                d.extend((0..v.len()).map(|_| v[rng.random_range(0..v.len())]));
-            }
-            f(&drawn)
-        })
-        .collect()
+/// The bootstrap over the sequences of each group: `f` on [`RESAMPLES`]
+/// resamples ([`stats::bootstrap`]).
+fn resampled<T>(values: &[Vec<f64>], f: impl FnMut(&[Vec<f64>]) -> Option<T>) -> Vec<T> {
+    stats::bootstrap(values, RESAMPLES, BOOTSTRAP_SEED, f)
 }
 
 /// The mean of `v`.

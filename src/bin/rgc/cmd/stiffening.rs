@@ -100,6 +100,29 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             );
         }
     }
+    for s in &summaries {
+        let fits = [
+            ("the studies' threshold", s.exponent),
+            ("each sequence's own critical density", s.exponent_own),
+        ];
+        for (against, e) in fits {
+            let Some(e) = e else { continue };
+            let interval = e
+                .interval
+                .map_or("-".to_string(), |(lo, hi)| format!("[{lo:.2}, {hi:.2}]"));
+            let at = e.threshold.map_or(String::new(), |t| format!(" {t:.2}"));
+            say!(
+                out,
+                "gamma {} box {}: G ~ (rho - rho_c)^f with f = {:.2} {interval} against {against}{at} ({} points, rho - rho_c from {:.2} to {:.2})",
+                s.gamma,
+                s.box_len,
+                e.f,
+                e.points,
+                e.from,
+                e.to
+            );
+        }
+    }
     if let Some(prefix) = &a.summary {
         let mut written = vec![stiffening::write(
             prefix,
