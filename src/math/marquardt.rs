@@ -7,7 +7,11 @@
 //! `(JᵀJ + λ·top·I) δ = −Jᵀr` by faer's sparse Cholesky on one thread
 //! ([`super::cholesky`]), with the pattern analysed once per start, and the damping schedule: `λ` from 1e-3,
 //! divided by 4 after a step that lowers the cost and multiplied by 4
-//! after one that does not, given up past 1e8.
+//! after one that does not, given up past 1e8. A start whose cost stalls, less
+//! than [`STALL_DROP`] lower over [`STALL_STEPS`] steps while its residual
+//! is still refused, is given up too: the cost then sits on a trap (on the
+//! unit sphere a plane's normal shrunk to zero costs exactly 1) that the
+//! damping took a hundred factorizations to confess.
 
 use faer::MatMut;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
@@ -20,6 +24,11 @@ const MAX_STEPS: usize = 300;
 /// Steps taken after the residual is accepted, while they still reduce it:
 /// a float rank needs the incidences as exact as rounding allows.
 const POLISH_STEPS: usize = 3;
+
+/// A start is given up when its cost fell by less than this share over
+/// the last [`STALL_STEPS`] steps taken with its residual still refused.
+const STALL_DROP: f64 = 0.01;
+const STALL_STEPS: usize = 10;
 
 /// The residuals of a set of equations at a point and, when asked, their
 /// Jacobian by rows: row `i` has the entries `starts[i]..starts[i + 1]` of
@@ -151,12 +160,18 @@ pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
     let mut cost = at.cost();
     let mut lambda = 1e-3;
     let mut polish = 0;
+    // The costs after the steps taken while the residual was refused.
+    let mut costs: Vec<f64> = vec![cost];
     for _ in 0..MAX_STEPS {
         if at.largest() <= eq.tolerance(&u) {
             polish += 1;
             if polish > POLISH_STEPS {
                 return Some(u);
             }
+        } else if let Some(&before) = costs.iter().rev().nth(STALL_STEPS)
+            && cost > (1.0 - STALL_DROP) * before
+        {
+            return None;
         }
         let jtj: Vec<f64> = normal
             .from
@@ -180,6 +195,9 @@ pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
                     u = trial;
                     at = eq.eval(&u, true);
                     cost = cost_t;
+                    if polish == 0 {
+                        costs.push(cost);
+                    }
                     lambda = (lambda / 4.0).max(1e-14);
                     break;
                 }
@@ -248,6 +266,40 @@ mod tests {
     #[test]
     fn gives_up_without_a_solution() {
         assert_eq!(solve(&NoRoot, vec![0.7]), None);
+    }
+
+    /// A residual of 1 that nothing moves (a plane's normal collapsed on
+    /// the unit sphere costs exactly that) beside `m³ = 0`, which each step
+    /// brings a third nearer: the cost sinks to 1 by ever smaller steps,
+    /// all taken. Evaluations counted.
+    struct Trap(std::cell::Cell<usize>);
+
+    impl Residual for Trap {
+        fn unknowns(&self) -> usize {
+            1
+        }
+        fn eval(&self, u: &[f64], jacobian: bool) -> Residuals {
+            self.0.set(self.0.get() + 1);
+            let mut r = Residuals::new(jacobian);
+            r.row(1.0, []);
+            r.row(u[0].powi(3), [(0, 3.0 * u[0] * u[0])]);
+            r
+        }
+        fn tolerance(&self, _: &[f64]) -> f64 {
+            1e-12
+        }
+    }
+
+    #[test]
+    fn a_stalled_cost_is_given_up_soon() {
+        let trap = Trap(std::cell::Cell::new(0));
+        assert_eq!(solve(&trap, vec![1.0]), None);
+        // Two evaluations a step: two steps to the plateau (1% of the cost
+        // left above 1) and ten on it; without the stall rule the steps go
+        // on until `m⁶` is below rounding of 1, and the damping then runs
+        // away to 1e8 (about 60 evaluations).
+        let evals = trap.0.get();
+        assert!(evals <= 30, "{evals} evaluations");
     }
 
     /// One equation `3u = 3` written as `u + 2u`: two entries of a column.
