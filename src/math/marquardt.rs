@@ -8,7 +8,7 @@
 //! ([`super::cholesky`]), with the pattern analysed once per start, and the damping schedule: `λ` from 1e-3,
 //! divided by 4 after a step that lowers the cost and multiplied by 4
 //! after one that does not, given up past 1e8. A start whose cost stalls, less
-//! than [`STALL_DROP`] lower over [`STALL_STEPS`] steps while its residual
+//! than 1% lower over 10 steps while its residual
 //! is still refused, is given up too: the cost then sits on a trap (on the
 //! unit sphere a plane's normal shrunk to zero costs exactly 1) that the
 //! damping took a hundred factorizations to confess.
