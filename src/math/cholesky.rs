@@ -63,6 +63,11 @@ impl Llt {
         self.factored
     }
 
+    /// Whether a matrix was factored (the last given was positive definite).
+    pub fn is_factored(&self) -> bool {
+        self.factored
+    }
+
     /// Overwrites `x` (at most 6 columns) with `A⁻¹ x` for the matrix last
     /// factored.
     pub fn solve(&mut self, x: MatMut<'_, f64>) {
