@@ -153,10 +153,7 @@ impl Normal {
         if !self.llt.factor(a.as_ref()) {
             return None;
         }
-        let mut x: Vec<f64> = grad.iter().map(|g| -g).collect();
-        self.llt
-            .solve(MatMut::from_column_major_slice_mut(&mut x, n, 1));
-        Some(x)
+        Some(self.again(grad))
     }
 
     /// The step `δ = −M⁻¹ grad` with the matrix `M` last factored (a chord
@@ -218,7 +215,7 @@ pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
     let mut cost = at.cost();
     let mut lambda = 1e-3;
     let mut polish = 0;
-    // The costs after the steps taken while the residual was refused.
+    // The costs after the steps taken, for the stall rule.
     let mut costs: Vec<f64> = vec![cost];
     for _ in 0..MAX_STEPS {
         if at.largest() <= eq.tolerance(&u) {
