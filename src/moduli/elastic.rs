@@ -494,11 +494,19 @@ pub fn floats(network: View, seed: u64) -> Result<Floats> {
     })
 }
 
-/// The moduli of a rod system with its contacts in a cubic periodic box:
-/// truth for the exact strain rank, the realization nearest the rods
-/// ([`floats`]), the tensor.
-pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
-    let start = Instant::now();
+/// What truth says of a rod system before any float: its exact strain
+/// rank and largest rigid cluster, and the seconds it took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Exact {
+    pub strain_rank: u8,
+    pub largest_cluster: usize,
+    pub seconds: f64,
+}
+
+/// Truth of a rod system with its contacts in a cubic periodic box, for
+/// the moduli: the exact strain rank they are kept at. Where it is 0 the
+/// tensor is zero and no float is needed.
+pub fn exact(network: View, opts: ModuliOptions) -> Result<Exact> {
     if !(opts.stiffness.is_finite() && opts.stiffness > 0.0) {
         return Err(Error::Parameter(format!(
             "the spring stiffness k must be positive and finite, not {}",
@@ -521,13 +529,42 @@ pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
             strains.reason.as_deref().unwrap_or("truth is undecided")
         )));
     };
+    Ok(Exact {
+        strain_rank: rank,
+        largest_cluster: t.largest_cluster(),
+        seconds: t.seconds,
+    })
+}
+
+/// The moduli of a rod system whose truth is `exact`: the realization
+/// nearest the rods ([`floats`]), the tensor kept at the exact strain rank.
+pub fn of_exact(network: View, exact: Exact, opts: ModuliOptions) -> Result<Elastic> {
+    let start = Instant::now();
+    let topo = network.topology();
     let f = floats(network, opts.truth.seed)?;
-    let mut e = of_realization(&topo, &f.active, &f.real, &f.centres, rank, opts.stiffness)?;
+    let mut e = of_realization(
+        &topo,
+        &f.active,
+        &f.real,
+        &f.centres,
+        exact.strain_rank,
+        opts.stiffness,
+    )?;
     e.realization = f.how.into();
     e.moved = f.moved;
     e.length_unit = f.unit;
-    e.truth_seconds = t.seconds;
-    e.largest_cluster = Some(t.largest_cluster());
+    e.truth_seconds = exact.seconds;
+    e.largest_cluster = Some(exact.largest_cluster);
+    e.seconds = exact.seconds + start.elapsed().as_secs_f64();
+    Ok(e)
+}
+
+/// The moduli of a rod system with its contacts in a cubic periodic box:
+/// truth for the exact strain rank ([`exact`]), then the floats
+/// ([`of_exact`]).
+pub fn of_system(network: View, opts: ModuliOptions) -> Result<Elastic> {
+    let start = Instant::now();
+    let mut e = of_exact(network, exact(network, opts)?, opts)?;
     e.seconds = start.elapsed().as_secs_f64();
     Ok(e)
 }

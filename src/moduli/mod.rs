@@ -16,8 +16,8 @@ pub mod relax;
 pub mod voigt;
 
 pub use elastic::{
-    Conditioning, Elastic, Floats, ModuliOptions, Moved, Springs, floats, of_realization,
-    of_system, springs,
+    Conditioning, Elastic, Exact, Floats, ModuliOptions, Moved, Springs, exact, floats, of_exact,
+    of_realization, of_system, springs,
 };
 pub use relax::Relaxation;
 pub use voigt::Voigt;

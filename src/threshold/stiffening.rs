@@ -50,7 +50,9 @@ pub struct Side {
     /// Rods in the prefix.
     pub rods: usize,
     /// The exact strain rank, and the moduli in `k / L_rod` (none where
-    /// they could not be computed: `failed` says why).
+    /// they could not be computed: `failed` says why). Where the strain
+    /// rank is 0 the moduli are zero without floats: no realization and no
+    /// Born modulus.
     pub strain_rank: Option<u8>,
     pub shear: Option<f64>,
     pub bulk: Option<f64>,
@@ -94,9 +96,32 @@ fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
         stiffness,
         truth: TruthOptions::seeded(run_seed(r.seed, n as u64)),
     };
-    Ok(match moduli::of_system(seq.view(n, &graph), opts) {
-        Ok(e) => Side {
-            rods: n,
+    let view = seq.view(n, &graph);
+    let blank = Side {
+        rods: n,
+        strain_rank: None,
+        shear: None,
+        bulk: None,
+        born_shear: None,
+        realization: None,
+        moved: None,
+        largest: None,
+        failed: None,
+    };
+    let measured = moduli::exact(view, opts).and_then(|exact| {
+        // Where the rods resist no strain the tensor is zero: no floats
+        // (and no Born tensor, which needs a realization).
+        if exact.strain_rank == 0 {
+            return Ok(Side {
+                strain_rank: Some(0),
+                shear: Some(0.0),
+                bulk: Some(0.0),
+                largest: Some(exact.largest_cluster),
+                ..blank.clone()
+            });
+        }
+        let e = moduli::of_exact(view, exact, opts)?;
+        Ok(Side {
             strain_rank: Some(e.strain_rank),
             shear: Some(e.shear),
             bulk: Some(e.bulk),
@@ -104,22 +129,18 @@ fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
             realization: Some(e.realization),
             moved: e.moved.map(|m| m.contacts),
             largest: e.largest_cluster,
-            failed: None,
-        },
+            ..blank.clone()
+        })
+    });
+    match measured {
+        Ok(side) => Ok(side),
         // Over the memory limit is no answer about the sequence: stop.
-        Err(e @ Error::Memory(_)) => return Err(e),
-        Err(e) => Side {
-            rods: n,
-            strain_rank: None,
-            shear: None,
-            bulk: None,
-            born_shear: None,
-            realization: None,
-            moved: None,
-            largest: None,
+        Err(e @ Error::Memory(_)) => Err(e),
+        Err(e) => Ok(Side {
             failed: Some(e.to_string()),
-        },
-    })
+            ..blank
+        }),
+    }
 }
 
 /// Rods at `density` in a cubic box of side `box_len`.
@@ -323,7 +344,8 @@ impl Exponent {
     }
 
     /// From the mean `G` over the sequences at each density above `rho_t`
-    /// (a sequence that resists no strain there counts with `G = 0`).
+    /// (a sequence that resists no strain there counts with `G = 0`, which
+    /// no realization decides).
     fn of_threshold(of: &[&SequenceStiffening], densities: &[f64], rho_t: f64) -> Option<Self> {
         Exponent::fit(of, Some(rho_t), |seqs| {
             densities
@@ -334,7 +356,9 @@ impl Exponent {
                     let g: Vec<f64> = seqs
                         .iter()
                         .filter_map(|s| s.grid.get(i))
-                        .filter(|s| s.realization.as_deref() == Some("nearest"))
+                        .filter(|s| {
+                            s.strain_rank == Some(0) || s.realization.as_deref() == Some("nearest")
+                        })
                         .filter_map(|s| s.shear)
                         .collect();
                     let mean = g.iter().sum::<f64>() / g.len() as f64;
@@ -498,14 +522,17 @@ pub fn write(prefix: &Path, summaries: &[StiffeningSummary], command: &str) -> R
 mod tests {
     use super::*;
 
+    /// A side as measured: with no strain resisted, zero moduli and no
+    /// realization.
     fn side(rods: usize, shear: f64, realization: &str) -> Side {
+        let solid = shear > 0.0;
         Side {
             rods,
-            strain_rank: Some(if shear > 0.0 { 6 } else { 0 }),
+            strain_rank: Some(if solid { 6 } else { 0 }),
             shear: Some(shear),
             bulk: Some(shear),
-            born_shear: Some(1.0),
-            realization: Some(realization.into()),
+            born_shear: solid.then_some(1.0),
+            realization: solid.then(|| realization.into()),
             moved: None,
             largest: None,
             failed: None,
@@ -587,5 +614,15 @@ mod tests {
             (e.points, e.threshold, e.from, e.to),
             (4, Some(33.0), 1.0, 11.0)
         );
+        // Two sequences resisting no strain at 34 count there with G = 0:
+        // the mean is 1/3, and the slope through (1, 1/3), (3, 3^1.5),
+        // (7, 7^1.5), (11, 11^1.5) is 1.94775.
+        for s in &mut common[1..] {
+            s.grid[1] = side(272, 0.0, "nearest");
+        }
+        let e = summarize(&common, &spec, &[(23.0, 33.0)])[0]
+            .exponent
+            .unwrap();
+        assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
     }
 }

@@ -90,7 +90,12 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
             assert_eq!(side.failed, None);
             let g = side.shear.unwrap();
             assert_eq!(g == 0.0, side.strain_rank == Some(0), "{side:?}");
-            assert!(g < side.born_shear.unwrap(), "{side:?}");
+            // No floats where the exact rank says the tensor is zero.
+            if g == 0.0 {
+                assert_eq!((side.realization.as_deref(), side.born_shear), (None, None));
+            } else {
+                assert!(g < side.born_shear.unwrap(), "{side:?}");
+            }
             assert!(side.largest.unwrap() <= side.rods);
         }
     }
