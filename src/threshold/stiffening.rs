@@ -67,6 +67,16 @@ pub struct Side {
     pub failed: Option<String>,
 }
 
+impl Side {
+    /// Whether its moduli compare with other sequences': exact where the
+    /// rods resist no strain, else from the realization nearest the rods
+    /// (one from a random start is another member of the family, with
+    /// another `G`).
+    pub fn comparable(&self) -> bool {
+        self.strain_rank == Some(0) || self.realization.as_deref() == Some("nearest")
+    }
+}
+
 /// One sequence one rod below and at its critical number.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SequenceStiffening {
@@ -279,8 +289,8 @@ pub struct StiffeningSummary {
     pub shear_before: Option<Mean>,
     pub shear_at: Option<Mean>,
     pub shear_jump: Option<Mean>,
-    /// Where both realizations were the one nearest the rods.
-    pub both_nearest: usize,
+    /// Where both sides are [`Side::comparable`].
+    pub both_comparable: usize,
     /// At each density of the spec.
     pub grid: Vec<GridPoint>,
     /// The exponent `f` of `G ~ (rho - rho_t)^f` from the mean shear
@@ -292,8 +302,7 @@ pub struct StiffeningSummary {
 
 /// The exponent `f` of `G ~ (rho - rho_c)^f`: the slope of `ln G` against
 /// `ln (rho - rho_c)` by least squares, with its 95% bootstrap interval
-/// over the sequences. Only realizations nearest the rods count (one from a
-/// random start is another member of the family, with another `G`).
+/// over the sequences. Only [`Side::comparable`] sides count.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Exponent {
     pub f: f64,
@@ -356,9 +365,7 @@ impl Exponent {
                     let g: Vec<f64> = seqs
                         .iter()
                         .filter_map(|s| s.grid.get(i))
-                        .filter(|s| {
-                            s.strain_rank == Some(0) || s.realization.as_deref() == Some("nearest")
-                        })
+                        .filter(|s| s.comparable())
                         .filter_map(|s| s.shear)
                         .collect();
                     let mean = g.iter().sum::<f64>() / g.len() as f64;
@@ -378,9 +385,7 @@ impl Exponent {
                     densities
                         .iter()
                         .zip(&s.grid)
-                        .filter(move |&(&d, side)| {
-                            d > critical && side.realization.as_deref() == Some("nearest")
-                        })
+                        .filter(move |&(&d, side)| d > critical && side.comparable())
                         .filter_map(move |(&d, side)| {
                             side.shear.filter(|&g| g > 0.0).map(|g| (d - critical, g))
                         })
@@ -405,9 +410,9 @@ pub struct GridPoint {
     pub bulk: Option<Mean>,
     /// The largest true cluster's share of the rods.
     pub largest_share: Option<Mean>,
-    /// Realizations nearest the rods (the rest projected from a random
+    /// Sides that are [`Side::comparable`] (the rest projected from a random
     /// start: not comparable).
-    pub nearest: usize,
+    pub comparable: usize,
 }
 
 impl GridPoint {
@@ -426,10 +431,7 @@ impl GridPoint {
             shear: mean(&|s| s.shear),
             bulk: mean(&|s| s.bulk),
             largest_share: mean(&|s| s.largest.map(|l| l as f64 / s.rods as f64)),
-            nearest: ok
-                .iter()
-                .filter(|s| s.realization.as_deref() == Some("nearest"))
-                .count(),
+            comparable: ok.iter().filter(|s| s.comparable()).count(),
         }
     }
 }
@@ -479,13 +481,9 @@ pub fn summarize(
                 shear_before: Mean::of(&values(&|b, _| b.shear)),
                 shear_at: Mean::of(&values(&|_, a| a.shear)),
                 shear_jump: Mean::of(&values(&|b, a| Some(a.shear? - b.shear?))),
-                both_nearest: measured
+                both_comparable: measured
                     .iter()
-                    .filter(|(b, a)| {
-                        [b, a]
-                            .iter()
-                            .all(|s| s.realization.as_deref() == Some("nearest"))
-                    })
+                    .filter(|(b, a)| b.comparable() && a.comparable())
                     .count(),
                 grid: spec
                     .densities

@@ -49,7 +49,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
     };
     say!(
         out,
-        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>8}",
+        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10}",
         "gamma",
         "box",
         "seqs",
@@ -61,13 +61,13 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         "G below",
         "G at",
         "G jump",
-        "nearest"
+        "comparable"
     );
     for s in &summaries {
         let rank = |m: Option<Mean>| m.map_or("-".to_string(), |m| format!("{:.2}", m.mean));
         say!(
             out,
-            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>8}",
+            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10}",
             s.gamma,
             s.box_len,
             s.sequences,
@@ -79,20 +79,20 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             mean(s.shear_before),
             mean(s.shear_at),
             mean(s.shear_jump),
-            s.both_nearest
+            s.both_comparable
         );
     }
     for s in &summaries {
         for p in &s.grid {
             say!(
                 out,
-                "gamma {} box {} rho {}: {} measured ({} failed, {} nearest the rods), solid {}, G {}, K {}, largest cluster {}",
+                "gamma {} box {} rho {}: {} measured ({} failed, {} comparable: exact zeros or nearest the rods), solid {}, G {}, K {}, largest cluster {}",
                 s.gamma,
                 s.box_len,
                 p.density,
                 p.measured,
                 p.failed,
-                p.nearest,
+                p.comparable,
                 p.solid,
                 mean(p.shear),
                 mean(p.bulk),
