@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::chart::{Chart, Drawn, PALETTE, error_bars, legend, render};
+use super::chart::{Chart, Drawn, PALETTE, error_bars, legend, render, span};
 use crate::Result;
 use crate::threshold::horizon::Variant;
 
@@ -64,17 +64,7 @@ fn panel<DB: DrawingBackend>(
         .map(|v| percent(v.bias.relative.hi, v.bias.relative.value))
         .fold(1.0, f64::max)
         * 1.15;
-    let xs = vs.iter().map(|v| axis.x(v));
-    let (lo, hi) = (
-        xs.clone().fold(f64::INFINITY, f64::min),
-        xs.fold(0.0, f64::max),
-    );
-    let (lo, hi) = if lo < hi {
-        (lo, hi)
-    } else {
-        (lo - 1.0, lo + 1.0)
-    };
-    let pad = 0.08 * (hi - lo);
+    let (lo, hi) = span(vs.iter().map(|v| axis.x(v)), 0.08);
     let (caption, x_desc) = match axis {
         Axis::Size => (
             "against the largest motif",
@@ -90,7 +80,7 @@ fn panel<DB: DrawingBackend>(
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d(lo - pad..hi + pad, 0.0..top)?;
+        .build_cartesian_2d(lo..hi, 0.0..top)?;
     chart
         .configure_mesh()
         .x_desc(x_desc)

@@ -8,7 +8,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::chart::{Chart, Drawn, PALETTE, error_bars, legend, render};
+use super::chart::{Chart, Drawn, RHO, colour, error_bars, legend, render, span};
 use crate::Result;
 use crate::threshold::stiffening::{GridPoint, Mean, StiffeningSummary};
 
@@ -54,7 +54,7 @@ enum Panel {
 }
 
 /// A mean and its interval as (value, low, high).
-fn span(m: Option<Mean>) -> Option<(f64, f64, f64)> {
+fn interval(m: Option<Mean>) -> Option<(f64, f64, f64)> {
     m.map(|m| {
         let h = m.half_width.unwrap_or(0.0);
         (m.mean, m.mean - h, m.mean + h)
@@ -68,8 +68,8 @@ impl Stiffening<'_> {
 
     fn panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, panel: Panel) -> Drawn<DB> {
         let values = |p: &GridPoint| match panel {
-            Panel::Moduli => vec![span(p.shear), span(p.bulk)],
-            Panel::Cluster => vec![span(p.largest_share)],
+            Panel::Moduli => vec![interval(p.shear), interval(p.bulk)],
+            Panel::Cluster => vec![interval(p.largest_share)],
         };
         let top = self
             .points()
@@ -78,19 +78,12 @@ impl Stiffening<'_> {
             .map(|v| v.2)
             .fold(f64::MIN_POSITIVE, f64::max)
             * 1.1;
-        let xs = self
-            .points()
-            .map(|p| p.density)
-            .chain(self.marks.iter().map(|m| m.1));
-        let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-        let (lo, hi) = if lo < hi {
-            (lo, hi)
-        } else {
-            (lo - 1.0, lo + 1.0)
-        };
-        let pad = 0.05 * (hi - lo);
+        let (lo, hi) = span(
+            self.points()
+                .map(|p| p.density)
+                .chain(self.marks.iter().map(|m| m.1)),
+            0.05,
+        );
         let (caption, y_desc) = match panel {
             Panel::Moduli => (
                 "G (filled) and K (open), Voigt averages",
@@ -103,10 +96,10 @@ impl Stiffening<'_> {
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(lo - pad..hi + pad, 0.0..top)?;
+            .build_cartesian_2d(lo..hi, 0.0..top)?;
         chart
             .configure_mesh()
-            .x_desc("density, rods per unit volume")
+            .x_desc(format!("density, {RHO}"))
             .y_desc(y_desc)
             .label_style(("sans-serif", 14))
             .draw()?;
@@ -123,7 +116,7 @@ impl Stiffening<'_> {
                 });
         }
         for (i, s) in self.summaries.iter().enumerate() {
-            let c = PALETTE[i % PALETTE.len()];
+            let c = colour(i);
             let series = if panel == Panel::Moduli { 2 } else { 1 };
             for k in 0..series {
                 let filled = k == 0;

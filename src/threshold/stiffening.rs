@@ -231,12 +231,12 @@ pub fn run(
         |gamma, r| probe(gamma, r, spec),
     )?;
     // Each aspect ratio's threshold from its finished study (the first
-    // given, where several have one aspect ratio).
+    // given, where several have one aspect ratio); a study in progress has
+    // no summary yet.
     let mut thresholds: Vec<(f64, f64)> = Vec::new();
-    for dir in dirs {
-        if let Ok(s) = report::read_summary(dir)
-            && !thresholds.iter().any(|t| t.0 == s.study.gamma)
-        {
+    for dir in dirs.iter().filter(|d| d.join("summary.json").exists()) {
+        let s = report::read_summary(dir)?;
+        if !thresholds.iter().any(|t| t.0 == s.study.gamma) {
             thresholds.push((s.study.gamma, s.fss.threshold.value));
         }
     }
@@ -325,14 +325,14 @@ const RESAMPLES: usize = 1000;
 const BOOTSTRAP_SEED: u64 = 1;
 
 impl Exponent {
-    /// The slope through `(rho - rho_c, G)` points on log-log axes, with
-    /// at least two distinct `rho - rho_c`.
+    /// The slope through `(rho - rho_c, G)` points on log-log axes (none
+    /// without two distinct `rho - rho_c`), their number and range.
     fn slope(points: &[(f64, f64)]) -> Option<(f64, usize, f64, f64)> {
         let logs: Vec<(f64, f64)> = points.iter().map(|&(x, g)| (x.ln(), g.ln())).collect();
         let fit = stats::line(&logs)?;
         let from = points.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
         let to = points.iter().map(|p| p.0).fold(0.0, f64::max);
-        (to > from).then_some((fit.beta[1], points.len(), from, to))
+        Some((fit.beta[1], points.len(), from, to))
     }
 
     /// `points` of the sequences, fitted, with the bootstrap over them.
@@ -421,17 +421,10 @@ pub struct GridPoint {
 impl GridPoint {
     fn of(density: f64, sides: &[&Side]) -> GridPoint {
         let ok: Vec<&&Side> = sides.iter().filter(|s| s.failed.is_none()).collect();
-        let mean = |f: &dyn Fn(&Side) -> Option<f64>| {
-            Mean::of(&ok.iter().filter_map(|s| f(s)).collect::<Vec<_>>())
-        };
         // The moduli only where they compare across sequences.
-        let moduli = |f: &dyn Fn(&Side) -> Option<f64>| {
-            Mean::of(
-                &ok.iter()
-                    .filter(|s| s.comparable())
-                    .filter_map(|s| f(s))
-                    .collect::<Vec<_>>(),
-            )
+        let comparable: Vec<&&Side> = ok.iter().copied().filter(|s| s.comparable()).collect();
+        let mean = |over: &[&&Side], f: &dyn Fn(&Side) -> Option<f64>| {
+            Mean::of(&over.iter().filter_map(|s| f(s)).collect::<Vec<_>>())
         };
         GridPoint {
             density,
@@ -439,11 +432,11 @@ impl GridPoint {
             measured: ok.len(),
             failed: sides.len() - ok.len(),
             solid: ok.iter().filter(|s| s.strain_rank == Some(6)).count(),
-            strain_rank: mean(&|s| s.strain_rank.map(f64::from)),
-            shear: moduli(&|s| s.shear),
-            bulk: moduli(&|s| s.bulk),
-            largest_share: mean(&|s| s.largest.map(|l| l as f64 / s.rods as f64)),
-            comparable: ok.iter().filter(|s| s.comparable()).count(),
+            strain_rank: mean(&ok, &|s| s.strain_rank.map(f64::from)),
+            shear: mean(&comparable, &|s| s.shear),
+            bulk: mean(&comparable, &|s| s.bulk),
+            largest_share: mean(&ok, &|s| s.largest.map(|l| l as f64 / s.rods as f64)),
+            comparable: comparable.len(),
         }
     }
 }
@@ -470,16 +463,14 @@ pub fn summarize(
                 .filter(|s| s.before.failed.is_none() && s.at.failed.is_none())
                 .map(|s| (&s.before, &s.at))
                 .collect();
-            let values = |f: &dyn Fn(&Side, &Side) -> Option<f64>| -> Vec<f64> {
-                measured.iter().filter_map(|(b, a)| f(b, a)).collect()
-            };
             // The moduli over the pairs whose sides both compare.
-            let moduli = |f: &dyn Fn(&Side, &Side) -> Option<f64>| -> Vec<f64> {
-                measured
-                    .iter()
-                    .filter(|(b, a)| b.comparable() && a.comparable())
-                    .filter_map(|(b, a)| f(b, a))
-                    .collect()
+            let comparable: Vec<(&Side, &Side)> = measured
+                .iter()
+                .copied()
+                .filter(|(b, a)| b.comparable() && a.comparable())
+                .collect();
+            let mean = |over: &[(&Side, &Side)], f: &dyn Fn(&Side, &Side) -> Option<f64>| {
+                Mean::of(&over.iter().filter_map(|(b, a)| f(b, a)).collect::<Vec<_>>())
             };
             let rank = |s: &Side| s.strain_rank.map(f64::from);
             StiffeningSummary {
@@ -488,8 +479,8 @@ pub fn summarize(
                 sequences: of.len(),
                 measured: measured.len(),
                 failed: of.len() - measured.len(),
-                strain_rank_before: Mean::of(&values(&|b, _| rank(b))),
-                strain_rank_at: Mean::of(&values(&|_, a| rank(a))),
+                strain_rank_before: mean(&measured, &|b, _| rank(b)),
+                strain_rank_at: mean(&measured, &|_, a| rank(a)),
                 rank_rises_from_zero: measured
                     .iter()
                     .filter(|(b, a)| b.strain_rank == Some(0) && a.strain_rank > Some(0))
@@ -498,13 +489,10 @@ pub fn summarize(
                     .iter()
                     .filter(|(_, a)| a.strain_rank == Some(6))
                     .count(),
-                shear_before: Mean::of(&moduli(&|b, _| b.shear)),
-                shear_at: Mean::of(&moduli(&|_, a| a.shear)),
-                shear_jump: Mean::of(&moduli(&|b, a| Some(a.shear? - b.shear?))),
-                both_comparable: measured
-                    .iter()
-                    .filter(|(b, a)| b.comparable() && a.comparable())
-                    .count(),
+                shear_before: mean(&comparable, &|b, _| b.shear),
+                shear_at: mean(&comparable, &|_, a| a.shear),
+                shear_jump: mean(&comparable, &|b, a| Some(a.shear? - b.shear?)),
+                both_comparable: comparable.len(),
                 grid: spec
                     .densities
                     .iter()

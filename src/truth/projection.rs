@@ -196,9 +196,9 @@ impl<'a> System<'a> {
     fn residuals(&self, u: &[f64], jacobian: bool) -> Residuals {
         let mut ev = Residuals::new(jacobian);
         let lines = self.line.iter().flatten().count();
-        for (k, at) in self.line.iter().flatten().copied().enumerate() {
+        for (j, at) in self.line.iter().flatten().copied().enumerate() {
             let (p, d) = (v3(u, at), v3(u, at + 3));
-            self.gauge(&mut ev, u, k, at + 3);
+            self.gauge(&mut ev, u, j, at + 3);
             ev.row(
                 dot(p, d),
                 (0..3).flat_map(|k| [(at + k, d[k]), (at + 3 + k, p[k])]),
