@@ -33,6 +33,9 @@ pub struct ModuliRow {
     pub seconds: f64,
     /// `seconds / truth_seconds`.
     pub ratio: f64,
+    /// The relaxation alone on the realization, over truth's seconds: what
+    /// the moduli would cost against truth with a realization for free.
+    pub relaxation_ratio: f64,
 }
 
 /// The moduli of one system at gamma 23, timed with the truth inside them.
@@ -56,5 +59,6 @@ pub fn measure(density: f64, box_len: usize, seed: u64) -> crate::Result<ModuliR
         truth_seconds: e.truth_seconds,
         seconds: e.seconds,
         ratio: e.seconds / e.truth_seconds.max(f64::MIN_POSITIVE),
+        relaxation_ratio: e.relaxation_seconds / e.truth_seconds.max(f64::MIN_POSITIVE),
     })
 }

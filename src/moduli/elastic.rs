@@ -116,6 +116,10 @@ pub struct Elastic {
     /// Seconds of truth (for the strain rank) and of the whole.
     pub truth_seconds: f64,
     pub seconds: f64,
+    /// Seconds of the relaxation alone (the springs' least squares on a
+    /// given realization): the part no choice of realization avoids.
+    #[serde(default)]
+    pub relaxation_seconds: f64,
 }
 
 /// No forced planes: every active rod a part of its own.
@@ -232,6 +236,7 @@ pub fn of_realization(
             "the spring stiffness k must be positive and finite, not {stiffness}"
         )));
     }
+    let start = Instant::now();
     let Springs {
         rows,
         columns,
@@ -305,6 +310,7 @@ pub fn of_realization(
         length_unit: 1.0,
         truth_seconds: 0.0,
         seconds: 0.0,
+        relaxation_seconds: start.elapsed().as_secs_f64(),
     })
 }
 

@@ -219,6 +219,8 @@ fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
     );
     assert!(row.truth_seconds > 0.0 && row.seconds >= row.truth_seconds);
     assert_eq!(row.ratio, row.seconds / row.truth_seconds);
+    // The relaxation is a part of the whole, after truth.
+    assert!(row.relaxation_ratio > 0.0 && row.relaxation_ratio < row.ratio - 1.0);
 
     // The command writes the rows it prints, one per system, in order.
     let dir = crate::scratch("bench-moduli");

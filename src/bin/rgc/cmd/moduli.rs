@@ -96,9 +96,10 @@ pub fn run(a: ModuliArgs, out: &mut String) -> Result<()> {
     );
     say!(
         out,
-        "seconds: {:.3} (truth {:.3})",
+        "seconds: {:.3} (truth {:.3}, relaxation {:.3})",
         e.seconds,
-        e.truth_seconds
+        e.truth_seconds,
+        e.relaxation_seconds
     );
     Ok(())
 }
