@@ -9,7 +9,7 @@
 //! divided by 4 after a step that lowers the cost and multiplied by 4
 //! after one that does not, given up past 1e8. A start whose cost stalls, less
 //! than 1% lower over 10 steps while its residual
-//! is still refused, is given up too: the cost then sits on a trap (on the
+//! is still refused, or that its equations call trapped, is given up too: the cost then sits on a trap (on the
 //! unit sphere a plane's normal shrunk to zero costs exactly 1) that the
 //! damping took a hundred factorizations to confess. A large system also
 //! takes chord steps (the last factor again with the new gradient) while
@@ -103,6 +103,12 @@ pub trait Residual {
     /// The largest residual at `u` that counts as solved (relative to the
     /// size of the solution, which the equations know).
     fn tolerance(&self, u: &[f64]) -> f64;
+
+    /// Whether `u` lies in a trap that no step leaves, so that the start is
+    /// given up at once rather than by the stall rule (none by default).
+    fn trapped(&self, _u: &[f64]) -> bool {
+        false
+    }
 }
 
 /// The normal equations' pattern (lower triangle and diagonal), analysed
@@ -228,8 +234,12 @@ pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
             if polish > POLISH_STEPS {
                 return Some(u);
             }
-        } else if let Some(&before) = costs.iter().rev().nth(STALL_STEPS)
-            && cost > (1.0 - STALL_DROP) * before
+        } else if eq.trapped(&u)
+            || costs
+                .iter()
+                .rev()
+                .nth(STALL_STEPS)
+                .is_some_and(|&before| cost > (1.0 - STALL_DROP) * before)
         {
             return None;
         }

@@ -48,6 +48,15 @@ pub const SEPARATION: f64 = 1e-6;
 /// accidental near misses among them.
 pub const PAIR_SEPARATION: f64 = 1e-8;
 
+/// The length of a direction, against its unit one, below which a start
+/// on the sphere is in its trap at `n = 0`. The stall rule caught such
+/// starts from the rods only after about 30 factorizations (gamma 23,
+/// L = 5), by when their cost sat at an integer, a collapsed direction
+/// each; given up here, the same starts fail sooner and every realization
+/// reached is the same. At half its length a direction can still recover:
+/// giving up there changed the member reached at gamma 23, L = 3, rho 38.
+const COLLAPSED: f64 = 0.01;
+
 /// Times a degenerate solution is repaired (the rods that show it, their
 /// neighbours and their classes' planes drawn anew, the rest kept) before
 /// the draw is given up: in a large system some local structure or other
@@ -92,6 +101,15 @@ impl Residual for System<'_> {
     }
     fn tolerance(&self, u: &[f64]) -> f64 {
         RESIDUAL_TOL * self.size(u)
+    }
+    /// On the sphere, a direction shrunk below [`COLLAPSED`] of its unit
+    /// length: the trap at `n = 0`.
+    fn trapped(&self, u: &[f64]) -> bool {
+        self.anchors.is_none()
+            && self.directions().any(|at| {
+                let d = v3(u, at);
+                dot(d, d) < COLLAPSED * COLLAPSED
+            })
     }
 }
 
@@ -779,5 +797,29 @@ mod tests {
         let s = degenerate(&topo, &planes, &parallel).unwrap();
         assert!(s.why.contains("parallel"), "{}", s.why);
         assert_eq!(s.rods, vec![0, 4]);
+    }
+
+    #[test]
+    fn a_start_is_trapped_on_the_sphere_only_where_a_direction_collapsed() {
+        let g = k44();
+        let topo = Topology::finite(&g);
+        let core = prune::two_core(&g);
+        let planes = planes::forced(&topo, &core.active).unwrap();
+        let system = System::new(&topo, &planes, &core.active, 1.0);
+        let mut u = system.start(&mut ChaCha8Rng::seed_from_u64(5));
+        assert!(!system.trapped(&u));
+        let at = system.directions().next().unwrap();
+        for (shrink, trapped) in [(0.5, false), (0.02, false), (0.005, true)] {
+            let mut v = u.clone();
+            let d = scale(v3(&v, at), shrink / dot(v3(&v, at), v3(&v, at)).sqrt());
+            v[at..at + 3].copy_from_slice(&d);
+            assert_eq!(system.trapped(&v), trapped, "direction shrunk to {shrink}");
+        }
+        // The linear gauge has no trap.
+        u[at..at + 3].fill(0.0);
+        assert!(system.trapped(&u));
+        let anchored = System::new(&topo, &planes, &core.active, 1.0)
+            .anchored(&system.start(&mut ChaCha8Rng::seed_from_u64(5)));
+        assert!(!anchored.trapped(&u));
     }
 }
