@@ -49,6 +49,24 @@ pub struct Transition {
     /// The Binder cumulant of the largest cluster's share at the densities
     /// of fixed-protocol truth studies, per box.
     pub binder: Vec<Binder>,
+    /// How the mean critical density still moves over the largest boxes
+    /// (none with fewer than three boxes).
+    pub drift: Option<Drift>,
+}
+
+/// The mean of the sequences' own critical densities against the box side
+/// over the [`LARGEST_BOXES`] largest boxes, as a straight line. Where the
+/// transition is discontinuous, finite-size scaling with an exponent `nu`
+/// does not apply; the mean critical density of the largest boxes is then
+/// the threshold's estimate, and a slope whose interval holds 0 says it no
+/// longer moves at these sizes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Drift {
+    pub boxes: Vec<f64>,
+    /// Rods per unit volume per rod length of box side, with its 95%
+    /// bootstrap interval (sequences resampled within each box).
+    pub slope: f64,
+    pub interval: (f64, f64),
 }
 
 /// The Binder cumulant `U = 1 - <P^4> / (3 <P^2>^2)` of `P`, the largest
@@ -136,6 +154,7 @@ pub fn of_dirs(dirs: &[PathBuf], box_len: Option<f64>, bins: usize) -> Result<Ve
                 study: names.join(" + "),
                 gamma,
                 decay: decay(&per_box, &jumps),
+                drift: drift(&per_box),
                 jumps,
                 shares: shares(&records, l, bins),
                 binder: binder(&records),
@@ -197,6 +216,9 @@ pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<Pat
         strain_known: usize,
         solid_before: usize,
         solid_at: usize,
+        critical_density: f64,
+        critical_lo: f64,
+        critical_hi: f64,
     }
     let rows = all.iter().flat_map(|t| {
         t.jumps.iter().map(move |j| Row {
@@ -216,6 +238,9 @@ pub fn write(prefix: &Path, all: &[Transition], command: &str) -> Result<Vec<Pat
             strain_known: j.strain_at.iter().sum(),
             solid_before: j.strain_before[6],
             solid_at: j.strain_at[6],
+            critical_density: j.critical_density,
+            critical_lo: j.critical_interval.0,
+            critical_hi: j.critical_interval.1,
         })
     });
     output::write_csv(&csv, rows)?;
@@ -300,6 +325,11 @@ pub struct Jump {
     /// number and at it, among those whose records carry it.
     pub strain_before: [usize; 7],
     pub strain_at: [usize; 7],
+    /// The mean of the sequences' own critical densities (rods per unit
+    /// volume), an estimate of the threshold that assumes no exponent, with
+    /// its 95% bootstrap interval.
+    pub critical_density: f64,
+    pub critical_interval: (f64, f64),
 }
 
 /// Share of the rods in the largest true cluster at spanning steps, in one
@@ -320,6 +350,8 @@ struct AtCritical {
     before: f64,
     at: f64,
     strains: Option<(u8, u8)>,
+    /// The critical number over the box volume.
+    density: f64,
 }
 
 impl AtCritical {
@@ -336,6 +368,7 @@ impl AtCritical {
             before: below as f64 / (n - 1) as f64,
             at: at as f64 / n as f64,
             strains: strain(n - 1).zip(strain(n)),
+            density: n as f64 / r.box_len.powi(3),
         })
     }
 
@@ -383,8 +416,8 @@ fn jumps_of(per_box: &[(f64, Vec<AtCritical>)]) -> Vec<Jump> {
         .filter_map(|&(l, ref seqs)| {
             let d: Vec<f64> = seqs.iter().map(AtCritical::jump).collect();
             let (mean, sd) = (d.len() >= 2).then(|| mean_sd(&d))?;
-            let mut boot = resampled(std::slice::from_ref(&d), |r| Some(average(&r[0])));
-            let interval = percentile_interval(&mut boot, 0.95).expect("resamples");
+            let interval = mean_interval(&d);
+            let densities: Vec<f64> = seqs.iter().map(|s| s.density).collect();
             let max = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             let mut histogram = vec![0; (max / HISTOGRAM_BIN).floor() as usize + 1];
             for x in &d {
@@ -410,9 +443,40 @@ fn jumps_of(per_box: &[(f64, Vec<AtCritical>)]) -> Vec<Jump> {
                 histogram,
                 strain_before,
                 strain_at,
+                critical_density: average(&densities),
+                critical_interval: mean_interval(&densities),
             })
         })
         .collect()
+}
+
+/// The 95% bootstrap interval of the mean of `v`.
+fn mean_interval(v: &[f64]) -> (f64, f64) {
+    let mut boot = resampled(std::slice::from_ref(&v.to_vec()), |r| Some(average(&r[0])));
+    percentile_interval(&mut boot, 0.95).expect("resamples")
+}
+
+/// The [`Drift`] of the mean critical density over the [`LARGEST_BOXES`]
+/// largest boxes of `per_box` that have at least two sequences.
+fn drift(per_box: &[(f64, Vec<AtCritical>)]) -> Option<Drift> {
+    let kept: Vec<(f64, Vec<f64>)> = per_box
+        .iter()
+        .filter(|(_, seqs)| seqs.len() >= 2)
+        .map(|(l, seqs)| (*l, seqs.iter().map(|s| s.density).collect()))
+        .collect();
+    let largest = kept.get(kept.len().checked_sub(LARGEST_BOXES)?..)?;
+    let lens: Vec<f64> = largest.iter().map(|v| v.0).collect();
+    let slope = |means: Vec<f64>| {
+        let points: Vec<(f64, f64)> = lens.iter().copied().zip(means).collect();
+        line(&points).map(|f| f.beta[1])
+    };
+    let values: Vec<Vec<f64>> = largest.iter().map(|v| v.1.clone()).collect();
+    let mut boot = resampled(&values, |r| slope(r.iter().map(|v| average(v)).collect()));
+    Some(Drift {
+        slope: slope(values.iter().map(|v| average(v)).collect())?,
+        interval: percentile_interval(&mut boot, 0.95)?,
+        boxes: lens,
+    })
 }
 
 /// The Binder cumulant of each box and density of the fixed-protocol
@@ -652,6 +716,39 @@ mod tests {
         }
         // Two boxes fit no decay.
         assert!(decay(&by_box(&records[..4]), &jumps(&records[..4])).is_empty());
+    }
+
+    #[test]
+    fn the_critical_density_is_the_mean_of_the_sequences_and_drifts_by_a_line() {
+        // Critical numbers n at L = 2, 3, 4, 5, two sequences each: densities
+        // (12, 14), 9, 8 and 7 (n / L^3); over the three largest boxes the
+        // mean falls by 1 per unit of L, with no spread to resample.
+        let critical = |l: f64, n: usize| record(l, n, &[(n - 1, false, 0), (n, true, 5)]);
+        let records = vec![
+            critical(2.0, 96),
+            critical(2.0, 112),
+            critical(3.0, 243),
+            critical(3.0, 243),
+            critical(4.0, 512),
+            critical(4.0, 512),
+            critical(5.0, 875),
+            critical(5.0, 875),
+        ];
+        let j = jumps(&records);
+        let means: Vec<f64> = j.iter().map(|j| j.critical_density).collect();
+        assert_eq!(means, vec![13.0, 9.0, 8.0, 7.0]);
+        let (lo, hi) = j[0].critical_interval;
+        assert!(
+            (12.0..13.0).contains(&lo) && hi > 13.0 && hi <= 14.0,
+            "{lo} {hi}"
+        );
+        assert_eq!(j[1].critical_interval, (9.0, 9.0));
+        let d = drift(&by_box(&records)).expect("three boxes");
+        assert_eq!(d.boxes, vec![3.0, 4.0, 5.0]);
+        assert!((d.slope + 1.0).abs() < 1e-12, "{d:?}");
+        assert!((d.interval.0 + 1.0).abs() < 1e-12 && (d.interval.1 + 1.0).abs() < 1e-12);
+        // Two boxes have no drift.
+        assert_eq!(drift(&by_box(&records[4..])), None);
     }
 
     #[test]

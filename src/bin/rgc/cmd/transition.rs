@@ -55,7 +55,7 @@ pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
         say!(out, "{} (gamma {}):", t.study, t.gamma);
         say!(
             out,
-            "{:>6} {:>9} {:>8} {:>18} {:>8} {:>8} {:>8} {:>8} {:>16}",
+            "{:>6} {:>9} {:>8} {:>18} {:>8} {:>8} {:>8} {:>8} {:>16} {:>28}",
             "box",
             "sequences",
             "jump",
@@ -64,13 +64,14 @@ pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
             "max",
             "before",
             "at",
-            "solid before/at"
+            "solid before/at",
+            "critical density [95%]"
         );
         for j in &t.jumps {
             let known: usize = j.strain_at.iter().sum();
             say!(
                 out,
-                "{:>6} {:>9} {:>8.4} {:>18} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>16}",
+                "{:>6} {:>9} {:>8.4} {:>18} {:>8.4} {:>8.4} {:>8.4} {:>8.4} {:>16} {:>28}",
                 j.box_len,
                 j.sequences,
                 j.mean,
@@ -79,7 +80,21 @@ pub fn run(a: TransitionArgs, out: &mut String) -> Result<()> {
                 j.max,
                 j.before,
                 j.at_critical,
-                format!("{}/{} of {known}", j.strain_before[6], j.strain_at[6])
+                format!("{}/{} of {known}", j.strain_before[6], j.strain_at[6]),
+                format!(
+                    "{:.3} [{:.3}, {:.3}]",
+                    j.critical_density, j.critical_interval.0, j.critical_interval.1
+                )
+            );
+        }
+        if let Some(d) = &t.drift {
+            say!(
+                out,
+                "mean critical density over L = {:?}: slope {:.4} [{:.4}, {:.4}] per unit of L",
+                d.boxes,
+                d.slope,
+                d.interval.0,
+                d.interval.1
             );
         }
         for d in &t.decay {
