@@ -118,40 +118,45 @@ fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
         largest: None,
         failed: None,
     };
-    let measured = moduli::exact(view, opts).and_then(|exact| {
-        // Where the rods resist no strain the tensor is zero: no floats
-        // (and no Born tensor, which needs a realization).
-        if exact.strain_rank == 0 {
-            return Ok(Side {
-                strain_rank: Some(0),
-                shear: Some(0.0),
-                bulk: Some(0.0),
-                largest: Some(exact.largest_cluster),
-                ..blank.clone()
-            });
-        }
-        // Only the realization nearest the rods compares across sequences:
-        // where it fails the side fails, without the costly random start.
-        let e = moduli::of_exact(view, exact, opts, false)?;
-        Ok(Side {
-            strain_rank: Some(e.strain_rank),
+    let failed = |e: Error, side: Side| match e {
+        // Over the memory limit is no answer about the sequence: stop.
+        Error::Memory(_) => Err(e),
+        e => Ok(Side {
+            failed: Some(e.to_string()),
+            ..side
+        }),
+    };
+    let exact = match moduli::exact(view, opts) {
+        Ok(exact) => exact,
+        Err(e) => return failed(e, blank),
+    };
+    let known = Side {
+        strain_rank: Some(exact.strain_rank),
+        largest: Some(exact.largest_cluster),
+        ..blank
+    };
+    // Where the rods resist no strain the tensor is zero: no floats (and
+    // no Born tensor, which needs a realization).
+    if exact.strain_rank == 0 {
+        return Ok(Side {
+            shear: Some(0.0),
+            bulk: Some(0.0),
+            ..known
+        });
+    }
+    // Only the realization nearest the rods compares across sequences:
+    // where it fails the side fails (keeping the exact strain rank),
+    // without the costly random start.
+    match moduli::of_exact(view, exact, opts, false) {
+        Ok(e) => Ok(Side {
             shear: Some(e.shear),
             bulk: Some(e.bulk),
             born_shear: Some(e.born_shear),
             realization: Some(e.realization),
             moved: e.moved.map(|m| m.contacts),
-            largest: e.largest_cluster,
-            ..blank.clone()
-        })
-    });
-    match measured {
-        Ok(side) => Ok(side),
-        // Over the memory limit is no answer about the sequence: stop.
-        Err(e @ Error::Memory(_)) => Err(e),
-        Err(e) => Ok(Side {
-            failed: Some(e.to_string()),
-            ..blank
+            ..known
         }),
+        Err(e) => failed(e, known),
     }
 }
 
@@ -634,5 +639,26 @@ mod tests {
             .exponent
             .unwrap();
         assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
+    }
+
+    #[test]
+    fn a_side_whose_floats_fail_keeps_its_exact_strain_rank() {
+        // Gamma 23, L = 3, seed 13, 1,215 rods (density 45): the projection
+        // from the rods does not converge, and no random start stands in.
+        let n = 1215;
+        let seq = Sequence::new(23.0, 3.0, n, 13).unwrap();
+        let r: Record = serde_json::from_value(serde_json::json!({
+            "box": 3.0, "index": 0, "seed": 13, "contact_critical": 10,
+            "rigid_critical": n, "steps": [], "fresh": null, "fixed": [],
+            "contacts": [], "seconds": 0.0
+        }))
+        .unwrap();
+        let s = super::side(&seq, &r, n, 1.0).unwrap();
+        let why = s.failed.as_deref().expect("the floats fail");
+        assert!(why.contains("did not converge"), "{why}");
+        assert_eq!(s.strain_rank, Some(6));
+        assert!(s.largest.is_some_and(|l| l > 0 && l <= n));
+        assert_eq!((s.shear, s.realization.as_deref()), (None, None));
+        assert!(!s.comparable());
     }
 }
