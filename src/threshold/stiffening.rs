@@ -641,24 +641,40 @@ mod tests {
         assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
     }
 
-    #[test]
-    fn a_side_whose_floats_fail_keeps_its_exact_strain_rank() {
-        // Gamma 23, L = 3, seed 13, 1,215 rods (density 45): the projection
-        // from the rods does not converge, and no random start stands in.
-        let n = 1215;
-        let seq = Sequence::new(23.0, 3.0, n, 13).unwrap();
+    /// The side of `n` rods of the gamma 23, L = 3 sequence of `seed`.
+    fn side_of(seed: u64, n: usize) -> Side {
+        let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
         let r: Record = serde_json::from_value(serde_json::json!({
-            "box": 3.0, "index": 0, "seed": 13, "contact_critical": 10,
+            "box": 3.0, "index": 0, "seed": seed, "contact_critical": 10,
             "rigid_critical": n, "steps": [], "fresh": null, "fixed": [],
             "contacts": [], "seconds": 0.0
         }))
         .unwrap();
-        let s = super::side(&seq, &r, n, 1.0).unwrap();
+        super::side(&seq, &r, n, 1.0).unwrap()
+    }
+
+    #[test]
+    fn a_side_whose_floats_fail_keeps_its_exact_strain_rank() {
+        // Seed 13, 1,215 rods (density 45): the projection from the rods
+        // does not converge, and no random start stands in.
+        let n = 1215;
+        let s = side_of(13, n);
         let why = s.failed.as_deref().expect("the floats fail");
         assert!(why.contains("did not converge"), "{why}");
         assert_eq!(s.strain_rank, Some(6));
         assert!(s.largest.is_some_and(|l| l > 0 && l <= n));
         assert_eq!((s.shear, s.realization.as_deref()), (None, None));
         assert!(!s.comparable());
+    }
+
+    #[test]
+    fn a_special_position_is_cured_by_growing_kicks() {
+        // Seed 20, 1,100 rods: the projection from the rods lands on a
+        // member where two touching rods are parallel, and kicks of a
+        // hundredth of a rod length never leave it.
+        let s = side_of(20, 1100);
+        assert_eq!(s.failed, None);
+        assert_eq!(s.realization.as_deref(), Some("nearest"));
+        assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
     }
 }

@@ -55,7 +55,7 @@ pub struct Transition {
 }
 
 /// The mean of the sequences' own critical densities against the box side
-/// over the [`LARGEST_BOXES`] largest boxes, as a straight line. Where the
+/// over the three largest boxes, as a straight line. Where the
 /// transition is discontinuous, finite-size scaling with an exponent `nu`
 /// does not apply; the mean critical density of the largest boxes is then
 /// the threshold's estimate, and a slope whose interval holds 0 says it no
