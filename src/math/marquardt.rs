@@ -36,9 +36,10 @@ const CHORD_UNKNOWNS: usize = 20_000;
 const CHORD_GAIN: f64 = 0.25;
 
 /// A start is given up when its cost fell by less than this share over
-/// the last [`STALL_STEPS`] steps taken with its residual still refused.
-const STALL_DROP: f64 = 0.01;
-const STALL_STEPS: usize = 10;
+/// the last [`STALL_STEPS`] steps taken with its residual still refused
+/// (unless its equations ask for more patience).
+pub const STALL_DROP: f64 = 0.01;
+pub const STALL_STEPS: usize = 10;
 
 /// The residuals of a set of equations at a point and, when asked, their
 /// Jacobian by rows: row `i` has the entries `starts[i]..starts[i + 1]` of
@@ -108,6 +109,12 @@ pub trait Residual {
     /// given up at once rather than by the stall rule (none by default).
     fn trapped(&self, _u: &[f64]) -> bool {
         false
+    }
+
+    /// The stall rule: the share the cost must fall by over how many
+    /// steps for the start to go on.
+    fn stall(&self) -> (f64, usize) {
+        (STALL_DROP, STALL_STEPS)
     }
 }
 
@@ -223,6 +230,7 @@ pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
     let mut polish = 0;
     // The costs after the steps taken, for the stall rule.
     let mut costs: Vec<f64> = vec![cost];
+    let (drop, steps) = eq.stall();
     for _ in 0..MAX_STEPS {
         if at.largest() <= eq.tolerance(&u) {
             // A large system polishes by chord steps alone.
@@ -238,8 +246,8 @@ pub fn solve(eq: &impl Residual, mut u: Vec<f64>) -> Option<Vec<f64>> {
             || costs
                 .iter()
                 .rev()
-                .nth(STALL_STEPS)
-                .is_some_and(|&before| cost > (1.0 - STALL_DROP) * before)
+                .nth(steps)
+                .is_some_and(|&before| cost > (1.0 - drop) * before)
         {
             return None;
         }
