@@ -5,13 +5,14 @@
 //! and a sparse Jacobian by rows at a point, and the residual accepted
 //! there. [`solve`] owns the rest: the damped normal equations
 //! `(JᵀJ + λ·top·I) δ = −Jᵀr` by faer's sparse Cholesky on one thread
-//! ([`super::cholesky`]), with the pattern analysed once per start, and the damping schedule: `λ` from 1e-3,
-//! divided by 4 after a step that lowers the cost and multiplied by 4
-//! after one that does not, given up past 1e8. A start whose cost stalls, less
-//! than 1% lower over 10 steps while its residual
-//! is still refused, or that its equations call trapped, is given up too: the cost then sits on a trap (on the
-//! unit sphere a plane's normal shrunk to zero costs exactly 1) that the
-//! damping took a hundred factorizations to confess. A large system also
+//! ([`super::cholesky`]), with the pattern analysed once per start, and
+//! the damping schedule: `λ` from 1e-3, divided by 4 after a step that
+//! lowers the cost and multiplied by 4 after one that does not, given up
+//! past 1e8. A start whose cost stalls ([`STALL`], unless the equations ask
+//! for more patience) while its residual is still refused is given up too,
+//! and so is one the equations call trapped: the cost then sits on a trap
+//! (on the unit sphere a plane's normal shrunk to zero costs exactly 1)
+//! that the damping took a hundred factorizations to confess. A large system also
 //! takes chord steps (the last factor again with the new gradient) while
 //! they quarter the cost, and polishes by them alone.
 
@@ -35,11 +36,10 @@ const POLISH_STEPS: usize = 3;
 const CHORD_UNKNOWNS: usize = 20_000;
 const CHORD_GAIN: f64 = 0.25;
 
-/// A start is given up when its cost fell by less than this share over
-/// the last [`STALL_STEPS`] steps taken with its residual still refused
-/// (unless its equations ask for more patience).
-pub const STALL_DROP: f64 = 0.01;
-pub const STALL_STEPS: usize = 10;
+/// A start is given up when its cost fell by less than this share (1%)
+/// over the last this many steps (10) taken with its residual still
+/// refused, unless its equations ask for more patience.
+pub const STALL: (f64, usize) = (0.01, 10);
 
 /// The residuals of a set of equations at a point and, when asked, their
 /// Jacobian by rows: row `i` has the entries `starts[i]..starts[i + 1]` of
@@ -114,7 +114,7 @@ pub trait Residual {
     /// The stall rule: the share the cost must fall by over how many
     /// steps for the start to go on.
     fn stall(&self) -> (f64, usize) {
-        (STALL_DROP, STALL_STEPS)
+        STALL
     }
 }
 

@@ -450,10 +450,20 @@ fn jumps_of(per_box: &[(f64, Vec<AtCritical>)]) -> Vec<Jump> {
         .collect()
 }
 
+/// A statistic `f` of the means of the groups `per_box`, and its 95%
+/// bootstrap interval (each group resampled on its own).
+fn of_means(per_box: &[Vec<f64>], f: impl Fn(&[f64]) -> Option<f64>) -> Option<(f64, (f64, f64))> {
+    let means = |groups: &[Vec<f64>]| groups.iter().map(|v| average(v)).collect::<Vec<_>>();
+    let value = f(&means(per_box))?;
+    let mut boot = resampled(per_box, |r| f(&means(r)));
+    Some((value, percentile_interval(&mut boot, 0.95)?))
+}
+
 /// The 95% bootstrap interval of the mean of `v`.
 fn mean_interval(v: &[f64]) -> (f64, f64) {
-    let mut boot = resampled(std::slice::from_ref(&v.to_vec()), |r| Some(average(&r[0])));
-    percentile_interval(&mut boot, 0.95).expect("resamples")
+    of_means(&[v.to_vec()], |m| Some(m[0]))
+        .expect("resamples")
+        .1
 }
 
 /// The [`Drift`] of the mean critical density over the [`LARGEST_BOXES`]
@@ -466,16 +476,15 @@ fn drift(per_box: &[(f64, Vec<AtCritical>)]) -> Option<Drift> {
         .collect();
     let largest = kept.get(kept.len().checked_sub(LARGEST_BOXES)?..)?;
     let lens: Vec<f64> = largest.iter().map(|v| v.0).collect();
-    let slope = |means: Vec<f64>| {
-        let points: Vec<(f64, f64)> = lens.iter().copied().zip(means).collect();
-        line(&points).map(|f| f.beta[1])
-    };
     let values: Vec<Vec<f64>> = largest.iter().map(|v| v.1.clone()).collect();
-    let mut boot = resampled(&values, |r| slope(r.iter().map(|v| average(v)).collect()));
+    let (slope, interval) = of_means(&values, |means| {
+        let points: Vec<(f64, f64)> = lens.iter().copied().zip(means.iter().copied()).collect();
+        line(&points).map(|f| f.beta[1])
+    })?;
     Some(Drift {
-        slope: slope(values.iter().map(|v| average(v)).collect())?,
-        interval: percentile_interval(&mut boot, 0.95)?,
         boxes: lens,
+        slope,
+        interval,
     })
 }
 
@@ -539,16 +548,14 @@ fn decay(per_box: &[(f64, Vec<AtCritical>)], jumps: &[Jump]) -> Vec<Decay> {
                 .collect();
             line(&points).map(|f| (-f.beta[1], f.r2))
         };
-        let means: Vec<f64> = values.iter().map(|v| average(&v.1)).collect();
-        let (exponent, r2) = slope(&means)?;
         let per_box: Vec<Vec<f64>> = values.iter().map(|v| v.1.clone()).collect();
-        let mut boot = resampled(&per_box, |r| {
-            slope(&r.iter().map(|v| average(v)).collect::<Vec<_>>()).map(|s| s.0)
-        });
+        let (exponent, interval) = of_means(&per_box, |m| slope(m).map(|s| s.0))?;
+        let means: Vec<f64> = per_box.iter().map(|v| average(v)).collect();
+        let r2 = slope(&means)?.1;
         Some(Decay {
             boxes: lens,
             exponent,
-            interval: percentile_interval(&mut boot, 0.95)?,
+            interval,
             r2,
         })
     };

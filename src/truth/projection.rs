@@ -120,7 +120,7 @@ impl Residual for System<'_> {
     /// patience ([`PATIENCE`]).
     fn stall(&self) -> (f64, usize) {
         match self.anchors {
-            None => (marquardt::STALL_DROP, marquardt::STALL_STEPS),
+            None => marquardt::STALL,
             Some(_) => PATIENCE,
         }
     }
@@ -838,9 +838,9 @@ mod tests {
             v[at..at + 3].copy_from_slice(&d);
             assert_eq!(system.trapped(&v), trapped, "direction shrunk to {shrink}");
         }
-        // The linear gauge has no trap.
         u[at..at + 3].fill(0.0);
         assert!(system.trapped(&u));
+        // The linear gauge has no trap.
         let anchored = System::new(&topo, &planes, &core.active, 1.0)
             .anchored(&system.start(&mut ChaCha8Rng::seed_from_u64(5)));
         assert!(!anchored.trapped(&u));
