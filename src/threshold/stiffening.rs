@@ -655,10 +655,10 @@ mod tests {
 
     #[test]
     fn a_side_whose_floats_fail_keeps_its_exact_strain_rank() {
-        // Seed 5, 1,100 rods: the projection from the rods stays on a
+        // Seed 34, 1,100 rods: the projection from the rods stays on a
         // special position after every kick, and no random start stands in.
         let n = 1100;
-        let s = side_of(5, n);
+        let s = side_of(34, n);
         let why = s.failed.as_deref().expect("the floats fail");
         assert!(why.contains("special after 8 repairs"), "{why}");
         assert_eq!(s.strain_rank, Some(6));
@@ -668,21 +668,11 @@ mod tests {
     }
 
     #[test]
-    fn a_slow_projection_on_the_linear_scale_is_given_time() {
-        // Seed 13, 1,215 rods (density 45): the common stall rule gave this
-        // projection from the rods up while it still converged.
-        let s = side_of(13, 1215);
-        assert_eq!(s.failed, None);
-        assert_eq!(s.realization.as_deref(), Some("nearest"));
-        assert!(s.shear.is_some_and(|g| g > 0.0));
-    }
-
-    #[test]
     fn a_special_position_is_cured_by_growing_kicks() {
-        // Seed 20, 1,100 rods: the projection from the rods lands on a
-        // member where two touching rods are parallel, and kicks of a
+        // Seed 5, 1,100 rods: the projection from the rods lands on a
+        // member where two rods meet without touching, and kicks of a
         // hundredth of a rod length never leave it.
-        let s = side_of(20, 1100);
+        let s = side_of(5, 1100);
         assert_eq!(s.failed, None);
         assert_eq!(s.realization.as_deref(), Some("nearest"));
         assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
