@@ -655,12 +655,12 @@ mod tests {
 
     #[test]
     fn a_side_whose_floats_fail_keeps_its_exact_strain_rank() {
-        // Seed 34, 1,100 rods: the projection from the rods stays on a
+        // Seed 34, 1,215 rods: the projection from the rods stays on a
         // special position after every kick, and no random start stands in.
-        let n = 1100;
+        let n = 1215;
         let s = side_of(34, n);
         let why = s.failed.as_deref().expect("the floats fail");
-        assert!(why.contains("special after 8 repairs"), "{why}");
+        assert!(why.contains("special after 3 rounds of 8 repairs"), "{why}");
         assert_eq!(s.strain_rank, Some(6));
         assert!(s.largest.is_some_and(|l| l > 0 && l <= n));
         assert_eq!((s.shear, s.realization.as_deref()), (None, None));
@@ -668,11 +668,17 @@ mod tests {
     }
 
     #[test]
-    fn a_special_position_is_cured_by_growing_kicks() {
+    fn a_special_position_is_cured_by_growing_kicks_or_a_later_round() {
         // Seed 5, 1,100 rods: the projection from the rods lands on a
         // member where two rods meet without touching, and kicks of a
         // hundredth of a rod length never leave it.
         let s = side_of(5, 1100);
+        assert_eq!(s.failed, None);
+        assert_eq!(s.realization.as_deref(), Some("nearest"));
+        assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
+        // Seed 34, 1,100 rods: a whole round of kicks leaves it special,
+        // the second round's draws cure it.
+        let s = side_of(34, 1100);
         assert_eq!(s.failed, None);
         assert_eq!(s.realization.as_deref(), Some("nearest"));
         assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
