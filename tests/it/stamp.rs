@@ -208,7 +208,7 @@ fn committed_results_read_into_their_types_and_write_back_unchanged() {
             summaries += 1;
         }
     }
-    assert_eq!(summaries, 15);
+    assert_eq!(summaries, 16);
 }
 
 /// Rerunning a committed command may replace its results; changing what
