@@ -677,7 +677,7 @@ mod tests {
         assert_eq!(s.realization.as_deref(), Some("nearest"));
         assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
         // Seed 34, 1,100 rods: a whole round of kicks leaves it special,
-        // the second round's draws cure it.
+        // a later round's draws cure it.
         let s = side_of(34, 1100);
         assert_eq!(s.failed, None);
         assert_eq!(s.realization.as_deref(), Some("nearest"));

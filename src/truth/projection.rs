@@ -64,8 +64,8 @@ const COLLAPSED: f64 = 0.01;
 /// the rods did not converge; with this patience 4 of them did, and 2 more
 /// reached a special position. A start that converged under the common
 /// rule never met it, so it converges here the same. (Measured from the
-/// rods; from their planes those 78 sides come
-/// out the same under either rule.)
+/// rods; from their planes those 78 sides come out the same under either
+/// rule.)
 const PATIENCE: (f64, usize) = (0.001, 40);
 
 /// Times a degenerate solution is repaired (the rods that show it, their
@@ -92,8 +92,8 @@ const NUDGE: f64 = 0.01;
 /// drawn anew: the draws decide whether a special position is left (a
 /// random start found a member without one on each of the 4 sides of
 /// gamma 23, L = 3, 1,100 and 1,215 rods of seeds 1 to 39 left special
-/// after one round). Two rounds left 2 of them special, three 1; a side
-/// cured in the first round is the same.
+/// after one round). Two rounds left 3 of them special, three 2; a side
+/// cured in the first round comes out as before.
 const ROUNDS: usize = 3;
 
 /// The unknowns of a system: where each object's start.
@@ -540,8 +540,9 @@ pub fn project(
 /// linearly against its start (`d · d0 = 1`) and more patience for a slow
 /// start, kicking the rods of a special solution by 0.01 rod lengths and
 /// twice as far each further time (drawn from `rng`) and projecting again,
-/// up to 8 times, in up to 3 rounds from the first solution. `Err` says why it is refused: no convergence, or a
-/// solution that is no generic member of the family ([`degenerate`]).
+/// up to 8 times, in up to 3 rounds from the first solution. `Err` says
+/// why it is refused: no convergence, or a solution that is no generic
+/// member of the family ([`degenerate`]).
 pub fn nearest(
     topo: &Topology,
     planes: &Planes,
@@ -613,15 +614,12 @@ pub fn nearest(
         }
     }
     let system = system.anchored(&u);
+    let unkicked = marquardt::solve(&system, u)
+        .ok_or("the projection from the rods did not converge".to_string())?;
     let mut special = String::new();
-    // The first solution on the linear scale, where each round of kicks starts.
-    let mut unkicked: Option<Vec<f64>> = None;
     for _ in 0..ROUNDS {
-        let mut u = unkicked.clone().unwrap_or_else(|| u.clone());
+        let mut solution = unkicked.clone();
         for repair in 0..=REPAIRS {
-            let solution = marquardt::solve(&system, u)
-                .ok_or("the projection from the rods did not converge".to_string())?;
-            unkicked.get_or_insert_with(|| solution.clone());
             let real = system.realization(&solution);
             let Some(s) = degenerate(topo, planes, &real) else {
                 return Ok(real);
@@ -632,15 +630,19 @@ pub fn nearest(
                     s.why
                 ));
             }
+            special = s.why;
+            if repair == REPAIRS {
+                break;
+            }
             // Kick the rods that show it and their neighbours, further each
             // time, and project again.
             let mut rods = s.rods.clone();
             for &r in &s.rods {
                 rods.extend(topo.graph.neighbors(r).iter().map(|&(m, _)| m));
             }
-            u = solution;
-            system.nudge(&mut u, &rods, NUDGE * 2f64.powi(repair as i32), rng);
-            special = s.why;
+            system.nudge(&mut solution, &rods, NUDGE * 2f64.powi(repair as i32), rng);
+            solution = marquardt::solve(&system, solution)
+                .ok_or("the projection from the rods did not converge".to_string())?;
         }
     }
     Err(format!(
