@@ -64,8 +64,8 @@ const COLLAPSED: f64 = 0.01;
 /// the rods did not converge; with this patience 4 of them did, and 2 more
 /// reached a special position. A start that converged under the common
 /// rule never met it, so it converges here the same. (Measured from the
-/// rods; from their planes those 78 sides come out the same under either
-/// rule.)
+/// rods; from their planes, with the rounds of kicks, those 78 sides come
+/// out the same under either rule.)
 const PATIENCE: (f64, usize) = (0.001, 40);
 
 /// Times a degenerate solution is repaired (the rods that show it, their
@@ -85,7 +85,8 @@ const REPAIRS: usize = 8;
 /// the projection fell back to the same special member; doubling cured 7
 /// of the 10 left special, after 4 to 8 kicks, and changed no other side.
 /// From the members' planes, kicks of 0.01 alone leave 10 of those 78
-/// sides special, doubling 4.
+/// sides special in one round and 11 in three ([`ROUNDS`]), doubling 4
+/// and 2.
 const NUDGE: f64 = 0.01;
 
 /// Rounds of growing kicks, each from the first solution again with kicks
@@ -169,6 +170,13 @@ fn unit(rng: &mut impl Rng) -> V3<f64> {
 
 fn v3(u: &[f64], at: usize) -> V3<f64> {
     [u[at], u[at + 1], u[at + 2]]
+}
+
+/// Writes the line through `p` along `d` at `at`: its point nearest the
+/// origin, then `d`.
+fn put_line(u: &mut [f64], at: usize, p: V3<f64>, d: V3<f64>) {
+    u[at..at + 3].copy_from_slice(&sub(p, scale(d, dot(p, d))));
+    u[at + 3..at + 6].copy_from_slice(&d);
 }
 
 impl<'a> System<'a> {
@@ -353,22 +361,32 @@ impl<'a> System<'a> {
             };
             moved[r as usize] = true;
             let (mut p, mut d) = (scale(unit(rng), 0.5), unit(rng));
-            if let Some(&(c, o)) = self.planes.of_rod[r as usize].first() {
-                let at = self.plane + 4 * c as usize;
-                let (n, h) = (v3(u, at), u[at + 3]);
-                // Into the plane n . (x + side o) = h, along it.
-                let q = add(p, lattice(self.side, o));
-                p = sub(p, scale(n, dot(n, q) - h));
-                d = sub(d, scale(n, dot(n, d)));
-                let len = dot(d, d).sqrt();
-                if len > 1e-3 {
-                    d = scale(d, 1.0 / len);
-                }
+            if let Some((q, e, len)) = self.in_plane(u, r as usize, p, d) {
+                p = q;
+                d = if len > 1e-3 { scale(e, 1.0 / len) } else { e };
             }
-            u[at..at + 3].copy_from_slice(&sub(p, scale(d, dot(p, d))));
-            u[at + 3..at + 6].copy_from_slice(&d);
+            put_line(u, at, p, d);
         }
         self.closest_contacts(u, &moved);
+    }
+
+    /// The line `p + s d` of rod `r` moved into the plane `n . (x + side o)
+    /// = h` of its first class in `u` by the least move, with the length of
+    /// its direction, left unscaled (short where the line stood normal to
+    /// the plane); `None` for a rod in no class.
+    fn in_plane(
+        &self,
+        u: &[f64],
+        r: usize,
+        p: V3<f64>,
+        d: V3<f64>,
+    ) -> Option<(V3<f64>, V3<f64>, f64)> {
+        let &(c, o) = self.planes.of_rod[r].first()?;
+        let at = self.plane + 4 * c as usize;
+        let (n, h) = (v3(u, at), u[at + 3]);
+        let p = sub(p, scale(n, dot(n, add(p, lattice(self.side, o))) - h));
+        let d = sub(d, scale(n, dot(n, d)));
+        Some((p, d, dot(d, d).sqrt()))
     }
 
     /// Moves each member of a class into its plane in `u` (the first
@@ -382,22 +400,15 @@ impl<'a> System<'a> {
     fn to_planes(&self, u: &mut [f64]) {
         let mut moved = vec![false; self.line.len()];
         for (r, at) in self.line.iter().enumerate() {
-            let (Some(at), Some(&(c, o))) = (*at, self.planes.of_rod[r].first()) else {
+            let Some(at) = *at else { continue };
+            // A rod normal to its plane has no nearest direction in it.
+            let Some((p, d, len)) = self
+                .in_plane(u, r, v3(u, at), v3(u, at + 3))
+                .filter(|&(_, _, len)| len > 1e-3)
+            else {
                 continue;
             };
-            let plane = self.plane + 4 * c as usize;
-            let (n, h) = (v3(u, plane), u[plane + 3]);
-            let (p, d) = (v3(u, at), v3(u, at + 3));
-            let p = sub(p, scale(n, dot(n, add(p, lattice(self.side, o))) - h));
-            let d = sub(d, scale(n, dot(n, d)));
-            let len = dot(d, d).sqrt();
-            // A rod normal to its plane has no nearest direction in it.
-            if len < 1e-3 {
-                continue;
-            }
-            let d = scale(d, 1.0 / len);
-            u[at..at + 3].copy_from_slice(&sub(p, scale(d, dot(p, d))));
-            u[at + 3..at + 6].copy_from_slice(&d);
+            put_line(u, at, p, scale(d, 1.0 / len));
             moved[r] = true;
         }
         self.closest_contacts(u, &moved);
@@ -556,9 +567,7 @@ pub fn nearest(
         let (Some(at), Some(l)) = (*at, start.lines[r]) else {
             continue;
         };
-        let d = scale(l.d, 1.0 / dot(l.d, l.d).sqrt());
-        u[at..at + 3].copy_from_slice(&sub(l.p, scale(d, dot(l.p, d))));
-        u[at + 3..at + 6].copy_from_slice(&d);
+        put_line(&mut u, at, l.p, scale(l.d, 1.0 / dot(l.d, l.d).sqrt()));
     }
     for (e, c) in system.contacts_of_edges().enumerate() {
         let (Some(Unknowns { at, la, lb, shift }), Some(x)) = (c, start.points[e]) else {
@@ -614,8 +623,9 @@ pub fn nearest(
         }
     }
     let system = system.anchored(&u);
-    let unkicked = marquardt::solve(&system, u)
-        .ok_or("the projection from the rods did not converge".to_string())?;
+    let solve =
+        |u| marquardt::solve(&system, u).ok_or("the projection from the rods did not converge");
+    let unkicked = solve(u)?;
     let mut special = String::new();
     for _ in 0..ROUNDS {
         let mut solution = unkicked.clone();
@@ -641,8 +651,7 @@ pub fn nearest(
                 rods.extend(topo.graph.neighbors(r).iter().map(|&(m, _)| m));
             }
             system.nudge(&mut solution, &rods, NUDGE * 2f64.powi(repair as i32), rng);
-            solution = marquardt::solve(&system, solution)
-                .ok_or("the projection from the rods did not converge".to_string())?;
+            solution = solve(solution)?;
         }
     }
     Err(format!(
