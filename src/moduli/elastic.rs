@@ -96,7 +96,9 @@ pub struct Elastic {
     /// Which realization the floats use: `nearest` the rods, or
     /// `projected` from a random start where that did not converge (then
     /// scaled to the box side: the same family and strain rank, not the
-    /// rods' own geometry).
+    /// rods' own geometry), or `nearest-next`: the one nearest the rods of
+    /// a larger system, kept for these rods ([`Floats::prefix`]), so that
+    /// the two systems' moduli are those of one geometry.
     pub realization: String,
     /// How far the realization moved the rods, in mean rod lengths: the
     /// root mean square distance of the contact points from the rods' own
@@ -389,14 +391,70 @@ pub struct Floats {
     /// The 2-core.
     pub active: Vec<bool>,
     pub real: Realization<f64>,
+    /// The rods' own lines and contact points it was projected from.
+    pub near: Realization<f64>,
     /// Per core rod, the point the Born tensor moves with the strain.
     pub centres: Vec<Option<V3<f64>>>,
-    /// `nearest` or `projected` ([`Elastic::realization`]).
+    /// `nearest`, `projected` or `nearest-next` ([`Elastic::realization`]).
     pub how: &'static str,
     /// How far it moved the rods (none for `projected`).
     pub moved: Option<Moved>,
     /// The mean rod length, the unit of lengths.
     pub unit: f64,
+}
+
+impl Floats {
+    /// The same realization for a prefix `network` of the rods it was made
+    /// for (the first rods, with the first contacts): lines and points kept
+    /// for the prefix's own 2-core, which lies inside this one. Every
+    /// incidence of the prefix holds, so it is a realization of the prefix,
+    /// though it may be special for it (a plane this system forces and the
+    /// prefix does not): the moduli's gap check at the exact strain rank
+    /// says so. On one realization the prefix's tensor is at most this
+    /// one's, since the prefix's springs are a subset of these.
+    pub fn prefix(&self, network: View) -> Floats {
+        let core = prune::two_core(network.graph);
+        let n = network.graph.n_nodes();
+        let edges = network.graph.edges();
+        let keep = |of: &Realization<f64>| Realization {
+            side: of.side,
+            lines: (0..n)
+                .map(|r| if core.active[r] { of.lines[r] } else { None })
+                .collect(),
+            points: edges
+                .iter()
+                .enumerate()
+                .map(|(e, &[a, b])| {
+                    (core.active[a as usize] && core.active[b as usize])
+                        .then_some(of.points[e])
+                        .flatten()
+                })
+                .collect(),
+        };
+        let (real, near) = (keep(&self.real), keep(&self.near));
+        let centres = (0..n)
+            .map(|r| {
+                if core.active[r] {
+                    self.centres[r]
+                } else {
+                    None
+                }
+            })
+            .collect();
+        Floats {
+            moved: self.moved.map(|_| Moved::between(&near, &real)),
+            how: if self.how == "nearest" {
+                "nearest-next"
+            } else {
+                self.how
+            },
+            active: core.active,
+            real,
+            near,
+            centres,
+            unit: self.unit,
+        }
+    }
 }
 
 /// A box periodic along every axis and cubic, or why not.
@@ -500,6 +558,7 @@ pub fn floats(network: View, seed: u64, random_start: bool) -> Result<Floats> {
     Ok(Floats {
         active: core.active,
         real,
+        near,
         centres,
         how,
         moved,
@@ -559,10 +618,19 @@ pub fn of_exact(
     random_start: bool,
 ) -> Result<Elastic> {
     let start = Instant::now();
-    let topo = network.topology();
     let f = floats(network, opts.truth.seed, random_start)?;
+    let mut e = of_floats(network, exact, &f, opts)?;
+    e.seconds = exact.seconds + start.elapsed().as_secs_f64();
+    Ok(e)
+}
+
+/// The moduli of a rod system whose truth is `exact` on the float
+/// realization `f` of its 2-core (from [`floats`], or
+/// [`Floats::prefix`] of a larger system's), kept at the exact strain rank.
+pub fn of_floats(network: View, exact: Exact, f: &Floats, opts: ModuliOptions) -> Result<Elastic> {
+    let start = Instant::now();
     let mut e = of_realization(
-        &topo,
+        &network.topology(),
         &f.active,
         &f.real,
         &f.centres,

@@ -17,7 +17,7 @@ pub mod voigt;
 
 pub use elastic::{
     Conditioning, Elastic, Exact, Floats, ModuliOptions, Moved, Springs, exact, floats, of_exact,
-    of_realization, of_system, springs,
+    of_floats, of_realization, of_system, springs,
 };
 pub use relax::Relaxation;
 pub use voigt::Voigt;

@@ -21,7 +21,7 @@ use super::report;
 use super::sequence::{Record, Sequence};
 use crate::engine::run_seed;
 use crate::math::stats;
-use crate::moduli::{self, ModuliOptions};
+use crate::moduli::{self, Floats, ModuliOptions};
 use crate::progress::Progress;
 use crate::truth::TruthOptions;
 use crate::{Error, Result, output};
@@ -69,11 +69,24 @@ pub struct Side {
 
 impl Side {
     /// Whether its moduli compare with other sequences': exact where the
-    /// rods resist no strain, else from the realization nearest the rods
-    /// (one from a random start is another member of the family, with
-    /// another `G`).
+    /// rods resist no strain, else from the realization nearest the rods,
+    /// its own or the next side's (one from a random start is another
+    /// member of the family, with another `G`).
     pub fn comparable(&self) -> bool {
-        self.strain_rank == Some(0) || self.realization.as_deref() == Some("nearest")
+        self.strain_rank == Some(0)
+            || matches!(
+                self.realization.as_deref(),
+                Some("nearest" | "nearest-next")
+            )
+    }
+
+    /// Whether `self`, the side below the critical rod, and `at` are one
+    /// geometry: exact zeros below it, or the critical side's realization.
+    fn one_geometry_with(&self, at: &Side) -> bool {
+        at.comparable()
+            && (self.strain_rank == Some(0)
+                || (self.realization.as_deref() == Some("nearest-next")
+                    && at.realization.as_deref() == Some("nearest")))
     }
 }
 
@@ -99,8 +112,17 @@ impl journal::Line for SequenceStiffening {
 }
 
 /// The moduli of the first `n` rods of `r`'s sequence `seq`, truth's
-/// realizations seeded as the study's step at `n`.
-fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
+/// realizations seeded as the study's step at `n`, on the realization
+/// nearest the rods; with `next` (the floats of more rods of the sequence),
+/// on that one kept for these rods where it is not special for them, so
+/// that the two sides are one geometry. Returns the floats it used, if any.
+fn side(
+    seq: &Sequence,
+    r: &Record,
+    n: usize,
+    stiffness: f64,
+    next: Option<&Floats>,
+) -> Result<(Side, Option<Floats>)> {
     let graph = seq.graph(n);
     let opts = ModuliOptions {
         stiffness,
@@ -121,10 +143,13 @@ fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
     let failed = |e: Error, side: Side| match e {
         // Over the memory limit is no answer about the sequence: stop.
         Error::Memory(_) => Err(e),
-        e => Ok(Side {
-            failed: Some(e.to_string()),
-            ..side
-        }),
+        e => Ok((
+            Side {
+                failed: Some(e.to_string()),
+                ..side
+            },
+            None,
+        )),
     };
     let exact = match moduli::exact(view, opts) {
         Ok(exact) => exact,
@@ -138,24 +163,37 @@ fn side(seq: &Sequence, r: &Record, n: usize, stiffness: f64) -> Result<Side> {
     // Where the rods resist no strain the tensor is zero: no floats (and
     // no Born tensor, which needs a realization).
     if exact.strain_rank == 0 {
-        return Ok(Side {
+        let zero = Side {
             shear: Some(0.0),
             bulk: Some(0.0),
             ..known
-        });
+        };
+        return Ok((zero, None));
+    }
+    let of = |e: moduli::Elastic| Side {
+        shear: Some(e.shear),
+        bulk: Some(e.bulk),
+        born_shear: Some(e.born_shear),
+        realization: Some(e.realization),
+        moved: e.moved.map(|m| m.contacts),
+        ..known.clone()
+    };
+    // The larger system's geometry, unless it is special for these rods
+    // (no gap at their strain rank): then their own.
+    if let Some(next) = next
+        && let Ok(e) = moduli::of_floats(view, exact, &next.prefix(view), opts)
+    {
+        return Ok((of(e), None));
     }
     // Only the realization nearest the rods compares across sequences:
     // where it fails the side fails (keeping the exact strain rank),
     // without the costly random start.
-    match moduli::of_exact(view, exact, opts, false) {
-        Ok(e) => Ok(Side {
-            shear: Some(e.shear),
-            bulk: Some(e.bulk),
-            born_shear: Some(e.born_shear),
-            realization: Some(e.realization),
-            moved: e.moved.map(|m| m.contacts),
-            ..known
-        }),
+    let floats = match moduli::floats(view, opts.truth.seed, false) {
+        Ok(f) => f,
+        Err(e) => return failed(e, known),
+    };
+    match moduli::of_floats(view, exact, &floats, opts) {
+        Ok(e) => Ok((of(e), Some(floats))),
         Err(e) => failed(e, known),
     }
 }
@@ -179,15 +217,20 @@ fn probe(gamma: f64, r: &Record, spec: &StiffeningSpec) -> Result<SequenceStiffe
     // One sequence to the most rods any side needs; each side a prefix.
     let most = grid.iter().copied().fold(n, usize::max);
     let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
+    // The critical rod's side first: the side below it is measured on the
+    // same realization, so that the jump is the rod's, not another
+    // member's of the family.
+    let (at, floats) = side(&seq, r, n, k, None)?;
+    let (before, _) = side(&seq, r, n - 1, k, floats.as_ref())?;
     Ok(SequenceStiffening {
         gamma,
         box_len: r.box_len,
         index: r.index,
-        before: side(&seq, r, n - 1, k)?,
-        at: side(&seq, r, n, k)?,
+        at,
+        before,
         grid: grid
             .into_iter()
-            .map(|m| side(&seq, r, m, k))
+            .map(|m| Ok(side(&seq, r, m, k, None)?.0))
             .collect::<Result<_>>()?,
         seconds: start.elapsed().as_secs_f64(),
     })
@@ -291,14 +334,21 @@ pub struct StiffeningSummary {
     /// resist every strain at it.
     pub rank_rises_from_zero: usize,
     pub solid_at: usize,
-    /// The shear modulus below and at the rod (`k / L_rod`), and their
-    /// difference per sequence, over the pairs of [`Side::comparable`]
-    /// sides.
+    /// The shear modulus below and at the rod (`k / L_rod`) over the pairs
+    /// of [`Side::comparable`] sides, and their difference per sequence
+    /// over the pairs on one geometry (the critical side's realization on
+    /// both).
     pub shear_before: Option<Mean>,
     pub shear_at: Option<Mean>,
     pub shear_jump: Option<Mean>,
-    /// Where both sides are [`Side::comparable`].
+    /// Where both sides are [`Side::comparable`], and where they are one
+    /// geometry.
     pub both_comparable: usize,
+    pub one_geometry: usize,
+    /// Pairs on one geometry whose `G` fell at the critical rod beyond
+    /// rounding (`1e-9` of the Born modulus): adding springs to one
+    /// geometry cannot lower it, so any is a defect.
+    pub shear_fell: usize,
     /// At each density of the spec.
     pub grid: Vec<GridPoint>,
     /// The exponent `f` of `G ~ (rho - rho_t)^f` from the mean shear
@@ -474,6 +524,11 @@ pub fn summarize(
                 .copied()
                 .filter(|(b, a)| b.comparable() && a.comparable())
                 .collect();
+            let one: Vec<(&Side, &Side)> = measured
+                .iter()
+                .copied()
+                .filter(|(b, a)| b.one_geometry_with(a))
+                .collect();
             let mean = |over: &[(&Side, &Side)], f: &dyn Fn(&Side, &Side) -> Option<f64>| {
                 Mean::of(&over.iter().filter_map(|(b, a)| f(b, a)).collect::<Vec<_>>())
             };
@@ -496,8 +551,18 @@ pub fn summarize(
                     .count(),
                 shear_before: mean(&comparable, &|b, _| b.shear),
                 shear_at: mean(&comparable, &|_, a| a.shear),
-                shear_jump: mean(&comparable, &|b, a| Some(a.shear? - b.shear?)),
+                shear_jump: mean(&one, &|b, a| Some(a.shear? - b.shear?)),
                 both_comparable: comparable.len(),
+                one_geometry: one.len(),
+                shear_fell: one
+                    .iter()
+                    .filter(|(b, a)| {
+                        let (Some(gb), Some(ga)) = (b.shear, a.shear) else {
+                            return false;
+                        };
+                        ga < gb - 1e-9 * a.born_shear.unwrap_or(0.0)
+                    })
+                    .count(),
                 grid: spec
                     .densities
                     .iter()
@@ -641,16 +706,53 @@ mod tests {
         assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
     }
 
-    /// The side of `n` rods of the gamma 23, L = 3 sequence of `seed`.
-    fn side_of(seed: u64, n: usize) -> Side {
-        let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
-        let r: Record = serde_json::from_value(serde_json::json!({
+    /// The record of the gamma 23, L = 3 sequence of `seed`, critical at
+    /// `n` rods.
+    fn record(seed: u64, n: usize) -> Record {
+        serde_json::from_value(serde_json::json!({
             "box": 3.0, "index": 0, "seed": seed, "contact_critical": 10,
             "rigid_critical": n, "steps": [], "fresh": null, "fixed": [],
             "contacts": [], "seconds": 0.0
         }))
-        .unwrap();
-        super::side(&seq, &r, n, 1.0).unwrap()
+        .unwrap()
+    }
+
+    /// The side of `n` rods of the gamma 23, L = 3 sequence of `seed`.
+    fn side_of(seed: u64, n: usize) -> Side {
+        let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
+        super::side(&seq, &record(seed, n), n, 1.0, None).unwrap().0
+    }
+
+    #[test]
+    fn the_side_below_the_critical_rod_is_measured_on_its_geometry() {
+        // Solids on both sides (density 40.8): the rod's springs add to one
+        // geometry, so no modulus falls, and the realization below is the
+        // critical one kept for its rods.
+        let spec = StiffeningSpec {
+            studies: vec![],
+            boxes: vec![],
+            sequences: 1,
+            stiffness: 1.0,
+            densities: vec![],
+        };
+        for seed in [1, 2, 3] {
+            let s = probe(23.0, &record(seed, 1101), &spec).unwrap();
+            let (b, a) = (&s.before, &s.at);
+            assert_eq!((b.strain_rank, a.strain_rank), (Some(6), Some(6)));
+            assert_eq!(a.realization.as_deref(), Some("nearest"));
+            assert_eq!(b.realization.as_deref(), Some("nearest-next"));
+            assert!(b.one_geometry_with(a) && b.comparable());
+            let (gb, ga) = (b.shear.unwrap(), a.shear.unwrap());
+            assert!(0.0 < gb && gb <= ga * (1.0 + 1e-9), "{b:?} {a:?}");
+            assert!(b.bulk.unwrap() <= a.bulk.unwrap() * (1.0 + 1e-9));
+            assert!(b.born_shear.unwrap() <= a.born_shear.unwrap() * (1.0 + 1e-12));
+            // How far that realization lies from these rods is their own.
+            assert!(b.moved.is_some_and(|m| m > 0.0));
+            let summary = &summarize(std::slice::from_ref(&s), &spec, &[])[0];
+            assert_eq!((summary.one_geometry, summary.shear_fell), (1, 0));
+            let jump = summary.shear_jump.unwrap().mean;
+            assert!((jump - (ga - gb)).abs() < 1e-18, "{jump}");
+        }
     }
 
     #[test]

@@ -49,7 +49,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
     };
     say!(
         out,
-        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10}",
+        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10} {:>8} {:>6}",
         "gamma",
         "box",
         "seqs",
@@ -61,13 +61,15 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         "G below",
         "G at",
         "G jump",
-        "comparable"
+        "comparable",
+        "one geom",
+        "G fell"
     );
     for s in &summaries {
         let rank = |m: Option<Mean>| m.map_or("-".to_string(), |m| format!("{:.2}", m.mean));
         say!(
             out,
-            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10}",
+            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10} {:>8} {:>6}",
             s.gamma,
             s.box_len,
             s.sequences,
@@ -79,7 +81,9 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             mean(s.shear_before),
             mean(s.shear_at),
             mean(s.shear_jump),
-            s.both_comparable
+            s.both_comparable,
+            s.one_geometry,
+            s.shear_fell
         );
     }
     for s in &summaries {
