@@ -16,9 +16,10 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::journal;
+use super::journal::{self, Line};
 use super::report;
 use super::sequence::{Record, Sequence};
+use super::transition;
 use crate::engine::run_seed;
 use crate::math::stats;
 use crate::moduli::{self, Floats, ModuliOptions};
@@ -241,14 +242,29 @@ fn files(out: &Path) -> (PathBuf, PathBuf) {
     (out.join("stiffening.json"), out.join("stiffening.jsonl"))
 }
 
+/// A measurement's summary: per aspect ratio and box, and across boxes
+/// the shear modulus at the critical rod.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stiffening {
+    pub boxes: Vec<StiffeningSummary>,
+    pub decay: Vec<ShearDecay>,
+}
+
 /// Measures the chosen sequences of the truth studies `dirs` into `out`
-/// (resuming what is there) and summarizes per aspect ratio and box.
+/// (resuming what is there) and summarizes them with the sequences of the
+/// measurements `with` (other boxes, on the same densities and springs)
+/// per aspect ratio and box, and across boxes.
 pub fn run(
     dirs: &[PathBuf],
     spec: &StiffeningSpec,
     out: &Path,
+    with: &[PathBuf],
     progress: &dyn Progress,
-) -> Result<Vec<StiffeningSummary>> {
+) -> Result<Stiffening> {
+    let others = with
+        .iter()
+        .map(|dir| joined(dir, spec))
+        .collect::<Result<Vec<_>>>()?;
     if !(spec.stiffness.is_finite() && spec.stiffness > 0.0) {
         return Err(Error::Parameter(format!(
             "the spring stiffness k must be positive and finite, not {}",
@@ -271,13 +287,27 @@ pub fn run(
     )?;
     output::check_dir(out)?;
     let (spec_file, lines) = files(out);
-    let all = journal::measure(
+    let mut all = journal::measure(
         (&spec_file, spec, "stiffening spec"),
         &lines,
         &decided,
         progress,
         |gamma, r| probe(gamma, r, spec),
     )?;
+    for (dir, more) in with.iter().zip(others) {
+        for s in more {
+            if all.iter().any(|a| a.key() == s.key()) {
+                return Err(Error::Parameter(format!(
+                    "{} measured sequence {} of box {} at gamma {} again: join measurements of other boxes",
+                    dir.display(),
+                    s.index,
+                    s.box_len,
+                    s.gamma
+                )));
+            }
+            all.push(s);
+        }
+    }
     // Each aspect ratio's threshold from its finished study (the first
     // given, where several have one aspect ratio); a study in progress has
     // no summary yet.
@@ -288,12 +318,90 @@ pub fn run(
             thresholds.push((s.study.gamma, s.fss.threshold.value));
         }
     }
-    Ok(summarize(&all, spec, &thresholds))
+    Ok(Stiffening {
+        boxes: summarize(&all, spec, &thresholds),
+        decay: shear_decay(&all),
+    })
 }
 
 /// The sequences measured so far.
 pub fn read(lines: &Path) -> Result<Vec<SequenceStiffening>> {
     journal::read(lines, "stiffening")
+}
+
+/// The sequences of the measurement in `dir`, which must share `spec`'s
+/// densities and springs (its grid's points are summarized by position).
+fn joined(dir: &Path, spec: &StiffeningSpec) -> Result<Vec<SequenceStiffening>> {
+    let (spec_file, lines) = files(dir);
+    let text = std::fs::read_to_string(&spec_file).map_err(|e| Error::io(&spec_file, e))?;
+    let there: StiffeningSpec = serde_json::from_str(&text).map_err(|e| Error::Malformed {
+        format: "stiffening spec",
+        path: spec_file.clone(),
+        line: e.line(),
+        reason: e.to_string(),
+    })?;
+    if (&there.densities, there.stiffness) != (&spec.densities, spec.stiffness) {
+        return Err(Error::Parameter(format!(
+            "{} measured at densities {:?} with k = {}, this measurement at {:?} with k = {}: join only measurements of one grid and springs",
+            dir.display(),
+            there.densities,
+            there.stiffness,
+            spec.densities,
+            spec.stiffness
+        )));
+    }
+    read(&lines)
+}
+
+/// The shear modulus at the critical rod against the box, per aspect
+/// ratio: one that appears continuously vanishes there as the box grows
+/// (`G ~ (rho - rho_c)^f` and `rho - rho_c ~ L^(-1/nu)` give `L^(-f/nu)`),
+/// one that jumps keeps a finite value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ShearDecay {
+    pub gamma: f64,
+    /// Per box: its side, the sequences whose critical side compares, and
+    /// their mean `G` (`k / L_rod`).
+    pub boxes: Vec<(f64, usize, f64)>,
+    /// The mean `G` as `~ L^(-x)`, over every box and over the largest
+    /// ([`transition::power_decay`]; none below three boxes).
+    pub decay: Vec<transition::Decay>,
+}
+
+/// [`ShearDecay`] of each aspect ratio of `all` with two boxes or more.
+pub fn shear_decay(all: &[SequenceStiffening]) -> Vec<ShearDecay> {
+    let mut keys: Vec<(f64, f64)> = all.iter().map(|s| (s.gamma, s.box_len)).collect();
+    keys.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+    keys.dedup();
+    let mut gammas: Vec<f64> = keys.iter().map(|k| k.0).collect();
+    gammas.dedup();
+    gammas
+        .into_iter()
+        .filter_map(|gamma| {
+            let values: Vec<(f64, Vec<f64>)> = keys
+                .iter()
+                .filter(|k| k.0 == gamma)
+                .map(|&(_, l)| {
+                    let g = all
+                        .iter()
+                        .filter(|s| (s.gamma, s.box_len) == (gamma, l))
+                        .filter(|s| s.at.failed.is_none() && s.at.comparable())
+                        .filter_map(|s| s.at.shear)
+                        .collect();
+                    (l, g)
+                })
+                .filter(|(_, g): &(f64, Vec<f64>)| !g.is_empty())
+                .collect();
+            (values.len() >= 2).then(|| ShearDecay {
+                gamma,
+                boxes: values
+                    .iter()
+                    .map(|(l, g)| (*l, g.len(), g.iter().sum::<f64>() / g.len() as f64))
+                    .collect(),
+                decay: transition::power_decay(&values),
+            })
+        })
+        .collect()
 }
 
 /// A mean with the half-width of its 95% normal interval (`1.96 sd /
@@ -582,11 +690,16 @@ pub fn summarize(
         .collect()
 }
 
-/// Writes `PREFIX.json` (with the command that made it), one entry per
-/// aspect ratio and box.
-pub fn write(prefix: &Path, summaries: &[StiffeningSummary], command: &str) -> Result<PathBuf> {
+/// Writes `PREFIX.json` (with the command that made it): one entry per
+/// aspect ratio and box, and the shear modulus at the critical rod across
+/// boxes.
+pub fn write(prefix: &Path, summary: &Stiffening, command: &str) -> Result<PathBuf> {
     let json = output::with_extension(prefix, "json");
-    let doc = serde_json::json!({ "command": command, "boxes": summaries });
+    let doc = serde_json::json!({
+        "command": command,
+        "boxes": summary.boxes,
+        "decay": summary.decay,
+    });
     output::write_atomic(
         &json,
         serde_json::to_string_pretty(&doc).expect("summaries serialize"),
@@ -704,6 +817,39 @@ mod tests {
             .exponent
             .unwrap();
         assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
+    }
+
+    #[test]
+    fn the_shear_modulus_at_the_critical_rod_decays_as_a_power_of_the_box() {
+        // G at the critical rod = 3 L^-2 in every sequence of boxes 4, 5, 8;
+        // a failed critical side and one from a random start are left out.
+        let mut all = Vec::new();
+        for (l, n) in [(4.0, 2), (5.0, 3), (8.0, 2)] {
+            for i in 0..n {
+                let mut s = sequence(i, 100, &[], |_| 0.0);
+                s.box_len = l;
+                s.at = side(100, 3.0 * f64::powi(l, -2), "nearest");
+                all.push(s);
+            }
+        }
+        let mut failed = all[0].clone();
+        failed.index = 7;
+        failed.at.failed = Some("special".into());
+        let mut projected = all[0].clone();
+        projected.index = 8;
+        projected.at = side(100, 1e3, "projected");
+        all.extend([failed, projected]);
+        let d = shear_decay(&all);
+        assert_eq!(d.len(), 1);
+        let counts: Vec<(f64, usize)> = d[0].boxes.iter().map(|b| (b.0, b.1)).collect();
+        assert_eq!(counts, [(4.0, 2), (5.0, 3), (8.0, 2)]);
+        assert!((d[0].boxes[2].2 - 3.0 / 64.0).abs() < 1e-15);
+        assert_eq!(d[0].decay.len(), 1, "three boxes: one fit over all");
+        let f = &d[0].decay[0];
+        assert!((f.exponent - 2.0).abs() < 1e-9, "{f:?}");
+        assert!((f.interval.0 - 2.0).abs() < 1e-9 && (f.interval.1 - 2.0).abs() < 1e-9);
+        // One box: nothing to fit against the box.
+        assert!(shear_decay(&all[..2]).is_empty());
     }
 
     /// The record of the gamma 23, L = 3 sequence of `seed`, critical at

@@ -535,6 +535,15 @@ fn decay(per_box: &[(f64, Vec<AtCritical>)], jumps: &[Jump]) -> Vec<Decay> {
         .filter(|(l, _)| jumps.iter().any(|j| j.box_len == *l))
         .map(|(l, seqs)| (*l, seqs.iter().map(AtCritical::jump).collect()))
         .collect();
+    power_decay(&values)
+}
+
+/// A per-sequence quantity's mean as `~ L^(-x)` over boxes (`values`: each
+/// box side with its sequences' values, boxes increasing): over every box
+/// when there are at least three, and over the three largest
+/// where there are more boxes than that. None where a mean is not
+/// positive.
+pub fn power_decay(values: &[(f64, Vec<f64>)]) -> Vec<Decay> {
     let fit = |values: &[(f64, Vec<f64>)]| -> Option<Decay> {
         let lens: Vec<f64> = values.iter().map(|v| v.0).collect();
         let slope = |means: &[f64]| -> Option<(f64, f64)> {
@@ -561,7 +570,7 @@ fn decay(per_box: &[(f64, Vec<AtCritical>)], jumps: &[Jump]) -> Vec<Decay> {
     };
     let mut out = Vec::new();
     if values.len() >= 3 {
-        out.extend(fit(&values));
+        out.extend(fit(values));
     }
     if values.len() > LARGEST_BOXES {
         out.extend(fit(&values[values.len() - LARGEST_BOXES..]));

@@ -129,6 +129,56 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     );
     let g: Vec<f64> = all.iter().map(|s| s.grid[1].shear.unwrap()).collect();
     assert!((top["shear"]["mean"].as_f64().unwrap() - (g[0] + g[1]) / 2.0).abs() < 1e-15);
+    // Another box joins the summary: the shear modulus at the critical rod
+    // by box.
+    let other = dir.join("moduli-3.5");
+    let printed = ok(&[
+        "stiffening",
+        s,
+        "--densities",
+        "30,38",
+        "--boxes",
+        "3.5",
+        "--sequences",
+        "1",
+        "--quiet",
+        "--out",
+        other.to_str().unwrap(),
+        "--with",
+        o,
+    ]);
+    let g_at = |seqs: &[SequenceStiffening]| {
+        seqs.iter().map(|s| s.at.shear.unwrap()).sum::<f64>() / seqs.len() as f64
+    };
+    let joined = stiffening::read(&other.join("stiffening.jsonl")).unwrap();
+    let by_box = format!(
+        "gamma 23: G at the critical rod by box L = 3: {:.3e} (2), L = 3.5: {:.3e} (1)",
+        g_at(&all),
+        g_at(&joined)
+    );
+    assert!(printed.contains(&by_box), "{printed}");
+    fails(
+        &[
+            "stiffening",
+            s,
+            "--densities",
+            "30",
+            "--out",
+            other.to_str().unwrap(),
+            "--with",
+            o,
+        ],
+        "measured at densities [30.0, 38.0] with k = 1, this measurement at [30.0] with k = 1: join only measurements of one grid and springs",
+    );
+    // The measurement itself again: its sequences repeat.
+    let again = [&args[..11], &["--with", o]].concat();
+    fails(
+        &again,
+        &format!(
+            "measured sequence {} of box 3 at gamma 23 again: join measurements of other boxes",
+            all[0].index
+        ),
+    );
     fails(
         &["stiffening", s, "--densities", "38,30", "--out", o],
         "--densities must increase and be positive, not [38.0, 30.0]",

@@ -26,6 +26,9 @@ pub struct StiffeningArgs {
     /// Finished studies whose thresholds the chart marks (for example the truth study's and 3D-RGC's on the same sequences), each labelled by its directory's name.
     #[arg(long, value_delimiter = ',', requires = "summary")]
     marks: Vec<PathBuf>,
+    /// Other measurements (`rgc stiffening` directories of other boxes, on the same densities and k) whose sequences join the summary: the shear modulus at the critical rod against the box.
+    #[arg(long, value_delimiter = ',')]
+    with: Vec<PathBuf>,
 }
 
 pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
@@ -40,7 +43,8 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         stiffness: a.k,
         densities: a.densities.clone(),
     };
-    let summaries = stiffening::run(&m.dirs, &spec, &m.out, &Reporter::new(m.quiet))?;
+    let summary = stiffening::run(&m.dirs, &spec, &m.out, &a.with, &Reporter::new(m.quiet))?;
+    let summaries = &summary.boxes;
     let mean = |m: Option<Mean>| {
         m.map_or("-".to_string(), |m| {
             let half = m.half_width.map_or("-".to_string(), |h| format!("{h:.1e}"));
@@ -65,7 +69,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         "one geom",
         "G fell"
     );
-    for s in &summaries {
+    for s in summaries {
         let rank = |m: Option<Mean>| m.map_or("-".to_string(), |m| format!("{:.2}", m.mean));
         say!(
             out,
@@ -86,7 +90,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             s.shear_fell
         );
     }
-    for s in &summaries {
+    for s in summaries {
         for p in &s.grid {
             say!(
                 out,
@@ -104,7 +108,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             );
         }
     }
-    for s in &summaries {
+    for s in summaries {
         let fits = [
             ("the studies' threshold", s.exponent),
             ("each sequence's own critical density", s.exponent_own),
@@ -127,12 +131,33 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             );
         }
     }
+    for d in &summary.decay {
+        let boxes: Vec<String> = d
+            .boxes
+            .iter()
+            .map(|(l, n, g)| format!("L = {l}: {g:.3e} ({n})"))
+            .collect();
+        say!(
+            out,
+            "gamma {}: G at the critical rod by box {}",
+            d.gamma,
+            boxes.join(", ")
+        );
+        for f in &d.decay {
+            say!(
+                out,
+                "gamma {}: G at the critical rod ~ L^-{:.2} [{:.2}, {:.2}] over L = {:?} (R2 {:.3})",
+                d.gamma,
+                f.exponent,
+                f.interval.0,
+                f.interval.1,
+                f.boxes,
+                f.r2
+            );
+        }
+    }
     if let Some(prefix) = &a.summary {
-        let mut written = vec![stiffening::write(
-            prefix,
-            &summaries,
-            &super::command_line(),
-        )?];
+        let mut written = vec![stiffening::write(prefix, &summary, &super::command_line())?];
         if !a.densities.is_empty() {
             let marks = a
                 .marks
@@ -152,7 +177,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
                 output::with_extension(prefix, "svg"),
                 output::with_extension(prefix, "png"),
             );
-            plot::stiffening_chart(&summaries, &marks, &svg, &png)?;
+            plot::stiffening_chart(summaries, &marks, &svg, &png)?;
             written.extend([svg, png]);
         }
         for f in written {
