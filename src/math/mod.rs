@@ -10,6 +10,7 @@ pub mod float;
 pub mod marquardt;
 pub mod matrix;
 pub mod prime;
+pub mod qr;
 pub mod sparse;
 pub mod stats;
 pub mod vec3;

@@ -55,7 +55,8 @@ pub struct Conditioning {
     /// The regularization `λ` of the normal equations.
     pub regularization: f64,
     /// The largest `|Rᵀ r| / (|R|_F |r|)` left: the least squares'
-    /// optimality, at rounding when the solve is well posed.
+    /// optimality, at rounding of the affine columns' size when the solve
+    /// is well posed (`|b| / |r|` times the precision).
     pub optimality: f64,
     /// Refinement steps taken.
     pub steps: usize,
