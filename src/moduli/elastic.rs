@@ -52,7 +52,8 @@ pub struct ModuliOptions {
 /// How well posed the solve was.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Conditioning {
-    /// The regularization `λ` of the normal equations.
+    /// The regularization `λ` of the least squares (`R` stacked on
+    /// `√λ I`).
     pub regularization: f64,
     /// The largest `|Rᵀ r| / (|R|_F |r|)` left: the least squares'
     /// optimality, at rounding of the affine columns' size when the solve
@@ -404,6 +405,15 @@ pub struct Floats {
     pub unit: f64,
 }
 
+/// Per rod of a prefix's `active` core, `v`'s value (none off the core).
+fn on_core<T: Copy>(v: &[Option<T>], active: &[bool]) -> Vec<Option<T>> {
+    active
+        .iter()
+        .zip(v)
+        .map(|(&on, x)| x.filter(|_| on))
+        .collect()
+}
+
 impl Floats {
     /// The same realization for a prefix `network` of the rods it was made
     /// for (the first rods, with the first contacts): lines and points kept
@@ -415,13 +425,10 @@ impl Floats {
     /// one's, since the prefix's springs are a subset of these.
     pub fn prefix(&self, network: View) -> Floats {
         let core = prune::two_core(network.graph);
-        let n = network.graph.n_nodes();
         let edges = network.graph.edges();
         let keep = |of: &Realization<f64>| Realization {
             side: of.side,
-            lines: (0..n)
-                .map(|r| if core.active[r] { of.lines[r] } else { None })
-                .collect(),
+            lines: on_core(&of.lines, &core.active),
             points: edges
                 .iter()
                 .enumerate()
@@ -433,15 +440,7 @@ impl Floats {
                 .collect(),
         };
         let (real, near) = (keep(&self.real), keep(&self.near));
-        let centres = (0..n)
-            .map(|r| {
-                if core.active[r] {
-                    self.centres[r]
-                } else {
-                    None
-                }
-            })
-            .collect();
+        let centres = on_core(&self.centres, &core.active);
         Floats {
             moved: self.moved.map(|_| Moved::between(&near, &real)),
             how: if self.how == "nearest" {

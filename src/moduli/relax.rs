@@ -19,7 +19,7 @@
 //! eigenvalue at 1e-20 against 3.2e-10 for its fifth. A smaller `λ` loses
 //! the kernel to rounding (the factor's diagonal there is `√λ`): at 1e-26
 //! a hand-derived lattice modulus was off by 5e-12 and at 1e-30 by 4e-4,
-//! where 1e-24 to 1e-20 give it to rounding. The solution is refined with
+//! where 1e-24 to 1e-20 give it within 1e-12. The solution is refined with
 //! the same factor (iterated Tikhonov) until no residual's energy changes
 //! by more than [`SETTLED`] of itself.
 

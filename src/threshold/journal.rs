@@ -69,6 +69,17 @@ pub fn decided_truth_records(
     Ok(chosen)
 }
 
+/// The spec a measurement's `path` holds.
+pub fn read_spec<S: DeserializeOwned>(path: &Path, format: &'static str) -> Result<S> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    serde_json::from_str(&text).map_err(|e| Error::Malformed {
+        format,
+        path: path.to_path_buf(),
+        line: e.line(),
+        reason: e.to_string(),
+    })
+}
+
 /// Writes `spec` into a new directory's `path`, or checks that the one
 /// there is the same: another measurement never appends to this one's lines.
 pub fn claim<S>(path: &Path, spec: &S, format: &'static str) -> Result<()>
@@ -76,13 +87,7 @@ where
     S: Serialize + DeserializeOwned + PartialEq + Debug,
 {
     if path.exists() {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let there: S = serde_json::from_str(&text).map_err(|e| Error::Malformed {
-            format,
-            path: path.to_path_buf(),
-            line: e.line(),
-            reason: e.to_string(),
-        })?;
+        let there: S = read_spec(path, format)?;
         if &there != spec {
             return Err(Error::Parameter(format!(
                 "{} holds another measurement ({there:?}): write elsewhere",

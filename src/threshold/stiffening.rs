@@ -333,13 +333,7 @@ pub fn read(lines: &Path) -> Result<Vec<SequenceStiffening>> {
 /// densities and springs (its grid's points are summarized by position).
 fn joined(dir: &Path, spec: &StiffeningSpec) -> Result<Vec<SequenceStiffening>> {
     let (spec_file, lines) = files(dir);
-    let text = std::fs::read_to_string(&spec_file).map_err(|e| Error::io(&spec_file, e))?;
-    let there: StiffeningSpec = serde_json::from_str(&text).map_err(|e| Error::Malformed {
-        format: "stiffening spec",
-        path: spec_file.clone(),
-        line: e.line(),
-        reason: e.to_string(),
-    })?;
+    let there: StiffeningSpec = journal::read_spec(&spec_file, "stiffening spec")?;
     if (&there.densities, there.stiffness) != (&spec.densities, spec.stiffness) {
         return Err(Error::Parameter(format!(
             "{} measured at densities {:?} with k = {}, this measurement at {:?} with k = {}: join only measurements of one grid and springs",
@@ -368,11 +362,17 @@ pub struct ShearDecay {
     pub decay: Vec<transition::Decay>,
 }
 
-/// [`ShearDecay`] of each aspect ratio of `all` with two boxes or more.
-pub fn shear_decay(all: &[SequenceStiffening]) -> Vec<ShearDecay> {
+/// The (aspect ratio, box) pairs of `all`, in that order.
+fn boxes(all: &[SequenceStiffening]) -> Vec<(f64, f64)> {
     let mut keys: Vec<(f64, f64)> = all.iter().map(|s| (s.gamma, s.box_len)).collect();
     keys.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
     keys.dedup();
+    keys
+}
+
+/// [`ShearDecay`] of each aspect ratio of `all` with two boxes or more.
+pub fn shear_decay(all: &[SequenceStiffening]) -> Vec<ShearDecay> {
+    let keys = boxes(all);
     let mut gammas: Vec<f64> = keys.iter().map(|k| k.0).collect();
     gammas.dedup();
     gammas
@@ -612,9 +612,7 @@ pub fn summarize(
     spec: &StiffeningSpec,
     thresholds: &[(f64, f64)],
 ) -> Vec<StiffeningSummary> {
-    let mut keys: Vec<(f64, f64)> = all.iter().map(|s| (s.gamma, s.box_len)).collect();
-    keys.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
-    keys.dedup();
+    let keys = boxes(all);
     keys.into_iter()
         .map(|(gamma, box_len)| {
             let of: Vec<&SequenceStiffening> = all
