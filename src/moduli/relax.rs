@@ -95,7 +95,7 @@ pub fn relax(
     let stacked =
         SparseColMat::<usize, f64>::try_new_from_triplets(rows + columns, columns, &stacked)
             .map_err(|e| format!("the regularized contact matrix: {e:?}"))?;
-    let mut qr = Qr::factor(stacked.as_ref(), 6).ok_or("the contact matrix: no QR")?;
+    let mut qr = Qr::factor(stacked.as_ref(), 6)?;
     // `m x` for sparse `m`, on one thread.
     let times = |m: &SparseColMat<usize, f64>, x: MatRef<'_, f64>| {
         let mut y = Mat::<f64>::zeros(m.nrows(), x.ncols());
