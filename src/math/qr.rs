@@ -54,6 +54,17 @@ impl Qr {
     /// sides at once, or says why it cannot (more columns than rows, or
     /// no factor that solves the probe).
     pub fn factor(a: SparseColMatRef<'_, usize, f64>, columns: usize) -> Result<Self, String> {
+        Self::factor_with(a, columns, SupernodalThreshold::AUTO)
+    }
+
+    /// [`Self::factor`], choosing faer's supernodal factor by `supernodal`
+    /// (faer's flop ratio; automatic outside tests) before the simplicial
+    /// last resort.
+    fn factor_with(
+        a: SparseColMatRef<'_, usize, f64>,
+        columns: usize,
+        supernodal: SupernodalThreshold,
+    ) -> Result<Self, String> {
         if a.nrows() < a.ncols() {
             return Err(format!(
                 "least squares of {} rows in {} unknowns: fewer rows than unknowns",
@@ -61,7 +72,6 @@ impl Qr {
                 a.ncols()
             ));
         }
-        let supernodal = SupernodalThreshold::FORCE_SUPERNODAL;
         let tries = (0..=SHUFFLES)
             .map(|k| (supernodal, (k > 0).then(|| shuffle(a.ncols(), k))))
             .chain([(SupernodalThreshold::FORCE_SIMPLICIAL, None)]);
@@ -359,7 +369,7 @@ mod tests {
             matches!(plain, None | Some(None) | Some(Some(false))),
             "{plain:?}"
         );
-        let mut qr = Qr::factor(a.as_ref(), 2).unwrap();
+        let mut qr = Qr::factor_with(a.as_ref(), 2, SupernodalThreshold::FORCE_SUPERNODAL).unwrap();
         assert!(qr.order.is_some(), "kept the failing order");
         let b = Mat::from_fn(m, 2, |i, j| ((i * 5 + j * 3) % 7) as f64 - 3.0);
         let mut x = b.clone();
