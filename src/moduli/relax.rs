@@ -23,7 +23,7 @@
 //! the same factor (iterated Tikhonov) until no residual's energy changes
 //! by more than [`SETTLED`] of itself.
 
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::sparse::linalg::matmul::{dense_sparse_matmul, sparse_dense_matmul};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Accum, Mat, MatRef, Par};
 
@@ -75,12 +75,6 @@ pub fn relax(
     let affine = gram(b);
     let r = SparseColMat::<usize, f64>::try_new_from_triplets(rows, columns, entries)
         .map_err(|e| format!("the contact matrix: {e:?}"))?;
-    let transposed: Vec<Triplet<usize, usize, f64>> = entries
-        .iter()
-        .map(|t| Triplet::new(t.col, t.row, t.val))
-        .collect();
-    let rt = SparseColMat::<usize, f64>::try_new_from_triplets(columns, rows, &transposed)
-        .map_err(|e| format!("the contact matrix: {e:?}"))?;
     let mut norms = vec![0.0; columns];
     for t in entries {
         norms[t.col] += t.val * t.val;
@@ -125,7 +119,17 @@ pub fn relax(
             break;
         }
     }
-    let g = times(&rt, res.as_ref());
+    // `(resᵀ R)ᵀ = Rᵀ res`, without a transposed copy of `R`.
+    let mut gt = Mat::<f64>::zeros(6, columns);
+    dense_sparse_matmul(
+        gt.as_mut(),
+        Accum::Replace,
+        res.transpose(),
+        r.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    let g = gt.transpose();
     let optimality = (0..6)
         .filter_map(|j| {
             let rn = res.col(j).norm_l2();
