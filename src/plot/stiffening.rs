@@ -6,19 +6,23 @@
 use std::path::Path;
 
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::chart::{Chart, Drawn, RHO, colour, error_bars, legend, render, span};
+use super::chart::{Chart, Drawn, RHO, colour, error_bars, legend, log_ticks, render, span};
 use crate::Result;
 use crate::threshold::stiffening::{GridPoint, Mean, StiffeningSummary};
 
 /// Pixel size of the chart.
-const SIZE: (u32, u32) = (1400, 600);
+const SIZE: (u32, u32) = (2100, 600);
 
 /// Draws the density grids of `summaries` as `svg` and `png`: left, G
-/// (filled) and K (open) in `k / L_rod` with 95% intervals; right, the
-/// largest true cluster's share of the rods; `marks` (label, density) as
-/// vertical lines on both.
+/// (filled) and K (open) in `k / L_rod` with 95% intervals; middle, the
+/// same on a log axis, where the rise just above the threshold shows (a
+/// power law with a large exponent looks flat on the linear one until far
+/// above it); right, the largest true cluster's share of the rods; `marks`
+/// (label, density) as vertical lines on all three.
 pub fn stiffening_chart(
     summaries: &[StiffeningSummary],
     marks: &[(String, f64)],
@@ -40,9 +44,12 @@ impl Chart for Stiffening<'_> {
             "Stiffening: the moduli and the largest true cluster against the density",
             ("sans-serif", 26),
         )?;
-        let (left, right) = root.split_horizontally(SIZE.0 / 2);
-        self.panel(&left, Panel::Moduli)?;
-        self.panel(&right, Panel::Cluster)?;
+        let third = SIZE.0 / 3;
+        let (linear, rest) = root.split_horizontally(third);
+        let (log, cluster) = rest.split_horizontally(third);
+        self.panel(&linear, Panel::Moduli)?;
+        self.log_panel(&log)?;
+        self.panel(&cluster, Panel::Cluster)?;
         root.present()
     }
 }
@@ -51,6 +58,16 @@ impl Chart for Stiffening<'_> {
 enum Panel {
     Moduli,
     Cluster,
+}
+
+impl Panel {
+    /// The series of a grid point: G and K, or the cluster's share.
+    fn values(self, p: &GridPoint) -> Vec<Option<(f64, f64, f64)>> {
+        match self {
+            Panel::Moduli => vec![interval(p.shear), interval(p.bulk)],
+            Panel::Cluster => vec![interval(p.largest_share)],
+        }
+    }
 }
 
 /// A mean and its interval as (value, low, high).
@@ -66,24 +83,25 @@ impl Stiffening<'_> {
         self.summaries.iter().flat_map(|s| &s.grid)
     }
 
-    fn panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, panel: Panel) -> Drawn<DB> {
-        let values = |p: &GridPoint| match panel {
-            Panel::Moduli => vec![interval(p.shear), interval(p.bulk)],
-            Panel::Cluster => vec![interval(p.largest_share)],
-        };
-        let top = self
-            .points()
-            .flat_map(values)
-            .flatten()
-            .map(|v| v.2)
-            .fold(f64::MIN_POSITIVE, f64::max)
-            * 1.1;
-        let (lo, hi) = span(
+    /// The densities' axis, the marks included.
+    fn densities(&self) -> (f64, f64) {
+        span(
             self.points()
                 .map(|p| p.density)
                 .chain(self.marks.iter().map(|m| m.1)),
             0.05,
-        );
+        )
+    }
+
+    fn panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, panel: Panel) -> Drawn<DB> {
+        let top = self
+            .points()
+            .flat_map(|p| panel.values(p))
+            .flatten()
+            .map(|v| v.2)
+            .fold(f64::MIN_POSITIVE, f64::max)
+            * 1.1;
+        let (lo, hi) = self.densities();
         let (caption, y_desc) = match panel {
             Panel::Moduli => (
                 "G (filled) and K (open), Voigt averages",
@@ -103,11 +121,58 @@ impl Stiffening<'_> {
             .y_desc(y_desc)
             .label_style(("sans-serif", 14))
             .draw()?;
+        self.series(&mut chart, panel, 0.0, top)
+    }
+
+    /// G and K on a log axis: the positive means only (below the threshold
+    /// the moduli are exactly zero), each interval cut at the axis.
+    fn log_panel<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Drawn<DB> {
+        let positive: Vec<(f64, f64, f64)> = self
+            .points()
+            .flat_map(|p| Panel::Moduli.values(p))
+            .flatten()
+            .filter(|v| v.0 > 0.0)
+            .collect();
+        let y0 = positive.iter().map(|v| v.0).fold(1.0, f64::min) * 0.3;
+        let y1 = positive.iter().map(|v| v.2).fold(y0 * 10.0, f64::max) * 2.0;
+        let (lo, hi) = self.densities();
+        let mut chart = ChartBuilder::on(area)
+            .caption("the same on a log axis", ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(
+                lo..hi,
+                (y0..y1).log_scale().with_key_points(log_ticks(y0, y1)),
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("density, {RHO}"))
+            .y_desc("modulus, k / L_rod")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        self.series(&mut chart, Panel::Moduli, y0, y1)
+    }
+
+    /// The marks, then each summary's series with their intervals, on an
+    /// axis from `bottom` to `top` (values below it left out, intervals cut).
+    fn series<'a, DB, Y>(
+        &self,
+        chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+        panel: Panel,
+        bottom: f64,
+        top: f64,
+    ) -> Drawn<DB>
+    where
+        DB: DrawingBackend + 'a,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
         for (mark, grey) in self.marks.iter().zip([0u8, 110, 170].iter().cycle()) {
             let c = RGBColor(*grey, *grey, *grey);
             chart
                 .draw_series([PathElement::new(
-                    vec![(mark.1, 0.0), (mark.1, top)],
+                    vec![(mark.1, bottom), (mark.1, top)],
                     c.stroke_width(2),
                 )])?
                 .label(format!("{} ({:.2})", mark.0, mark.1))
@@ -123,11 +188,12 @@ impl Stiffening<'_> {
                 let pts: Vec<(f64, (f64, f64, f64))> = s
                     .grid
                     .iter()
-                    .filter_map(|p| Some((p.density, values(p)[k]?)))
+                    .filter_map(|p| Some((p.density, panel.values(p)[k]?)))
+                    .filter(|(_, v)| v.0 >= bottom)
                     .collect();
                 error_bars(
-                    &mut chart,
-                    pts.iter().map(|(x, v)| (*x, v.1, v.2)),
+                    chart,
+                    pts.iter().map(|(x, v)| (*x, v.1.max(bottom), v.2)),
                     c.to_rgba(),
                     4,
                 )?;
@@ -149,6 +215,6 @@ impl Stiffening<'_> {
                 }
             }
         }
-        legend(&mut chart, SeriesLabelPosition::UpperLeft)
+        legend(chart, SeriesLabelPosition::UpperLeft)
     }
 }
