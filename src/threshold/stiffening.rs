@@ -355,11 +355,16 @@ fn joined(dir: &Path, spec: &StiffeningSpec) -> Result<Vec<SequenceStiffening>> 
 pub struct ShearDecay {
     pub gamma: f64,
     /// Per box: its side, the sequences whose critical side compares, and
-    /// their mean `G` (`k / L_rod`).
-    pub boxes: Vec<(f64, usize, f64)>,
+    /// their mean and geometric mean `G` (`k / L_rod`; the geometric none
+    /// where a `G` is zero).
+    pub boxes: Vec<(f64, usize, f64, Option<f64>)>,
     /// The mean `G` as `~ L^(-x)`, over every box and over the largest
     /// ([`transition::power_decay`]; none below three boxes).
     pub decay: Vec<transition::Decay>,
+    /// The same for the geometric mean ([`transition::geometric_decay`]):
+    /// `G` at the rod spans orders of magnitude between sequences, and
+    /// between members of the family on one sequence.
+    pub geometric: Vec<transition::Decay>,
 }
 
 /// The (aspect ratio, box) pairs of `all`, in that order.
@@ -396,9 +401,19 @@ pub fn shear_decay(all: &[SequenceStiffening]) -> Vec<ShearDecay> {
                 gamma,
                 boxes: values
                     .iter()
-                    .map(|(l, g)| (*l, g.len(), g.iter().sum::<f64>() / g.len() as f64))
+                    .map(|(l, g)| {
+                        let n = g.len() as f64;
+                        let logs: Option<f64> = g.iter().map(|&x| (x > 0.0).then(|| x.ln())).sum();
+                        (
+                            *l,
+                            g.len(),
+                            g.iter().sum::<f64>() / n,
+                            logs.map(|s| (s / n).exp()),
+                        )
+                    })
                     .collect(),
                 decay: transition::power_decay(&values),
+                geometric: transition::geometric_decay(&values),
             })
         })
         .collect()
@@ -848,6 +863,34 @@ mod tests {
         assert!((f.interval.0 - 2.0).abs() < 1e-9 && (f.interval.1 - 2.0).abs() < 1e-9);
         // One box: nothing to fit against the box.
         assert!(shear_decay(&all[..2]).is_empty());
+    }
+
+    #[test]
+    fn the_geometric_mean_follows_the_typical_sequence_not_the_stiffest() {
+        // Per box one sequence at L^-1 and one at L^-3: geometric mean
+        // L^-2, the arithmetic one near L^-1 / 2, ruled by the stiffer.
+        let mut all = Vec::new();
+        for l in [4.0, 6.0, 9.0] {
+            for (i, p) in [(0, -1), (1, -3)] {
+                let mut s = sequence(i, 100, &[], |_| 0.0);
+                s.box_len = l;
+                s.at = side(100, f64::powi(l, p), "nearest");
+                all.push(s);
+            }
+        }
+        let d = &shear_decay(&all)[0];
+        let geo = d.boxes[1].3.unwrap();
+        assert!((geo - 1.0 / 36.0).abs() < 1e-15, "{geo}");
+        let g = &d.geometric[0];
+        assert!((g.exponent - 2.0).abs() < 1e-9, "{g:?}");
+        assert!(g.interval.0 < 2.0 && g.interval.1 > 2.0, "{g:?}");
+        let a = &d.decay[0];
+        assert!(a.exponent > 0.8 && a.exponent < 1.2, "{a:?}");
+        // A sequence with no modulus at the rod has no logarithm.
+        all[0].at = side(100, 0.0, "nearest");
+        let d = &shear_decay(&all)[0];
+        assert_eq!(d.boxes[0].3, None);
+        assert!(d.geometric.is_empty() && !d.decay.is_empty());
     }
 
     /// A spec of one sequence, no densities, `k = 1`.

@@ -135,7 +135,10 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         let boxes: Vec<String> = d
             .boxes
             .iter()
-            .map(|(l, n, g)| format!("L = {l}: {g:.3e} ({n})"))
+            .map(|(l, n, g, geo)| match geo {
+                Some(geo) => format!("L = {l}: mean {g:.3e}, geometric {geo:.3e} ({n})"),
+                None => format!("L = {l}: mean {g:.3e} ({n})"),
+            })
             .collect();
         say!(
             out,
@@ -143,17 +146,19 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             d.gamma,
             boxes.join(", ")
         );
-        for f in &d.decay {
-            say!(
-                out,
-                "gamma {}: G at the critical rod ~ L^-{:.2} [{:.2}, {:.2}] over L = {:?} (R2 {:.3})",
-                d.gamma,
-                f.exponent,
-                f.interval.0,
-                f.interval.1,
-                f.boxes,
-                f.r2
-            );
+        for (mean, fits) in [("mean", &d.decay), ("geometric mean", &d.geometric)] {
+            for f in fits {
+                say!(
+                    out,
+                    "gamma {}: {mean} G at the critical rod ~ L^-{:.2} [{:.2}, {:.2}] over L = {:?} (R2 {:.3})",
+                    d.gamma,
+                    f.exponent,
+                    f.interval.0,
+                    f.interval.1,
+                    f.boxes,
+                    f.r2
+                );
+            }
         }
     }
     if let Some(prefix) = &a.summary {
