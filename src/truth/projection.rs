@@ -51,19 +51,21 @@ pub const SEPARATION: f64 = 1e-6;
 pub const SEPARATION_GAPS: f64 = 4000.0;
 
 /// The smallest gap tolerance: 7,700 times the largest gap a special
-/// position kept in the measurement of [`gap_tolerance`].
+/// position kept in the measurement of [`gap_tolerance`], and two decades
+/// below the smallest accidental one there.
 pub const SPECIAL_GAP: f64 = 1e-10;
 
 /// The tolerance, relative to the extent, under which two neighbouring
 /// contacts on a rod count as one point, among `gaps` such gaps. A generic
 /// realization's gaps fall uniformly near zero, so at a fixed tolerance its
 /// accidental near coincidences grow with the system: at gamma 23, L = 5,
-/// density 45 (5,625 rods, about 14,100 gaps), 45 solutions of the nearest
-/// projection held 50 gaps per solution in [1e-5, 1e-4) of the extent,
-/// about 7 in [1e-6, 1e-5) and 1.3 below 1e-6, so nearly every solution
-/// was refused for one and repaired again, and at L = 8 almost none would
+/// density 45 (5,625 rods, 14,098 gaps), the 10 solutions of one nearest
+/// projection held about 50 gaps each in [1e-5, 1e-4) of the extent, 7 in
+/// [1e-6, 1e-5) and 1.4 below 1e-6, so most were refused for one and
+/// repaired again; at L = 8 (4.2 times the gaps) about one in 330 would
 /// pass. A special position holds its gap to the rounding: 0 to 1.3e-14
-/// in the same solutions, none in between. So the tolerance shrinks as
+/// there and on another system (and in the first, no gap between 1e-15
+/// and 1e-8). So the tolerance shrinks as
 /// `1 / gaps` beyond [`SEPARATION_GAPS`], which keeps the expected count
 /// of accidental ones where it is at L = 3, down to [`SPECIAL_GAP`].
 pub fn gap_tolerance(gaps: usize) -> f64 {
@@ -860,7 +862,7 @@ mod tests {
     fn the_gap_tolerance_keeps_accidental_coincidences_rare_but_never_admits_a_special_one() {
         assert_eq!(gap_tolerance(0), SEPARATION);
         assert_eq!(gap_tolerance(4000), SEPARATION);
-        // gamma 23, L = 5, density 45: 14,111 gaps.
+        // gamma 23, L = 5, density 45, generated from seed 1: 14,111 gaps.
         let l5 = gap_tolerance(14_111);
         assert!((l5 - 2.8347e-7).abs() < 1e-11, "{l5}");
         // Expected accidental coincidences (gaps times tolerance) stay as at
