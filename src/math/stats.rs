@@ -1,5 +1,6 @@
-//! Sample statistics, each written once: mean and standard deviation, one
-//! quantile rule, percentile intervals, the bootstrap, and least squares.
+//! Sample statistics, each written once: mean and standard deviation, the
+//! geometric mean, one quantile rule, percentile intervals, the bootstrap,
+//! and least squares.
 
 use faer::linalg::solvers::SolveLstsq;
 use faer::{Mat, MatRef};
@@ -16,6 +17,16 @@ pub fn mean_sd(xs: &[f64]) -> (f64, f64) {
         0.0
     };
     (mean, var.sqrt())
+}
+
+/// The geometric mean of positive values (none for an empty sample or
+/// one that is not positive).
+pub fn geometric_mean(xs: &[f64]) -> Option<f64> {
+    if xs.is_empty() {
+        return None;
+    }
+    let logs: Option<f64> = xs.iter().map(|&x| (x > 0.0).then(|| x.ln())).sum();
+    logs.map(|s| (s / xs.len() as f64).exp())
 }
 
 /// The `q` quantile of a sorted sample by linear interpolation between
@@ -143,6 +154,13 @@ pub fn line(points: &[(f64, f64)]) -> Option<Fit> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_geometric_mean_is_of_positive_values_only() {
+        assert!((geometric_mean(&[1.0, 100.0]).unwrap() - 10.0).abs() < 1e-12);
+        assert_eq!(geometric_mean(&[1.0, 0.0]), None);
+        assert_eq!(geometric_mean(&[]), None);
+    }
 
     #[test]
     fn percentile_interval_interpolates() {

@@ -402,14 +402,8 @@ pub fn shear_decay(all: &[SequenceStiffening]) -> Vec<ShearDecay> {
                 boxes: values
                     .iter()
                     .map(|(l, g)| {
-                        let n = g.len() as f64;
-                        let logs: Option<f64> = g.iter().map(|&x| (x > 0.0).then(|| x.ln())).sum();
-                        (
-                            *l,
-                            g.len(),
-                            g.iter().sum::<f64>() / n,
-                            logs.map(|s| (s / n).exp()),
-                        )
+                        let mean = g.iter().sum::<f64>() / g.len() as f64;
+                        (*l, g.len(), mean, stats::geometric_mean(g))
                     })
                     .collect(),
                 decay: transition::power_decay(&values),

@@ -544,45 +544,42 @@ fn decay(per_box: &[(f64, Vec<AtCritical>)], jumps: &[Jump]) -> Vec<Decay> {
 /// where there are more boxes than that. None where a mean is not
 /// positive.
 pub fn power_decay(values: &[(f64, Vec<f64>)]) -> Vec<Decay> {
-    decays(values, false)
+    decays(values, Some, positive_ln)
 }
 
 /// The same for the geometric mean, for a positive quantity that spans
 /// orders of magnitude between sequences, whose arithmetic mean a few of
 /// them decide. None where a value is not positive.
 pub fn geometric_decay(values: &[(f64, Vec<f64>)]) -> Vec<Decay> {
-    decays(values, true)
+    decays(values, positive_ln, Some)
 }
 
-/// [`power_decay`], of the geometric means where `geometric`.
-fn decays(values: &[(f64, Vec<f64>)], geometric: bool) -> Vec<Decay> {
+/// The logarithm of a positive number.
+fn positive_ln(x: f64) -> Option<f64> {
+    (x > 0.0).then(|| x.ln())
+}
+
+/// The decays of the boxes' means of `value` of each sequence's value,
+/// each mean's logarithm given by `log`.
+fn decays(
+    values: &[(f64, Vec<f64>)],
+    value: fn(f64) -> Option<f64>,
+    log: fn(f64) -> Option<f64>,
+) -> Vec<Decay> {
     let fit = |values: &[(f64, Vec<f64>)]| -> Option<Decay> {
         let lens: Vec<f64> = values.iter().map(|v| v.0).collect();
-        // The boxes' means of the values, or of their logarithms, to the
-        // logarithm of each box's mean.
-        let logs = |means: &[f64]| -> Option<Vec<f64>> {
-            if geometric {
-                Some(means.to_vec())
-            } else {
-                means.iter().map(|&m| (m > 0.0).then(|| m.ln())).collect()
-            }
-        };
         let slope = |means: &[f64]| -> Option<(f64, f64)> {
-            let points: Vec<(f64, f64)> = lens.iter().map(|l| l.ln()).zip(logs(means)?).collect();
+            let points: Vec<(f64, f64)> = lens
+                .iter()
+                .zip(means)
+                .map(|(l, &m)| Some((l.ln(), log(m)?)))
+                .collect::<Option<_>>()?;
             line(&points).map(|f| (-f.beta[1], f.r2))
         };
-        let per_box: Vec<Vec<f64>> = if geometric {
-            values
-                .iter()
-                .map(|v| {
-                    v.1.iter()
-                        .map(|&x| (x > 0.0).then(|| x.ln()))
-                        .collect::<Option<Vec<f64>>>()
-                })
-                .collect::<Option<_>>()?
-        } else {
-            values.iter().map(|v| v.1.clone()).collect()
-        };
+        let per_box: Vec<Vec<f64>> = values
+            .iter()
+            .map(|v| v.1.iter().map(|&x| value(x)).collect::<Option<Vec<f64>>>())
+            .collect::<Option<_>>()?;
         let (exponent, interval) = of_means(&per_box, |m| slope(m).map(|s| s.0))?;
         let means: Vec<f64> = per_box.iter().map(|v| average(v)).collect();
         let r2 = slope(&means)?.1;
