@@ -29,6 +29,8 @@ use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
+use crate::usage::{self, Refusal};
+
 /// Column shuffles tried after the order as given, before the simplicial
 /// factor.
 pub const SHUFFLES: u64 = 4;
@@ -39,6 +41,16 @@ pub const SHUFFLES: u64 = 4;
 /// side itself, the scale of what a lost column leaves, was 2.1e-3 to 0.63
 /// of `|A|_F |x|`.
 pub const PROBE: f64 = 1e-10;
+
+/// Why a matrix got no factor.
+#[derive(Clone, Debug)]
+pub enum Failure {
+    /// The factor and its workspace would take the process past its
+    /// memory bound (faer's symbolic step sizes them before they exist).
+    Memory(Refusal),
+    /// Fewer rows than unknowns, or no factor that solves the probe.
+    Unsound(String),
+}
 
 /// The QR factorization of a sparse matrix with at least as many rows as
 /// columns, its columns permuted to limit fill (COLAMD).
@@ -53,10 +65,15 @@ pub struct Qr {
 
 impl Qr {
     /// Factors `a` for least squares with up to `columns` right-hand
-    /// sides at once, or says why it cannot (more columns than rows, or
-    /// no factor that solves the probe).
-    pub fn factor(a: SparseColMatRef<'_, usize, f64>, columns: usize) -> Result<Self, String> {
-        Self::factor_with(a, columns, SupernodalThreshold::AUTO)
+    /// sides at once, or says why it cannot (more columns than rows, no
+    /// factor that solves the probe, or none that fits within `limit` on
+    /// the resident size and what the machine has room for).
+    pub fn factor(
+        a: SparseColMatRef<'_, usize, f64>,
+        columns: usize,
+        limit: Option<u64>,
+    ) -> Result<Self, Failure> {
+        Self::factor_with(a, columns, SupernodalThreshold::AUTO, limit)
     }
 
     /// [`Self::factor`], choosing faer's supernodal factor by `supernodal`
@@ -66,13 +83,14 @@ impl Qr {
         a: SparseColMatRef<'_, usize, f64>,
         columns: usize,
         supernodal: SupernodalThreshold,
-    ) -> Result<Self, String> {
+        limit: Option<u64>,
+    ) -> Result<Self, Failure> {
         if a.nrows() < a.ncols() {
-            return Err(format!(
+            return Err(Failure::Unsound(format!(
                 "least squares of {} rows in {} unknowns: fewer rows than unknowns",
                 a.nrows(),
                 a.ncols()
-            ));
+            )));
         }
         let tries = (0..=SHUFFLES)
             .map(|k| (supernodal, (k > 0).then(|| shuffle(a.ncols(), k))))
@@ -80,38 +98,46 @@ impl Qr {
         for (threshold, order) in tries {
             let permuted = order.as_deref().map(|o| permute(a, o));
             let factored = permuted.as_ref().map_or(a, |p| p.as_ref());
-            let tried = quietly(|| Self::numeric(factored, columns, threshold));
-            if let Some(Some(mut qr)) = tried {
+            let tried = quietly(|| Self::numeric(factored, columns, threshold, limit));
+            if let Some(Err(refusal)) = tried {
+                return Err(Failure::Memory(refusal));
+            }
+            if let Some(Ok(Some(mut qr))) = tried {
                 qr.order = order;
                 if quietly(|| qr.solves_probe(a)) == Some(true) {
                     return Ok(qr);
                 }
             }
         }
-        Err(format!(
+        Err(Failure::Unsound(format!(
             "faer's sparse QR of the {} x {} matrix failed in {} column orders and simplicially",
             a.nrows(),
             a.ncols(),
             SHUFFLES + 1
-        ))
+        )))
     }
 
-    /// faer's factor of `a` as given, where the symbolic step succeeds.
+    /// faer's factor of `a` as given, where the symbolic step succeeds,
+    /// unless its sizes do not fit within `limit` ([`usage::reserve`]).
     fn numeric(
         a: SparseColMatRef<'_, usize, f64>,
         columns: usize,
         threshold: SupernodalThreshold,
-    ) -> Option<Self> {
+        limit: Option<u64>,
+    ) -> Result<Option<Self>, Refusal> {
         let params = QrSymbolicParams {
             supernodal_flop_ratio_threshold: threshold,
             ..Default::default()
         };
-        let symbolic = factorize_symbolic_qr(a.symbolic(), params).ok()?;
-        let mut mem = MemBuffer::new(
-            symbolic
-                .factorize_numeric_qr_scratch::<f64>(Par::Seq, Default::default())
-                .or(symbolic.solve_in_place_scratch::<f64>(columns.max(1), Par::Seq)),
-        );
+        let Ok(symbolic) = factorize_symbolic_qr(a.symbolic(), params) else {
+            return Ok(None);
+        };
+        let scratch = symbolic
+            .factorize_numeric_qr_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(columns.max(1), Par::Seq));
+        let need = (symbolic.len_idx() + symbolic.len_val()) * 8 + scratch.size_bytes();
+        usage::reserve(need as u64, 0, limit)?;
+        let mut mem = MemBuffer::new(scratch);
         let mut indices = vec![0; symbolic.len_idx()];
         let mut values = vec![0.0; symbolic.len_val()];
         symbolic.factorize_numeric_qr(
@@ -122,13 +148,13 @@ impl Qr {
             MemStack::new(&mut mem),
             Default::default(),
         );
-        Some(Qr {
+        Ok(Some(Qr {
             symbolic,
             indices,
             values,
             mem,
             order: None,
-        })
+        }))
     }
 
     /// Whether the factor solves `a x = a x0` for a fixed `x0` to rounding
@@ -238,7 +264,7 @@ mod tests {
             (3, 1, -1.0),
         ];
         let a = matrix(&t, 4, 2);
-        let mut qr = Qr::factor(a.as_ref(), 1).unwrap();
+        let mut qr = Qr::factor(a.as_ref(), 1, None).unwrap();
         let b = [1.0, 2.0, 3.0, 4.0];
         let mut x = Mat::from_fn(4, 1, |i, _| b[i]);
         qr.solve(x.as_mut());
@@ -246,8 +272,19 @@ mod tests {
         assert!((x[(0, 0)] - 37.0 / 14.0).abs() < 1e-14, "{:?}", x[(0, 0)]);
         assert!((x[(1, 0)] - 13.0 / 14.0).abs() < 1e-14, "{:?}", x[(1, 0)]);
         let wide = matrix(&[], 1, 2);
-        let refused = Qr::factor(wide.as_ref(), 1).err().unwrap();
+        let Err(Failure::Unsound(refused)) = Qr::factor(wide.as_ref(), 1, None) else {
+            panic!("a wide matrix has a least-squares factor");
+        };
         assert!(refused.contains("fewer rows than unknowns"), "{refused}");
+        // A limit below what the process holds refuses the factor, sized
+        // by the symbolic step: at least its values and indices.
+        if usage::held().is_some() {
+            let Err(Failure::Memory(refusal)) = Qr::factor(a.as_ref(), 1, Some(1)) else {
+                panic!("a factor beyond the memory limit");
+            };
+            assert_eq!((refusal.bound, refusal.limit), (usage::Bound::Limit, 1));
+            assert!(refusal.need >= 8 * 5, "{refusal:?}");
+        }
     }
 
     /// 96 rows of ones over 117 columns, shrunk from a random matrix on
@@ -364,14 +401,16 @@ mod tests {
         let a = matrix(&t, m, n);
         // faer's supernodal factor as given panics or fails the probe.
         let plain = quietly(|| {
-            let mut qr = Qr::numeric(a.as_ref(), 1, SupernodalThreshold::FORCE_SUPERNODAL)?;
+            let mut qr =
+                Qr::numeric(a.as_ref(), 1, SupernodalThreshold::FORCE_SUPERNODAL, None).ok()??;
             Some(qr.solves_probe(a.as_ref()))
         });
         assert!(
             matches!(plain, None | Some(None) | Some(Some(false))),
             "{plain:?}"
         );
-        let mut qr = Qr::factor_with(a.as_ref(), 2, SupernodalThreshold::FORCE_SUPERNODAL).unwrap();
+        let mut qr =
+            Qr::factor_with(a.as_ref(), 2, SupernodalThreshold::FORCE_SUPERNODAL, None).unwrap();
         assert!(qr.order.is_some(), "kept the failing order");
         let b = Mat::from_fn(m, 2, |i, j| ((i * 5 + j * 3) % 7) as f64 - 3.0);
         let mut x = b.clone();

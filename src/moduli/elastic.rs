@@ -221,7 +221,8 @@ pub fn springs(
 
 /// The moduli of the realization `real` of the `active` rods of a
 /// periodic `topo`, kept at the exact `strain_rank`; `centres` (per rod, on
-/// its line) move with the strain in the Born tensor.
+/// its line) move with the strain in the Born tensor. The factor is
+/// refused where it would take the process past `limit` (bytes resident).
 pub fn of_realization(
     topo: &Topology,
     active: &[bool],
@@ -229,6 +230,7 @@ pub fn of_realization(
     centres: &[Option<V3<f64>>],
     strain_rank: u8,
     stiffness: f64,
+    limit: Option<u64>,
 ) -> Result<Elastic> {
     if topo.periodic != [true; 3] || topo.shifts.is_none() {
         return Err(Error::Parameter(
@@ -253,7 +255,7 @@ pub fn of_realization(
         regularization,
         optimality,
         steps,
-    } = relax::relax(rows, columns, &entries, &affine).map_err(Error::analysis)?;
+    } = relax::relax(rows, columns, &entries, &affine, limit)?;
     let volume = real.side.powi(3);
     let raw = Voigt::of_strain_columns(&relaxed, stiffness / volume);
     let born = Voigt::of_strain_columns(&born, stiffness / volume);
@@ -636,6 +638,7 @@ pub fn of_floats(network: View, exact: Exact, f: &Floats, opts: ModuliOptions) -
         &f.centres,
         exact.strain_rank,
         opts.stiffness,
+        opts.truth.memory_limit,
     )?;
     e.realization = f.how.into();
     e.moved = f.moved;

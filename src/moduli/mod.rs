@@ -5,7 +5,7 @@
 //! tensor (Voigt) per unit volume is `C = (k/V) Bᵀ (I - R R⁺) B`:
 //!
 //! * [`relax`] — the least squares of every strain column at once, by
-//!   faer's sparse Cholesky of `RᵀR` regularized and refined;
+//!   faer's sparse QR of `R` over `√λ I`, refined;
 //! * [`voigt`] — the tensor in Voigt's notation, its spectrum, its
 //!   isotropic (Voigt) averages;
 //! * [`elastic`] — the matrix in floats from truth's own rows, the tensor

@@ -27,7 +27,8 @@ use faer::sparse::linalg::matmul::{dense_sparse_matmul, sparse_dense_matmul};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Accum, Mat, MatRef, Par};
 
-use crate::math::qr::Qr;
+use crate::math::qr::{Failure, Qr};
+use crate::{Error, Result};
 
 /// `λ` over the largest squared column norm of `R`: singular values
 /// below 1e-12 of the largest column count as kernel.
@@ -65,16 +66,18 @@ fn gram(m: &Mat<f64>) -> [[f64; 6]; 6] {
 }
 
 /// Relaxes the six columns `b` (rows of `r`) over the `columns` unknowns
-/// of the sparse matrix given by `entries` (row, column, value).
+/// of the sparse matrix given by `entries` (row, column, value), refusing
+/// a factor that would take the process past `limit` (bytes resident).
 pub fn relax(
     rows: usize,
     columns: usize,
     entries: &[Triplet<usize, usize, f64>],
     b: &Mat<f64>,
-) -> Result<Relaxation, String> {
+    limit: Option<u64>,
+) -> Result<Relaxation> {
     let affine = gram(b);
     let r = SparseColMat::<usize, f64>::try_new_from_triplets(rows, columns, entries)
-        .map_err(|e| format!("the contact matrix: {e:?}"))?;
+        .map_err(|e| Error::analysis(format!("the contact matrix: {e:?}")))?;
     let mut norms = vec![0.0; columns];
     for t in entries {
         norms[t.col] += t.val * t.val;
@@ -88,8 +91,14 @@ pub fn relax(
     stacked.extend((0..columns).map(|c| Triplet::new(rows + c, c, lambda.sqrt())));
     let stacked =
         SparseColMat::<usize, f64>::try_new_from_triplets(rows + columns, columns, &stacked)
-            .map_err(|e| format!("the regularized contact matrix: {e:?}"))?;
-    let mut qr = Qr::factor(stacked.as_ref(), 6)?;
+            .map_err(|e| Error::analysis(format!("the regularized contact matrix: {e:?}")))?;
+    let mut qr = Qr::factor(stacked.as_ref(), 6, limit).map_err(|f| match f {
+        Failure::Memory(refusal) => Error::Memory(refusal.describe(&format!(
+            "the sparse QR of the {} x {columns} spring matrix",
+            rows + columns
+        ))),
+        Failure::Unsound(why) => Error::analysis(why),
+    })?;
     // `m x` for sparse `m`, on one thread.
     let times = |m: &SparseColMat<usize, f64>, x: MatRef<'_, f64>| {
         let mut y = Mat::<f64>::zeros(m.nrows(), x.ncols());
@@ -160,7 +169,7 @@ mod tests {
         b[(2, 1)] = 3.0;
         b[(0, 2)] = 1.0;
         b[(2, 2)] = 1.0;
-        let out = relax(3, 3, &entries, &b).unwrap();
+        let out = relax(3, 3, &entries, &b, None).unwrap();
         assert!(out.relaxed[0][0].abs() < 1e-18, "{:?}", out.relaxed);
         assert!((out.relaxed[1][1] - 9.0).abs() < 1e-12);
         assert!((out.relaxed[2][2] - 1.0).abs() < 1e-12);

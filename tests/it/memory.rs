@@ -91,6 +91,37 @@ fn truth_over_its_limit_names_what_it_holds_and_what_the_front_needs() {
 }
 
 #[test]
+fn moduli_over_their_limit_refuse_the_factor_faer_would_build() {
+    // gamma 23, L 3: truth and the projection fit in 60 MiB, the sparse
+    // QR of the springs (sized by faer's symbolic step) does not; at
+    // gamma 98, L 5 an unguarded factor of 9 GiB was killed by the kernel.
+    let args = [
+        "moduli",
+        "--gamma",
+        "23",
+        "--box",
+        "3",
+        "--density",
+        "45",
+        "--seed",
+        "1",
+        "--memory-limit",
+        "60M",
+    ];
+    let err = refused(
+        &rgc_under(None, &args),
+        &[
+            "rgc: error: over the memory limit: the sparse QR of the 13577 x 6330 spring matrix needs about ",
+            ", over the limit of 60.0 MiB (--memory-limit)",
+        ],
+    );
+    let need = size_after(&err, "needs about ");
+    let held = size_after(&err, "the process holds ");
+    assert!(held + need > 60.0 * 1024.0 * 1024.0, "{err}");
+    assert!(held <= 60.0 * 1024.0 * 1024.0, "{err}");
+}
+
+#[test]
 fn the_peak_stays_within_the_limit_whether_refused_or_finished() {
     // The same work as `rgc truth --memory-limit`, in a child process whose
     // peak resident size (VmHWM) it reports: refused at the rods, refused

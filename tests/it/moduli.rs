@@ -64,7 +64,7 @@ fn a_chain_of_rods_along_x_resists_its_stretch_in_series() {
     };
     let centres: Vec<_> = real.lines.iter().map(|l| l.map(|l| l.p)).collect();
     let k = 2.0;
-    let e = of_realization(&topo, &[true; 3], &real, &centres, 1, k).unwrap();
+    let e = of_realization(&topo, &[true; 3], &real, &centres, 1, k, None).unwrap();
     let near = |a: f64, b: f64| (a - b).abs() < 1e-12;
     let mut want = [[0.0; 6]; 6];
     want[0][0] = k / 3.0;
@@ -77,7 +77,7 @@ fn a_chain_of_rods_along_x_resists_its_stretch_in_series() {
     assert!(near(e.nonaffinity.unwrap(), 0.6));
     // Kept at rank 0, the tensor is zero and the eigenvalue dropped, k/3,
     // is all of Born's largest: the conditioning says so.
-    let zero = of_realization(&topo, &[true; 3], &real, &centres, 0, k).unwrap();
+    let zero = of_realization(&topo, &[true; 3], &real, &centres, 0, k, None).unwrap();
     assert_eq!((zero.tensor, zero.shear), (Voigt::ZERO, 0.0));
     assert!((zero.conditioning.dropped.unwrap() - 1.0).abs() < 1e-12);
     assert!((e.conditioning.kept.unwrap() - 1.0).abs() < 1e-12);
@@ -271,8 +271,8 @@ fn permuting_a_solid_s_axes_permutes_its_tensor() {
         points: f.real.points.iter().map(|x| x.map(turn)).collect(),
     };
     let centres: Vec<_> = f.centres.iter().map(|c| c.map(turn)).collect();
-    let a = of_realization(&topo, &f.active, &f.real, &f.centres, 6, 1.0).unwrap();
-    let b = of_realization(&turned, &f.active, &real, &centres, 6, 1.0).unwrap();
+    let a = of_realization(&topo, &f.active, &f.real, &f.centres, 6, 1.0, None).unwrap();
+    let b = of_realization(&turned, &f.active, &real, &centres, 6, 1.0, None).unwrap();
     check(&a);
     assert!(a.shear > 0.0 && a.bulk > 0.0);
     assert_permuted(&a, &b);
