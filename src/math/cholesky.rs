@@ -5,7 +5,7 @@
 //! own threads also cost more than they save (the moduli of a few thousand
 //! rods took twice as long with them).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -25,24 +25,21 @@ impl Llt {
     /// Analyses the pattern of the matrices to come (its ordering and
     /// supernodes), or `None` when faer cannot.
     pub fn analyse(pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<Self> {
-        let symbolic = factorize_symbolic_cholesky(
-            pattern,
-            Side::Lower,
-            Default::default(),
-            Default::default(),
-        )
-        .ok()?;
-        let mem = MemBuffer::new(
-            symbolic
-                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-                .or(symbolic.solve_in_place_scratch::<f64>(6, Par::Seq)),
-        );
+        let (symbolic, scratch) = symbolic(pattern)?;
         Some(Llt {
             values: vec![0.0; symbolic.len_val()],
             symbolic,
-            mem,
+            mem: MemBuffer::new(scratch),
             factored: false,
         })
+    }
+
+    /// Bytes the factor of `pattern` and its workspace would take (sized
+    /// by faer's symbolic step, before they exist), or `None` when faer
+    /// cannot order it.
+    pub fn need(pattern: SymbolicSparseColMatRef<'_, usize>) -> Option<u64> {
+        let (symbolic, scratch) = symbolic(pattern)?;
+        Some((symbolic.len_val() * 8 + scratch.size_bytes()) as u64)
     }
 
     /// Factors `a` (of the analysed pattern); `false` when it is not
@@ -79,4 +76,18 @@ impl Llt {
             MemStack::new(&mut self.mem),
         );
     }
+}
+
+/// faer's symbolic factor of `pattern` and the workspace its factor and
+/// solves (up to 6 columns) take.
+fn symbolic(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+) -> Option<(SymbolicCholesky<usize>, StackReq)> {
+    let symbolic =
+        factorize_symbolic_cholesky(pattern, Side::Lower, Default::default(), Default::default())
+            .ok()?;
+    let scratch = symbolic
+        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(6, Par::Seq));
+    Some((symbolic, scratch))
 }

@@ -130,6 +130,27 @@ struct Normal {
 
 impl Normal {
     fn new(at: &Residuals, n: usize) -> Option<Self> {
+        let (symbolic, argsort, from) = Self::pattern(at, n)?;
+        let llt = Llt::analyse(symbolic.as_ref())?;
+        Some(Normal {
+            symbolic,
+            argsort,
+            llt,
+            from,
+        })
+    }
+
+    /// The pattern of `JᵀJ` (lower triangle and diagonal), the order its
+    /// values come in, and the two Jacobian entries of each product.
+    #[allow(clippy::type_complexity)]
+    fn pattern(
+        at: &Residuals,
+        n: usize,
+    ) -> Option<(
+        SymbolicSparseColMat<usize>,
+        faer::sparse::Argsort<usize>,
+        Vec<(usize, usize)>,
+    )> {
         let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
         let mut from: Vec<(usize, usize)> = Vec::new();
         for i in 0..at.r.len() {
@@ -147,13 +168,7 @@ impl Normal {
         }
         pairs.extend((0..n).map(|c| Pair { row: c, col: c }));
         let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs).ok()?;
-        let llt = Llt::analyse(symbolic.as_ref())?;
-        Some(Normal {
-            symbolic,
-            argsort,
-            llt,
-            from,
-        })
+        Some((symbolic, argsort, from))
     }
 
     /// The step `δ` of `(jtj + shift·I) δ = −grad`, or `None` when the
@@ -216,6 +231,23 @@ fn chord(
         *cost = cost_t;
         costs.push(cost_t);
     }
+}
+
+/// Bytes [`solve`] holds at once from `u`, beyond `u` itself: the
+/// Jacobian (twice, with the trial point's residuals), the normal
+/// equations' pattern, products and values, and the Cholesky factor with
+/// its workspace, sized by faer's symbolic step; `None` when faer cannot
+/// order the pattern. Counting it builds the pattern once.
+pub fn memory(eq: &impl Residual, u: &[f64]) -> Option<u64> {
+    let n = eq.unknowns();
+    let at = eq.eval(u, true);
+    let (symbolic, _, from) = Normal::pattern(&at, n)?;
+    let factor = Llt::need(symbolic.as_ref())?;
+    let jacobian = 2 * (at.cols.len() * 16 + at.r.len() * 16);
+    // Per product: its source pair, its value (twice: JᵀJ and the shifted
+    // copy), its place in the pattern (index and argsort).
+    let products = from.len() * (16 + 16 + 16);
+    Some((jacobian + products + 8 * n * 8) as u64 + factor)
 }
 
 /// Levenberg–Marquardt from `u`: a point whose residuals are within the

@@ -38,6 +38,7 @@ use crate::rods::Periodic;
 use crate::truth::planes::{self, Planes};
 use crate::truth::realize::Realization;
 use crate::truth::{Strain, TruthOptions, matrix, projection, prune, truth};
+use crate::usage;
 use crate::{Error, Result};
 
 /// What a moduli computation takes.
@@ -480,8 +481,10 @@ fn check_box(network: View) -> Result<()> {
 /// the one nearest the rods, or where that projection does not converge
 /// and `random_start` allows it, one from a random start (`seed`) scaled
 /// to the box (another member of the family, whose moduli do not compare
-/// with those of other systems' nearest realizations).
-pub fn floats(network: View, seed: u64, random_start: bool) -> Result<Floats> {
+/// with those of other systems' nearest realizations). The projection is
+/// refused up front where it would take the process past `limit` (bytes
+/// resident) or the machine's room.
+pub fn floats(network: View, seed: u64, random_start: bool, limit: Option<u64>) -> Result<Floats> {
     check_box(network)?;
     let system = network.system;
     let lx = system.domain.sides[0];
@@ -532,6 +535,14 @@ pub fn floats(network: View, seed: u64, random_start: bool) -> Result<Floats> {
         rng.set_stream(stream);
         rng
     };
+    if let Some(need) = projection::nearest_memory(&topo, &planes, &core.active, &near) {
+        usage::reserve(need, 0, limit).map_err(|r| {
+            Error::Memory(r.describe(&format!(
+                "the projection of the {} core rods onto their line model",
+                core.rods()
+            )))
+        })?;
+    }
     let near_rods = projection::nearest(&topo, &planes, &core.active, &near, &mut draws(1));
     let (real, how) = match near_rods {
         Ok(real) => (real, "nearest"),
@@ -620,7 +631,12 @@ pub fn of_exact(
     random_start: bool,
 ) -> Result<Elastic> {
     let start = Instant::now();
-    let f = floats(network, opts.truth.seed, random_start)?;
+    let f = floats(
+        network,
+        opts.truth.seed,
+        random_start,
+        opts.truth.memory_limit,
+    )?;
     let mut e = of_floats(network, exact, &f, opts)?;
     e.seconds = exact.seconds + start.elapsed().as_secs_f64();
     Ok(e)

@@ -189,7 +189,7 @@ fn side(
     // Only the realization nearest the rods compares across sequences:
     // where it fails the side fails (keeping the exact strain rank),
     // without the costly random start.
-    let floats = match moduli::floats(view, opts.truth.seed, false) {
+    let floats = match moduli::floats(view, opts.truth.seed, false, opts.truth.memory_limit) {
         Ok(f) => f,
         Err(e) => return failed(e, known),
     };

@@ -570,26 +570,14 @@ pub fn project(
     Err(last.map_or_else(String::new, |s| s.why))
 }
 
-/// The float realization Levenberg–Marquardt reaches from `start` (the
-/// actual rods, for the elastic moduli): its lines, its box side, each
-/// contact where it sits on both lines (`start.points`, in the frame of the
-/// edge's first rod), each class's plane fitted to its members and the
-/// members moved into it (`System::to_planes`). The steps
-/// are least-norm, so the solution stays near the start; it is not moved or
-/// scaled. Where that fails, again with each direction's scale fixed
-/// linearly against its start (`d · d0 = 1`) and more patience for a slow
-/// start, kicking the rods of a special solution by 0.01 rod lengths and
-/// twice as far each further time (drawn from `rng`) and projecting again,
-/// up to 8 times, in up to 3 rounds from the first solution. `Err` says
-/// why it is refused: no convergence, or a solution that is no generic
-/// member of the family ([`degenerate`]).
-pub fn nearest(
-    topo: &Topology,
-    planes: &Planes,
+/// The equations of [`nearest`] and their start: the rods' own lines and
+/// contact points, each class's plane fitted to its members.
+fn from_rods<'a>(
+    topo: &'a Topology<'a>,
+    planes: &'a Planes,
     active: &[bool],
     start: &Realization<f64>,
-    rng: &mut impl Rng,
-) -> Result<Realization<f64>, String> {
+) -> (System<'a>, Vec<f64>) {
     let system = System::new(topo, planes, active, start.side);
     let mut u = vec![0.0; system.unknowns];
     for (r, at) in system.line.iter().enumerate() {
@@ -641,6 +629,42 @@ pub fn nearest(
         u[at + 3] = h;
     }
     system.to_planes(&mut u);
+    (system, u)
+}
+
+/// Bytes [`nearest`]'s Levenberg–Marquardt holds at once for these rods
+/// ([`marquardt::memory`]), or `None` when faer cannot order its pattern.
+pub fn nearest_memory(
+    topo: &Topology,
+    planes: &Planes,
+    active: &[bool],
+    start: &Realization<f64>,
+) -> Option<u64> {
+    let (system, u) = from_rods(topo, planes, active, start);
+    marquardt::memory(&system, &u)
+}
+
+/// The float realization Levenberg–Marquardt reaches from `start` (the
+/// actual rods, for the elastic moduli): its lines, its box side, each
+/// contact where it sits on both lines (`start.points`, in the frame of the
+/// edge's first rod), each class's plane fitted to its members and the
+/// members moved into it (`System::to_planes`). The steps
+/// are least-norm, so the solution stays near the start; it is not moved or
+/// scaled. Where that fails, again with each direction's scale fixed
+/// linearly against its start (`d · d0 = 1`) and more patience for a slow
+/// start, kicking the rods of a special solution by 0.01 rod lengths and
+/// twice as far each further time (drawn from `rng`) and projecting again,
+/// up to 8 times, in up to 3 rounds from the first solution. `Err` says
+/// why it is refused: no convergence, or a solution that is no generic
+/// member of the family ([`degenerate`]).
+pub fn nearest(
+    topo: &Topology,
+    planes: &Planes,
+    active: &[bool],
+    start: &Realization<f64>,
+    rng: &mut impl Rng,
+) -> Result<Realization<f64>, String> {
+    let (system, u) = from_rods(topo, planes, active, start);
     // First with every direction on the unit sphere; only where that fails,
     // with the linear scale and repairs. Where both converge they can land
     // on different members, and on one small solid the linear scale's was

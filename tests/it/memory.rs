@@ -91,7 +91,7 @@ fn truth_over_its_limit_names_what_it_holds_and_what_the_front_needs() {
 }
 
 #[test]
-fn moduli_over_their_limit_refuse_the_factor_faer_would_build() {
+fn moduli_over_their_limit_refuse_the_projection_or_the_factor_before_they_start() {
     // gamma 23, L 3: truth and the projection fit in 60 MiB, the sparse
     // QR of the springs (sized by faer's symbolic step) does not; at
     // gamma 98, L 5 an unguarded factor of 9 GiB was killed by the kernel.
@@ -119,6 +119,19 @@ fn moduli_over_their_limit_refuse_the_factor_faer_would_build() {
     let held = size_after(&err, "the process holds ");
     assert!(held + need > 60.0 * 1024.0 * 1024.0, "{err}");
     assert!(held <= 60.0 * 1024.0 * 1024.0, "{err}");
+    // Under 32 MiB the projection that gives the springs their
+    // realization is refused before it starts (it peaks near 41 MiB).
+    let mut args = args;
+    args[10] = "32M";
+    let err = refused(
+        &rgc_under(None, &args),
+        &[
+            "rgc: error: over the memory limit: the projection of the 1055 core rods onto their line model needs about ",
+            ", over the limit of 32.0 MiB (--memory-limit)",
+        ],
+    );
+    let need = size_after(&err, "needs about ");
+    assert!(need > 16.0 * 1024.0 * 1024.0, "{err}");
 }
 
 #[test]

@@ -86,7 +86,7 @@ fn a_chain_of_rods_along_x_resists_its_stretch_in_series() {
 /// `C = (k/V) Bᵀ (I - R R⁺) B` by a dense SVD of `R` (rank by a relative
 /// cut), in Voigt's notation.
 fn dense(net: &Network, k: f64) -> (Voigt, Voigt) {
-    let f = floats(net.view(), 1, true).unwrap();
+    let f = floats(net.view(), 1, true, None).unwrap();
     let topo = net.topology();
     let s = springs(&topo, &f.active, &f.real, &f.centres).unwrap();
     let mut r = Mat::<f64>::zeros(s.rows, s.columns);
@@ -249,7 +249,7 @@ fn permuting_the_axes_permutes_the_tensor() {
 fn permuting_a_solid_s_axes_permutes_its_tensor() {
     let net = solid();
     let topo = net.topology();
-    let f = floats(net.view(), 1, true).unwrap();
+    let f = floats(net.view(), 1, true, None).unwrap();
     let shifts: Vec<_> = topo.shifts.unwrap().iter().map(|&o| turn(o)).collect();
     let turned = Topology {
         shifts: Some(&shifts),
@@ -287,7 +287,7 @@ fn the_realization_says_how_far_it_moved_the_rods() {
         RodParams::new(10.0, 2.5, 12.0).unwrap(),
         1,
     ));
-    let f = floats(net.view(), 1, true).unwrap();
+    let f = floats(net.view(), 1, true, None).unwrap();
     assert_eq!(f.how, "nearest");
     let moved = f.moved.unwrap();
     let mut sum = (0.0, 0);
@@ -308,7 +308,10 @@ fn the_realization_says_how_far_it_moved_the_rods() {
     // The solid's projection from the rods reaches a member near the rods
     // (it fell back to a random start before the linear scale and the
     // repairs).
-    assert_eq!(floats(solid().view(), 1, true).unwrap().how, "nearest");
+    assert_eq!(
+        floats(solid().view(), 1, true, None).unwrap().how,
+        "nearest"
+    );
 }
 
 /// Where the projection from the rods fails, a random start stands in
@@ -319,8 +322,11 @@ fn a_refused_random_start_fails_with_its_reason() {
         RodParams::new(23.0, 3.0, 45.0).unwrap(),
         12,
     ));
-    assert_eq!(floats(net.view(), 12, true).unwrap().how, "projected");
-    let err = floats(net.view(), 12, false).err().unwrap().to_string();
+    assert_eq!(floats(net.view(), 12, true, None).unwrap().how, "projected");
+    let err = floats(net.view(), 12, false, None)
+        .err()
+        .unwrap()
+        .to_string();
     assert!(
         err.contains("no float realization nearest the rods"),
         "{err}"
