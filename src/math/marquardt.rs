@@ -128,6 +128,13 @@ struct Normal {
     from: Vec<(usize, usize)>,
 }
 
+/// [`Normal`]'s pattern, value order and products, before a factor.
+type Pattern = (
+    SymbolicSparseColMat<usize>,
+    faer::sparse::Argsort<usize>,
+    Vec<(usize, usize)>,
+);
+
 impl Normal {
     fn new(at: &Residuals, n: usize) -> Option<Self> {
         let (symbolic, argsort, from) = Self::pattern(at, n)?;
@@ -142,15 +149,7 @@ impl Normal {
 
     /// The pattern of `JᵀJ` (lower triangle and diagonal), the order its
     /// values come in, and the two Jacobian entries of each product.
-    #[allow(clippy::type_complexity)]
-    fn pattern(
-        at: &Residuals,
-        n: usize,
-    ) -> Option<(
-        SymbolicSparseColMat<usize>,
-        faer::sparse::Argsort<usize>,
-        Vec<(usize, usize)>,
-    )> {
+    fn pattern(at: &Residuals, n: usize) -> Option<Pattern> {
         let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
         let mut from: Vec<(usize, usize)> = Vec::new();
         for i in 0..at.r.len() {
@@ -247,7 +246,10 @@ pub fn memory(eq: &impl Residual, u: &[f64]) -> Option<u64> {
     // Per product: its source pair, its value (twice: JᵀJ and the shifted
     // copy), its place in the pattern (index and argsort).
     let products = from.len() * (16 + 16 + 16);
-    Some((jacobian + products + 8 * n * 8) as u64 + factor)
+    // Per unknown: the point, the trial, the step, the gradient, the
+    // diagonal and the shifted values' tail, with room to spare.
+    let unknowns = 8 * n * 8;
+    Some((jacobian + products + unknowns) as u64 + factor)
 }
 
 /// Levenberg–Marquardt from `u`: a point whose residuals are within the
