@@ -117,17 +117,23 @@ impl journal::Line for SequenceStiffening {
 /// nearest the rods; with `next` (the floats of more rods of the sequence),
 /// on that one kept for these rods where it is not special for them, so
 /// that the two sides are one geometry. Returns the floats it used, if any.
+/// Truth, the projection and the factor are refused past `limit` (bytes
+/// resident).
 fn side(
     seq: &Sequence,
     r: &Record,
     n: usize,
     stiffness: f64,
     next: Option<&Floats>,
+    limit: Option<u64>,
 ) -> Result<(Side, Option<Floats>)> {
     let graph = seq.graph(n);
     let opts = ModuliOptions {
         stiffness,
-        truth: TruthOptions::seeded(run_seed(r.seed, n as u64)),
+        truth: TruthOptions {
+            memory_limit: limit,
+            ..TruthOptions::seeded(run_seed(r.seed, n as u64))
+        },
     };
     let view = seq.view(n, &graph);
     let blank = Side {
@@ -205,8 +211,13 @@ fn rods_at(density: f64, box_len: f64) -> usize {
 }
 
 /// One sequence: its moduli one rod below and at the critical number, and
-/// at each density of `spec`.
-fn probe(gamma: f64, r: &Record, spec: &StiffeningSpec) -> Result<SequenceStiffening> {
+/// at each density of `spec`, within `limit` (bytes resident).
+fn probe(
+    gamma: f64,
+    r: &Record,
+    spec: &StiffeningSpec,
+    limit: Option<u64>,
+) -> Result<SequenceStiffening> {
     let start = Instant::now();
     let n = r.rigid_critical.expect("chosen records are decided");
     let k = spec.stiffness;
@@ -221,8 +232,8 @@ fn probe(gamma: f64, r: &Record, spec: &StiffeningSpec) -> Result<SequenceStiffe
     // The critical rod's side first: the side below it is measured on the
     // same realization, so that the jump is the rod's, not another
     // member's of the family.
-    let (at, floats) = side(&seq, r, n, k, None)?;
-    let (before, _) = side(&seq, r, n - 1, k, floats.as_ref())?;
+    let (at, floats) = side(&seq, r, n, k, None, limit)?;
+    let (before, _) = side(&seq, r, n - 1, k, floats.as_ref(), limit)?;
     Ok(SequenceStiffening {
         gamma,
         box_len: r.box_len,
@@ -231,7 +242,7 @@ fn probe(gamma: f64, r: &Record, spec: &StiffeningSpec) -> Result<SequenceStiffe
         before,
         grid: grid
             .into_iter()
-            .map(|m| Ok(side(&seq, r, m, k, None)?.0))
+            .map(|m| Ok(side(&seq, r, m, k, None, limit)?.0))
             .collect::<Result<_>>()?,
         seconds: start.elapsed().as_secs_f64(),
     })
@@ -259,6 +270,7 @@ pub fn run(
     spec: &StiffeningSpec,
     out: &Path,
     with: &[PathBuf],
+    memory_limit: Option<u64>,
     progress: &dyn Progress,
 ) -> Result<Stiffening> {
     let others = with
@@ -292,7 +304,7 @@ pub fn run(
         &lines,
         &decided,
         progress,
-        |gamma, r| probe(gamma, r, spec),
+        |gamma, r| probe(gamma, r, spec, memory_limit),
     )?;
     for (dir, more) in with.iter().zip(others) {
         for s in more {
@@ -918,7 +930,7 @@ mod tests {
         let spec = one_sequence();
         let mut r = record(2_787_861_376_596_761_304, 4295);
         r.box_len = 5.0;
-        let s = probe(23.0, &r, &spec).unwrap();
+        let s = probe(23.0, &r, &spec, None).unwrap();
         let (b, a) = (&s.before, &s.at);
         assert_eq!((b.strain_rank, a.strain_rank), (Some(5), Some(6)));
         assert!(b.one_geometry_with(a));
@@ -930,7 +942,9 @@ mod tests {
     /// The side of `n` rods of the gamma 23, L = 3 sequence of `seed`.
     fn side_of(seed: u64, n: usize) -> Side {
         let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
-        super::side(&seq, &record(seed, n), n, 1.0, None).unwrap().0
+        super::side(&seq, &record(seed, n), n, 1.0, None, None)
+            .unwrap()
+            .0
     }
 
     #[test]
@@ -940,7 +954,7 @@ mod tests {
         // critical one kept for its rods.
         let spec = one_sequence();
         for seed in [1, 2, 3] {
-            let s = probe(23.0, &record(seed, 1101), &spec).unwrap();
+            let s = probe(23.0, &record(seed, 1101), &spec, None).unwrap();
             let (b, a) = (&s.before, &s.at);
             assert_eq!((b.strain_rank, a.strain_rank), (Some(6), Some(6)));
             assert_eq!(a.realization.as_deref(), Some("nearest"));

@@ -263,7 +263,8 @@ fn an_address_space_limit_refuses_truth_instead_of_aborting() {
 fn every_study_refuses_a_step_over_its_limit() {
     // The process alone holds more than 8 MiB, so the first step of each
     // study is refused: a compression for `threshold` and `compare`,
-    // truth (the first variant) for `bias`; no record is kept.
+    // truth (the first variant) for `bias`, truth of the first side for
+    // `stiffening`; no record is kept.
     let dir = crate::scratch("studies-under-a-limit");
     let study = ["--gamma", "23", "--boxes", "3,4,5", "--sequences", "5"];
     let limit = ["--memory-limit", "8M", "--quiet"];
@@ -293,5 +294,15 @@ fn every_study_refuses_a_step_over_its_limit() {
         args.extend(study.iter().chain(&limit));
         refused(&rgc_under(None, &args), &[needle, "(--memory-limit)"]);
     }
+    // The stiffening of a committed truth study: truth of its first side.
+    let st = out("st");
+    let mut stiffening = vec!["stiffening", "results/g23-truth", "--out", &st];
+    stiffening.extend(["--boxes", "5", "--sequences", "1"].iter().chain(&limit));
+    refused(
+        &rgc_under(None, &stiffening),
+        &["truth refused this system: ", "(--memory-limit)"],
+    );
+    let lines = std::fs::read_to_string(dir.join("st/stiffening.jsonl")).unwrap_or_default();
+    assert!(lines.is_empty(), "{lines}");
     std::fs::remove_dir_all(&dir).ok();
 }

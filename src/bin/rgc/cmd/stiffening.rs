@@ -7,13 +7,15 @@ use clap::Args;
 use rgc::threshold::stiffening::{self, Mean, StiffeningSpec};
 use rgc::{Result, output, plot, threshold};
 
-use crate::args::MeasuredArgs;
+use crate::args::{MeasuredArgs, MemoryArgs};
 use crate::progress::Reporter;
 
 #[derive(Args)]
 pub struct StiffeningArgs {
     #[command(flatten)]
     measured: MeasuredArgs,
+    #[command(flatten)]
+    memory: MemoryArgs,
     /// Spring stiffness k of a contact.
     #[arg(long, default_value_t = 1.0)]
     k: f64,
@@ -43,7 +45,14 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         stiffness: a.k,
         densities: a.densities.clone(),
     };
-    let summary = stiffening::run(&m.dirs, &spec, &m.out, &a.with, &Reporter::new(m.quiet))?;
+    let summary = stiffening::run(
+        &m.dirs,
+        &spec,
+        &m.out,
+        &a.with,
+        a.memory.memory_limit,
+        &Reporter::new(m.quiet),
+    )?;
     let summaries = &summary.boxes;
     let mean = |m: Option<Mean>| {
         m.map_or("-".to_string(), |m| {
