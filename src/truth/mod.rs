@@ -47,6 +47,7 @@ pub mod planes;
 pub mod projection;
 pub mod prune;
 pub mod realize;
+pub mod special;
 
 pub use crate::contacts::Offset;
 pub use crate::graph::Topology;
