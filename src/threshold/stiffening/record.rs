@@ -1,0 +1,92 @@
+//! What one line of a stiffening measurement stores: the spec it was
+//! measured under, and one sequence's sides (its moduli at a number of
+//! rods, or why there are none).
+
+use serde::{Deserialize, Serialize};
+
+use crate::threshold::journal;
+
+/// What a measurement takes: which studies, boxes and sequences, and the
+/// springs' stiffness.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StiffeningSpec {
+    /// Truth study directories, as given.
+    pub studies: Vec<String>,
+    /// Boxes of each study (all when empty).
+    pub boxes: Vec<f64>,
+    /// The first this many sequences of each box.
+    pub sequences: u64,
+    /// The spring stiffness `k` of a contact.
+    pub stiffness: f64,
+    /// Densities (rods per unit volume) at which each sequence is measured
+    /// too.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub densities: Vec<f64>,
+}
+
+/// The moduli of one prefix of a sequence, or why there are none.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Side {
+    /// Rods in the prefix.
+    pub rods: usize,
+    /// The exact strain rank, and the moduli in `k / L_rod` (none where
+    /// they could not be computed: `failed` says why). Where the strain
+    /// rank is 0 the moduli are zero without floats: no realization and no
+    /// Born modulus.
+    pub strain_rank: Option<u8>,
+    pub shear: Option<f64>,
+    pub bulk: Option<f64>,
+    pub born_shear: Option<f64>,
+    /// Which realization the floats used, and how far it moved the
+    /// contact points (root mean square, rod lengths).
+    pub realization: Option<String>,
+    pub moved: Option<f64>,
+    /// Rods in truth's largest rigid cluster.
+    #[serde(default)]
+    pub largest: Option<usize>,
+    pub failed: Option<String>,
+}
+
+impl Side {
+    /// Whether its moduli compare with other sequences': exact where the
+    /// rods resist no strain, else from the realization nearest the rods,
+    /// its own or the next side's (one from a random start is another
+    /// member of the family, with another `G`).
+    pub fn comparable(&self) -> bool {
+        self.strain_rank == Some(0)
+            || matches!(
+                self.realization.as_deref(),
+                Some("nearest" | "nearest-next")
+            )
+    }
+
+    /// Whether `self`, the side below the critical rod, and `at` are one
+    /// geometry: exact zeros below it, or the critical side's realization.
+    pub(super) fn one_geometry_with(&self, at: &Side) -> bool {
+        at.comparable()
+            && (self.strain_rank == Some(0)
+                || (self.realization.as_deref() == Some("nearest-next")
+                    && at.realization.as_deref() == Some("nearest")))
+    }
+}
+
+/// One sequence one rod below and at its critical number.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SequenceStiffening {
+    pub gamma: f64,
+    #[serde(rename = "box")]
+    pub box_len: f64,
+    pub index: u64,
+    pub before: Side,
+    pub at: Side,
+    /// At each of the spec's densities, in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub grid: Vec<Side>,
+    pub seconds: f64,
+}
+
+impl journal::Line for SequenceStiffening {
+    fn key(&self) -> (f64, f64, u64) {
+        (self.gamma, self.box_len, self.index)
+    }
+}
