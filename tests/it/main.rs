@@ -28,6 +28,7 @@ mod projection;
 mod rank;
 mod render;
 mod rigidity;
+mod rodboxes;
 mod rodfiles;
 mod rulefiles;
 mod rules;
@@ -44,6 +45,7 @@ mod truth_contract;
 mod truth_draws;
 mod truth_motions;
 mod truth_strain;
+mod truth_studies;
 mod vtk;
 mod workspaces;
 

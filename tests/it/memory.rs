@@ -306,3 +306,86 @@ fn every_study_refuses_a_step_over_its_limit() {
     assert!(lines.is_empty(), "{lines}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A system too large for the memory it may use is refused before any rod
+/// is drawn, on one line naming the estimate and the budget: a limit given
+/// with `--memory-limit` (`sample`, `render`, `truth`), or an address-space
+/// limit (`ulimit -v`), under which it used to abort with "memory
+/// allocation failed".
+#[test]
+fn a_system_too_large_for_memory_is_refused_up_front() {
+    let dir = crate::scratch("memory-estimate");
+    let big = ["--gamma", "23", "--box", "60", "--density", "40"];
+    let png = dir.join("big");
+    for (cmd, more) in [
+        ("sample", vec![]),
+        ("render", vec!["--out", png.to_str().unwrap()]),
+        ("truth", vec![]),
+    ] {
+        let args = [&[cmd][..], &big, &more, &["--memory-limit", "100M"]].concat();
+        refused(
+            &rgc_under(None, &args),
+            &[
+                "rgc: error: over the memory limit: the system of 8640000 rods (about 1.391e7 \
+                 contacts) needs about 5.81 GiB, the process holds ",
+                ", over the limit of 100 MiB (--memory-limit); take a smaller box or density",
+            ],
+        );
+    }
+    assert!(!dir.join("big.png").exists());
+    // The same box at a density that fits runs under the same limit.
+    crate::cli::succeeds(&[
+        "sample",
+        "--gamma",
+        "23",
+        "--box",
+        "6",
+        "--density",
+        "40",
+        "--memory-limit",
+        "100M",
+    ]);
+
+    refused(
+        &rgc_under(Some(400_000), &[&["sample"][..], &big].concat()),
+        &[
+            " of address space, the process holds ",
+            ", over its address-space limit of 391 MiB (ulimit -v)",
+        ],
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The check counts what the process holds: a limit below it refuses even
+/// the smallest estimate, one with room for the estimate passes; the
+/// estimate grows with rods, contacts and thickness.
+#[test]
+fn the_memory_check_compares_the_estimate_and_the_process_with_the_limit() {
+    use rgc::rods::RodParams;
+    use rgc::sample::{Rods, memory_estimate};
+
+    let rods = Rods::from(RodParams::new(23.0, 5.0, 40.0).unwrap());
+    let e = rods.memory_estimate();
+    assert_eq!(e.rods, 5000);
+    // Philipse: rho V_ex (N - 1) / N contacts per rod, halved.
+    let expected = 0.5 * 5000.0 * RodParams::new(23.0, 5.0, 40.0).unwrap().expected_c0();
+    assert!(
+        (e.contacts - expected).abs() < 1e-6 * expected,
+        "{}",
+        e.contacts
+    );
+    let held = rgc::usage::held().map_or(0, |h| h.resident);
+    assert!(
+        rods.check_memory(Some(held + e.bytes + (256 << 20)))
+            .is_ok()
+    );
+    assert!(rods.check_memory(None).is_ok());
+    let err = rods.check_memory(Some(e.bytes)).unwrap_err().to_string();
+    assert!(
+        err.starts_with("over the memory limit: the system of 5000 rods"),
+        "{err}"
+    );
+    assert!(memory_estimate(2000, 0.0, 0.0) > memory_estimate(1000, 0.0, 0.0));
+    assert!(memory_estimate(1000, 10.0, 0.0) > memory_estimate(1000, 0.0, 0.0));
+    assert!(memory_estimate(1000, 0.0, 0.1) > memory_estimate(1000, 0.0, 0.0));
+}
