@@ -164,18 +164,63 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         geometric(&joined)
     );
     assert!(printed.contains(&by_box), "{printed}");
+    // A box may stop its grid lower (a larger box costs more per side):
+    // each box keeps its own points.
+    let lower = dir.join("moduli-3.5-lower");
+    let printed = ok(&[
+        "stiffening",
+        s,
+        "--densities",
+        "30",
+        "--boxes",
+        "3.5",
+        "--sequences",
+        "1",
+        "--quiet",
+        "--out",
+        lower.to_str().unwrap(),
+        "--with",
+        o,
+    ]);
+    for (line, there) in [
+        ("gamma 23 box 3 rho 38:", true),
+        ("gamma 23 box 3.5 rho 30:", true),
+        ("gamma 23 box 3.5 rho 38:", false),
+    ] {
+        assert_eq!(printed.contains(line), there, "{line}: {printed}");
+    }
+    // One box on two grids is refused before any work.
+    let two = dir.join("two-grids");
     fails(
         &[
             "stiffening",
             s,
             "--densities",
             "30",
+            "--boxes",
+            "3",
+            "--sequences",
+            "1",
             "--out",
-            other.to_str().unwrap(),
+            two.to_str().unwrap(),
             "--with",
             o,
         ],
-        "measured at densities [30.0, 38.0] with k = 1, this measurement at [30.0] with k = 1: join only measurements of one grid and springs",
+        "box 3 at gamma 23 was measured at densities [30.0] and at [30.0, 38.0]: join a box's measurements only on one grid",
+    );
+    assert!(!two.exists());
+    fails(
+        &[
+            "stiffening",
+            s,
+            "--k",
+            "2",
+            "--out",
+            two.to_str().unwrap(),
+            "--with",
+            o,
+        ],
+        "measured with k = 1, this measurement with k = 2: join only measurements of one spring stiffness",
     );
     // The measurement itself again: its sequences repeat.
     let again = [&args[..11], &["--with", o]].concat();

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::record::{SequenceStiffening, Side, StiffeningSpec};
-use super::summary::{Stiffening, shear_decay, summarize};
+use super::summary::{Stiffening, one_grid_per_box, shear_decay, summarize_grids};
 use crate::engine::run_seed;
 use crate::moduli::{self, Floats, ModuliOptions};
 use crate::progress::Progress;
@@ -156,10 +156,11 @@ fn probe(
 fn files(out: &Path) -> (PathBuf, PathBuf) {
     (out.join("stiffening.json"), out.join("stiffening.jsonl"))
 }
+
 /// Measures the chosen sequences of the truth studies `dirs` into `out`
 /// (resuming what is there) and summarizes them with the sequences of the
-/// measurements `with` (other boxes, on the same densities and springs)
-/// per aspect ratio and box, and across boxes.
+/// measurements `with` (other boxes, with the same springs; each box on
+/// its own grid) per aspect ratio and box, and across boxes.
 pub fn run(
     dirs: &[PathBuf],
     spec: &StiffeningSpec,
@@ -192,18 +193,28 @@ pub fn run(
         spec.sequences,
         "the stiffness across the critical rod",
     )?;
+    let measured: Vec<(&[f64], (f64, f64))> = decided
+        .iter()
+        .map(|(gamma, r)| (spec.densities.as_slice(), (*gamma, r.box_len)))
+        .chain(others.iter().flat_map(|(d, seqs)| {
+            seqs.iter()
+                .map(move |s| (d.as_slice(), (s.gamma, s.box_len)))
+        }))
+        .collect();
+    one_grid_per_box(&measured)?;
     output::check_dir(out)?;
     let (spec_file, lines) = files(out);
-    let mut all = journal::measure(
+    let mine = journal::measure(
         (&spec_file, spec, "stiffening spec"),
         &lines,
         &decided,
         progress,
         |gamma, r| probe(gamma, r, spec, memory_limit),
     )?;
-    for (dir, more) in with.iter().zip(others) {
+    let mut every = mine.clone();
+    for (dir, (_, more)) in with.iter().zip(&others) {
         for s in more {
-            if all.iter().any(|a| a.key() == s.key()) {
+            if every.iter().any(|a| a.key() == s.key()) {
                 return Err(Error::Parameter(format!(
                     "{} measured sequence {} of box {} at gamma {} again: join measurements of other boxes",
                     dir.display(),
@@ -212,7 +223,7 @@ pub fn run(
                     s.gamma
                 )));
             }
-            all.push(s);
+            every.push(s.clone());
         }
     }
     // Each aspect ratio's threshold from its finished study (the first
@@ -225,9 +236,13 @@ pub fn run(
             thresholds.push((s.study.gamma, s.fss.threshold.value));
         }
     }
+    let decay = shear_decay(&every);
+    let parts = std::iter::once((spec.densities.clone(), mine))
+        .chain(others)
+        .collect();
     Ok(Stiffening {
-        boxes: summarize(&all, spec, &thresholds),
-        decay: shear_decay(&all),
+        boxes: summarize_grids(parts, &thresholds)?,
+        decay,
     })
 }
 
@@ -236,27 +251,26 @@ pub fn read(lines: &Path) -> Result<Vec<SequenceStiffening>> {
     journal::read(lines, "stiffening")
 }
 
-/// The sequences of the measurement in `dir`, which must share `spec`'s
-/// densities and springs (its grid's points are summarized by position).
-fn joined(dir: &Path, spec: &StiffeningSpec) -> Result<Vec<SequenceStiffening>> {
+/// The grid and sequences of the measurement in `dir`, which must share
+/// `spec`'s springs (moduli scale with `k`, but a study compares one).
+fn joined(dir: &Path, spec: &StiffeningSpec) -> Result<(Vec<f64>, Vec<SequenceStiffening>)> {
     let (spec_file, lines) = files(dir);
     let there: StiffeningSpec = journal::read_spec(&spec_file, "stiffening spec")?;
-    if (&there.densities, there.stiffness) != (&spec.densities, spec.stiffness) {
+    if there.stiffness != spec.stiffness {
         return Err(Error::Parameter(format!(
-            "{} measured at densities {:?} with k = {}, this measurement at {:?} with k = {}: join only measurements of one grid and springs",
+            "{} measured with k = {}, this measurement with k = {}: join only measurements of one spring stiffness",
             dir.display(),
-            there.densities,
             there.stiffness,
-            spec.densities,
             spec.stiffness
         )));
     }
-    read(&lines)
+    Ok((there.densities, read(&lines)?))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::threshold::stiffening::summary::summarize;
 
     /// A spec of one sequence, no densities, `k = 1`.
     fn one_sequence() -> StiffeningSpec {
@@ -325,7 +339,7 @@ mod tests {
             assert!(b.born_shear.unwrap() <= a.born_shear.unwrap() * (1.0 + 1e-12));
             // How far that realization lies from these rods is their own.
             assert!(b.moved.is_some_and(|m| m > 0.0));
-            let summary = &summarize(std::slice::from_ref(&s), &spec, &[])[0];
+            let summary = &summarize(std::slice::from_ref(&s), &spec.densities, &[])[0];
             assert_eq!((summary.one_geometry, summary.shear_fell), (1, 0));
             let jump = summary.shear_jump.unwrap().mean;
             assert!((jump - (ga - gb)).abs() < 1e-18, "{jump}");

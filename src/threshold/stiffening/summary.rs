@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::record::{SequenceStiffening, Side, StiffeningSpec};
+use super::record::{SequenceStiffening, Side};
 use crate::math::stats;
 use crate::threshold::transition;
-use crate::{Result, output};
+use crate::{Error, Result, output};
 
 /// A measurement's summary: per aspect ratio and box, and across boxes
 /// the shear modulus at the critical rod.
@@ -284,12 +284,13 @@ impl GridPoint {
     }
 }
 
-/// Per aspect ratio and box, in that order, at the densities of `spec`;
-/// the exponent `f` against each aspect ratio's threshold `rho_t` in
-/// `thresholds` (aspect ratio, threshold) where it has one.
+/// Per aspect ratio and box, in that order, at `densities` (the grid all
+/// of `all` was measured on, by position); the exponent `f` against each
+/// aspect ratio's threshold `rho_t` in `thresholds` (aspect ratio,
+/// threshold) where it has one.
 pub fn summarize(
     all: &[SequenceStiffening],
-    spec: &StiffeningSpec,
+    densities: &[f64],
     thresholds: &[(f64, f64)],
 ) -> Vec<StiffeningSummary> {
     let keys = boxes(all);
@@ -349,8 +350,7 @@ pub fn summarize(
                         ga < gb - 1e-9 * a.born_shear.unwrap_or(0.0)
                     })
                     .count(),
-                grid: spec
-                    .densities
+                grid: densities
                     .iter()
                     .enumerate()
                     .map(|(i, &d)| {
@@ -361,11 +361,61 @@ pub fn summarize(
                 exponent: thresholds
                     .iter()
                     .find(|t| t.0 == gamma)
-                    .and_then(|t| Exponent::of_threshold(&of, &spec.densities, t.1)),
-                exponent_own: Exponent::of_own(&of, &spec.densities),
+                    .and_then(|t| Exponent::of_threshold(&of, densities, t.1)),
+                exponent_own: Exponent::of_own(&of, densities),
             }
         })
         .collect()
+}
+
+/// Refuses a box measured on two grids (each entry a grid and an
+/// aspect ratio and box measured on it): its points would not make one
+/// curve.
+pub fn one_grid_per_box(measured: &[(&[f64], (f64, f64))]) -> Result<()> {
+    for (i, &(a, (gamma, box_len))) in measured.iter().enumerate() {
+        if let Some((b, _)) = measured[i + 1..]
+            .iter()
+            .find(|&&(b, key)| key == (gamma, box_len) && b != a)
+        {
+            return Err(Error::Parameter(format!(
+                "box {box_len} at gamma {gamma} was measured at densities {a:?} and at {b:?}: join a box's measurements only on one grid"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// [`summarize`] over measurements on several grids (each its densities
+/// and sequences): the sequences of one grid pooled, each box on the grid
+/// it was measured on, in (aspect ratio, box) order. A larger box costs
+/// more per side, so its grid may stop lower; a box on two grids is
+/// refused ([`one_grid_per_box`]).
+pub fn summarize_grids(
+    parts: Vec<(Vec<f64>, Vec<SequenceStiffening>)>,
+    thresholds: &[(f64, f64)],
+) -> Result<Vec<StiffeningSummary>> {
+    let measured: Vec<(&[f64], (f64, f64))> = parts
+        .iter()
+        .flat_map(|(d, seqs)| {
+            seqs.iter()
+                .map(move |s| (d.as_slice(), (s.gamma, s.box_len)))
+        })
+        .collect();
+    one_grid_per_box(&measured)?;
+    let mut grids: Vec<(Vec<f64>, Vec<SequenceStiffening>)> = Vec::new();
+    for (densities, sequences) in parts {
+        match grids.iter_mut().find(|g| g.0 == densities) {
+            Some(g) => g.1.extend(sequences),
+            None => grids.push((densities, sequences)),
+        }
+    }
+    let mut boxes: Vec<StiffeningSummary> = grids
+        .iter()
+        .flat_map(|(densities, sequences)| summarize(sequences, densities, thresholds))
+        .collect();
+    let key = |s: &StiffeningSummary| (s.gamma, s.box_len);
+    boxes.sort_by(|a, b| key(a).partial_cmp(&key(b)).expect("finite"));
+    Ok(boxes)
 }
 
 /// Writes `PREFIX.json` (with the command that made it): one entry per
@@ -432,13 +482,6 @@ mod tests {
     #[test]
     fn the_exponent_is_the_log_log_slope_above_the_critical_density() {
         let densities = [30.0, 34.0, 36.0, 40.0, 44.0];
-        let spec = StiffeningSpec {
-            studies: vec![],
-            boxes: vec![],
-            sequences: 3,
-            stiffness: 1.0,
-            densities: densities.to_vec(),
-        };
         // Each sequence's own G = (rho - rho_c)^2.5, rho_c = 33, 32.5, 33.5.
         let own: Vec<SequenceStiffening> = [264, 260, 268]
             .iter()
@@ -450,7 +493,7 @@ mod tests {
                 })
             })
             .collect();
-        let s = &summarize(&own, &spec, &[])[0];
+        let s = &summarize(&own, &densities, &[])[0];
         assert_eq!(s.exponent, None, "no threshold given");
         let e = s.exponent_own.unwrap();
         assert!((e.f - 2.5).abs() < 1e-9, "{e:?}");
@@ -474,7 +517,7 @@ mod tests {
             })
             .collect();
         common[0].grid[4] = side(352, 1e3, "projected");
-        let s = &summarize(&common, &spec, &[(48.0, 30.0), (23.0, 33.0)])[0];
+        let s = &summarize(&common, &densities, &[(48.0, 30.0), (23.0, 33.0)])[0];
         let e = s.exponent.unwrap();
         assert!((e.f - 1.5).abs() < 1e-9, "{e:?}");
         // The curve's mean G at 44 leaves the random start out too.
@@ -491,7 +534,7 @@ mod tests {
         for s in &mut common[1..] {
             s.grid[1] = side(272, 0.0, "nearest");
         }
-        let e = summarize(&common, &spec, &[(23.0, 33.0)])[0]
+        let e = summarize(&common, &densities, &[(23.0, 33.0)])[0]
             .exponent
             .unwrap();
         assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
@@ -556,5 +599,42 @@ mod tests {
         let d = &shear_decay(&all)[0];
         assert_eq!(d.boxes[0].3, None);
         assert!(d.geometric.is_empty() && !d.decay.is_empty());
+    }
+
+    #[test]
+    fn each_box_keeps_the_grid_it_was_measured_on() {
+        // Box 2 on four densities, box 3 on two: each box its own points;
+        // two parts on one grid pool their sequences into one box.
+        let at = |l: f64, index: u64, densities: &[f64]| {
+            let mut s = sequence(index, 100, densities, |d| d - 30.0);
+            s.box_len = l;
+            s
+        };
+        let wide = [32.0, 34.0, 36.0, 38.0];
+        let narrow = [32.0, 34.0];
+        let parts = vec![
+            (wide.to_vec(), vec![at(2.0, 0, &wide)]),
+            (narrow.to_vec(), vec![at(3.0, 0, &narrow)]),
+            (wide.to_vec(), vec![at(2.0, 1, &wide)]),
+        ];
+        let boxes = summarize_grids(parts, &[]).unwrap();
+        let shape: Vec<(f64, usize, usize)> = boxes
+            .iter()
+            .map(|b| (b.box_len, b.sequences, b.grid.len()))
+            .collect();
+        assert_eq!(shape, [(2.0, 2, 4), (3.0, 1, 2)]);
+        assert_eq!(boxes[0].grid[3].density, 38.0);
+        assert!((boxes[0].grid[3].shear.unwrap().mean - 8.0).abs() < 1e-12);
+        // Box 2 again on the narrow grid: refused, naming both grids.
+        let parts = vec![
+            (wide.to_vec(), vec![at(2.0, 0, &wide)]),
+            (narrow.to_vec(), vec![at(2.0, 1, &narrow)]),
+        ];
+        let err = summarize_grids(parts, &[]).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "invalid parameter: box 2 at gamma 23 was measured at densities [32.0, 34.0, 36.0, 38.0] \
+             and at [32.0, 34.0]: join a box's measurements only on one grid"
+        );
     }
 }

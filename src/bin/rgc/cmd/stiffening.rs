@@ -28,7 +28,7 @@ pub struct StiffeningArgs {
     /// Finished studies whose thresholds the chart marks (for example the truth study's and 3D-RGC's on the same sequences), each labelled by its directory's name.
     #[arg(long, value_delimiter = ',', requires = "summary")]
     marks: Vec<PathBuf>,
-    /// Other measurements (`rgc stiffening` directories of other boxes, on the same densities and k) whose sequences join the summary: the shear modulus at the critical rod against the box.
+    /// Other measurements (`rgc stiffening` directories of other boxes, with the same k; each box keeps the densities it was measured at) whose sequences join the summary: the shear modulus at the critical rod against the box.
     #[arg(long, value_delimiter = ',')]
     with: Vec<PathBuf>,
 }
