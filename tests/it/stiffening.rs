@@ -131,22 +131,25 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     assert!((top["shear"]["mean"].as_f64().unwrap() - (g[0] + g[1]) / 2.0).abs() < 1e-15);
     // Another box joins the summary: the shear modulus at the critical rod
     // by box.
+    let box_3_5 = |densities: &str, into: &std::path::Path| {
+        ok(&[
+            "stiffening",
+            s,
+            "--densities",
+            densities,
+            "--boxes",
+            "3.5",
+            "--sequences",
+            "1",
+            "--quiet",
+            "--out",
+            into.to_str().unwrap(),
+            "--with",
+            o,
+        ])
+    };
     let other = dir.join("moduli-3.5");
-    let printed = ok(&[
-        "stiffening",
-        s,
-        "--densities",
-        "30,38",
-        "--boxes",
-        "3.5",
-        "--sequences",
-        "1",
-        "--quiet",
-        "--out",
-        other.to_str().unwrap(),
-        "--with",
-        o,
-    ]);
+    let printed = box_3_5("30,38", &other);
     let g_at = |seqs: &[SequenceStiffening]| {
         seqs.iter().map(|s| s.at.shear.unwrap()).sum::<f64>() / seqs.len() as f64
     };
@@ -166,22 +169,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     assert!(printed.contains(&by_box), "{printed}");
     // A box may stop its grid lower (a larger box costs more per side):
     // each box keeps its own points.
-    let lower = dir.join("moduli-3.5-lower");
-    let printed = ok(&[
-        "stiffening",
-        s,
-        "--densities",
-        "30",
-        "--boxes",
-        "3.5",
-        "--sequences",
-        "1",
-        "--quiet",
-        "--out",
-        lower.to_str().unwrap(),
-        "--with",
-        o,
-    ]);
+    let printed = box_3_5("30", &dir.join("moduli-3.5-lower"));
     for (line, there) in [
         ("gamma 23 box 3 rho 38:", true),
         ("gamma 23 box 3.5 rho 30:", true),
