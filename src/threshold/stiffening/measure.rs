@@ -193,6 +193,7 @@ pub fn run(
         spec.sequences,
         "the stiffness across the critical rod",
     )?;
+    // Before any work: no box on two grids, no sequence joined twice.
     let measured: Vec<(&[f64], (f64, f64))> = decided
         .iter()
         .map(|(gamma, r)| (spec.densities.as_slice(), (*gamma, r.box_len)))
@@ -202,6 +203,24 @@ pub fn run(
         }))
         .collect();
     one_grid_per_box(&measured)?;
+    let mut keys: Vec<(f64, f64, u64)> = decided
+        .iter()
+        .map(|(gamma, r)| (*gamma, r.box_len, r.index))
+        .collect();
+    for (dir, (_, more)) in with.iter().zip(&others) {
+        for s in more {
+            if keys.contains(&s.key()) {
+                return Err(Error::Parameter(format!(
+                    "{} measured sequence {} of box {} at gamma {} again: join measurements of other boxes",
+                    dir.display(),
+                    s.index,
+                    s.box_len,
+                    s.gamma
+                )));
+            }
+            keys.push(s.key());
+        }
+    }
     output::check_dir(out)?;
     let (spec_file, lines) = files(out);
     let mine = journal::measure(
@@ -211,21 +230,6 @@ pub fn run(
         progress,
         |gamma, r| probe(gamma, r, spec, memory_limit),
     )?;
-    let mut every = mine.clone();
-    for (dir, (_, more)) in with.iter().zip(&others) {
-        for s in more {
-            if every.iter().any(|a| a.key() == s.key()) {
-                return Err(Error::Parameter(format!(
-                    "{} measured sequence {} of box {} at gamma {} again: join measurements of other boxes",
-                    dir.display(),
-                    s.index,
-                    s.box_len,
-                    s.gamma
-                )));
-            }
-            every.push(s.clone());
-        }
-    }
     // Each aspect ratio's threshold from its finished study (the first
     // given, where several have one aspect ratio); a study in progress has
     // no summary yet.
@@ -236,12 +240,17 @@ pub fn run(
             thresholds.push((s.study.gamma, s.fss.threshold.value));
         }
     }
+    let every: Vec<SequenceStiffening> = mine
+        .iter()
+        .chain(others.iter().flat_map(|(_, more)| more))
+        .cloned()
+        .collect();
     let decay = shear_decay(&every);
     let parts = std::iter::once((spec.densities.clone(), mine))
         .chain(others)
         .collect();
     Ok(Stiffening {
-        boxes: summarize_grids(parts, &thresholds)?,
+        boxes: summarize_grids(parts, &thresholds),
         decay,
     })
 }

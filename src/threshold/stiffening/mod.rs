@@ -22,6 +22,6 @@ pub mod summary;
 pub use measure::{read, run};
 pub use record::{SequenceStiffening, Side, StiffeningSpec};
 pub use summary::{
-    Exponent, GridPoint, Mean, ShearDecay, Stiffening, StiffeningSummary, one_grid_per_box,
-    shear_decay, summarize, summarize_grids, write,
+    Exponent, GridPoint, Mean, ShearDecay, Stiffening, StiffeningSummary, shear_decay, summarize,
+    write,
 };

@@ -370,8 +370,8 @@ pub fn summarize(
 
 /// Refuses a box measured on two grids (each entry a grid and an
 /// aspect ratio and box measured on it): its points would not make one
-/// curve.
-pub fn one_grid_per_box(measured: &[(&[f64], (f64, f64))]) -> Result<()> {
+/// curve. Checked before the work, so that [`summarize_grids`] need not.
+pub(super) fn one_grid_per_box(measured: &[(&[f64], (f64, f64))]) -> Result<()> {
     for (i, &(a, (gamma, box_len))) in measured.iter().enumerate() {
         if let Some((b, _)) = measured[i + 1..]
             .iter()
@@ -386,22 +386,14 @@ pub fn one_grid_per_box(measured: &[(&[f64], (f64, f64))]) -> Result<()> {
 }
 
 /// [`summarize`] over measurements on several grids (each its densities
-/// and sequences): the sequences of one grid pooled, each box on the grid
-/// it was measured on, in (aspect ratio, box) order. A larger box costs
-/// more per side, so its grid may stop lower; a box on two grids is
-/// refused ([`one_grid_per_box`]).
-pub fn summarize_grids(
+/// and sequences), every box on one grid ([`one_grid_per_box`]): the
+/// sequences of one grid pooled, each box on the grid it was measured on,
+/// in (aspect ratio, box) order. A larger box costs more per side, so its
+/// grid may stop lower.
+pub(super) fn summarize_grids(
     parts: Vec<(Vec<f64>, Vec<SequenceStiffening>)>,
     thresholds: &[(f64, f64)],
-) -> Result<Vec<StiffeningSummary>> {
-    let measured: Vec<(&[f64], (f64, f64))> = parts
-        .iter()
-        .flat_map(|(d, seqs)| {
-            seqs.iter()
-                .map(move |s| (d.as_slice(), (s.gamma, s.box_len)))
-        })
-        .collect();
-    one_grid_per_box(&measured)?;
+) -> Vec<StiffeningSummary> {
     let mut grids: Vec<(Vec<f64>, Vec<SequenceStiffening>)> = Vec::new();
     for (densities, sequences) in parts {
         match grids.iter_mut().find(|g| g.0 == densities) {
@@ -415,7 +407,7 @@ pub fn summarize_grids(
         .collect();
     let key = |s: &StiffeningSummary| (s.gamma, s.box_len);
     boxes.sort_by(|a, b| key(a).partial_cmp(&key(b)).expect("finite"));
-    Ok(boxes)
+    boxes
 }
 
 /// Writes `PREFIX.json` (with the command that made it): one entry per
@@ -617,7 +609,7 @@ mod tests {
             (narrow.to_vec(), vec![at(3.0, 0, &narrow)]),
             (wide.to_vec(), vec![at(2.0, 1, &wide)]),
         ];
-        let boxes = summarize_grids(parts, &[]).unwrap();
+        let boxes = summarize_grids(parts, &[]);
         let shape: Vec<(f64, usize, usize)> = boxes
             .iter()
             .map(|b| (b.box_len, b.sequences, b.grid.len()))
@@ -626,11 +618,11 @@ mod tests {
         assert_eq!(boxes[0].grid[3].density, 38.0);
         assert!((boxes[0].grid[3].shear.unwrap().mean - 8.0).abs() < 1e-12);
         // Box 2 again on the narrow grid: refused, naming both grids.
-        let parts = vec![
-            (wide.to_vec(), vec![at(2.0, 0, &wide)]),
-            (narrow.to_vec(), vec![at(2.0, 1, &narrow)]),
-        ];
-        let err = summarize_grids(parts, &[]).unwrap_err().to_string();
+        let key = (23.0, 2.0);
+        assert!(one_grid_per_box(&[(&wide, key), (&narrow, (23.0, 3.0)), (&wide, key)]).is_ok());
+        let err = one_grid_per_box(&[(&wide, key), (&narrow, key)])
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             err,
             "invalid parameter: box 2 at gamma 23 was measured at densities [32.0, 34.0, 36.0, 38.0] \
