@@ -65,6 +65,8 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     let lines = out.join("stiffening.jsonl");
     let all = stiffening::read(&lines).unwrap();
     assert_eq!(all.len(), 2);
+    // Every sequence is a line: the sides saved in progress are gone.
+    assert!(!out.join("partial").exists());
     let records: Vec<Record> = std::fs::read_to_string(study.join("records.jsonl"))
         .unwrap()
         .lines()

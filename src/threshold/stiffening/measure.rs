@@ -1,11 +1,13 @@
 //! Measuring the sequences of truth studies: each sequence's moduli one
 //! rod below and at its critical number and at the spec's densities, one
-//! journal line per sequence, so that a killed run resumes.
+//! journal line per sequence, so that a killed run resumes; a sequence in
+//! progress is saved after each side in `partial/`, so that it resumes
+//! from its last side.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::record::{SequenceStiffening, Side, StiffeningSpec};
+use super::record::{Partial, SequenceStiffening, Side, StiffeningSpec};
 use super::summary::{Stiffening, one_grid_per_box, shear_decay, summarize_grids};
 use crate::engine::run_seed;
 use crate::moduli::{self, Floats, ModuliOptions};
@@ -115,12 +117,14 @@ fn rods_at(density: f64, box_len: f64) -> usize {
 }
 
 /// One sequence: its moduli one rod below and at the critical number, and
-/// at each density of `spec`, within `limit` (bytes resident).
+/// at each density of `spec`, within `limit` (bytes resident); resumed
+/// from the sides saved in `part`, and saved there after each side.
 fn probe(
     gamma: f64,
     r: &Record,
     spec: &StiffeningSpec,
     limit: Option<u64>,
+    part: &Path,
 ) -> Result<SequenceStiffening> {
     let start = Instant::now();
     let n = r.rigid_critical.expect("chosen records are decided");
@@ -130,26 +134,74 @@ fn probe(
         .iter()
         .map(|&d| rods_at(d, r.box_len))
         .collect();
+    let mut done = resumed(part, n, &grid)?;
+    let spent = done.seconds;
+    let seconds = || spent + start.elapsed().as_secs_f64();
+    let save = |done: &Partial| {
+        if let Some(dir) = part.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+        output::write_atomic(part, serde_json::to_vec(done).expect("sides serialize"))
+    };
     // One sequence to the most rods any side needs; each side a prefix.
     let most = grid.iter().copied().fold(n, usize::max);
     let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
-    // The critical rod's side first: the side below it is measured on the
-    // same realization, so that the jump is the rod's, not another
-    // member's of the family.
-    let (at, floats) = side(&seq, r, n, k, None, limit)?;
-    let (before, _) = side(&seq, r, n - 1, k, floats.as_ref(), limit)?;
+    if done.pair.is_none() {
+        // The critical rod's side first: the side below it is measured on
+        // the same realization, so that the jump is the rod's, not another
+        // member's of the family.
+        let (at, floats) = side(&seq, r, n, k, None, limit)?;
+        let (before, _) = side(&seq, r, n - 1, k, floats.as_ref(), limit)?;
+        done.pair = Some((before, at));
+        done.seconds = seconds();
+        save(&done)?;
+    }
+    for &m in &grid[done.grid.len()..] {
+        done.grid.push(side(&seq, r, m, k, None, limit)?.0);
+        done.seconds = seconds();
+        save(&done)?;
+    }
+    let (before, at) = done.pair.expect("measured above");
     Ok(SequenceStiffening {
         gamma,
         box_len: r.box_len,
         index: r.index,
         at,
         before,
-        grid: grid
-            .into_iter()
-            .map(|m| Ok(side(&seq, r, m, k, None, limit)?.0))
-            .collect::<Result<_>>()?,
-        seconds: start.elapsed().as_secs_f64(),
+        grid: done.grid,
+        seconds: seconds(),
     })
+}
+
+/// The sides saved in `part` for a sequence critical at `n` rods on the
+/// grid of `grid` rods (none if there is no file); a file whose sides are
+/// of other numbers of rods is refused.
+fn resumed(part: &Path, n: usize, grid: &[usize]) -> Result<Partial> {
+    if !part.exists() {
+        return Ok(Partial::default());
+    }
+    let done: Partial = journal::read_spec(part, "stiffening sequence in progress")?;
+    let pair_fits = done
+        .pair
+        .as_ref()
+        .is_none_or(|(before, at)| (before.rods, at.rods) == (n - 1, n));
+    let grid_fits = done.grid.len() <= grid.len()
+        && (done.pair.is_some() || done.grid.is_empty())
+        && done.grid.iter().zip(grid).all(|(s, &m)| s.rods == m);
+    if !(pair_fits && grid_fits) {
+        return Err(Error::Parameter(format!(
+            "{} holds the sides of another sequence than this measurement's (critical at {n} rods, grid {grid:?}): remove it",
+            part.display()
+        )));
+    }
+    Ok(done)
+}
+
+/// Where the sides of sequence `index` of box `box_len` at aspect ratio
+/// `gamma` are saved while it is measured.
+fn part_file(out: &Path, gamma: f64, box_len: f64, index: u64) -> PathBuf {
+    out.join("partial")
+        .join(format!("gamma{gamma}-box{box_len}-{index}.json"))
 }
 
 /// The directory's spec file and lines.
@@ -228,8 +280,17 @@ pub fn run(
         &lines,
         &decided,
         progress,
-        |gamma, r| probe(gamma, r, spec, memory_limit),
+        |gamma, r| {
+            let part = part_file(out, gamma, r.box_len, r.index);
+            probe(gamma, r, spec, memory_limit, &part)
+        },
     )?;
+    // Every sequence is a line now: what was saved in progress is in them.
+    let partial = out.join("partial");
+    match std::fs::remove_dir_all(&partial) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(Error::io(&partial, e)),
+        _ => {}
+    }
     // Each aspect ratio's threshold from its finished study (the first
     // given, where several have one aspect ratio); a study in progress has
     // no summary yet.
@@ -312,13 +373,58 @@ mod tests {
         let spec = one_sequence();
         let mut r = record(2_787_861_376_596_761_304, 4295);
         r.box_len = 5.0;
-        let s = probe(23.0, &r, &spec, None).unwrap();
+        let s = probe(23.0, &r, &spec, None, &scratch("raises")).unwrap();
         let (b, a) = (&s.before, &s.at);
         assert_eq!((b.strain_rank, a.strain_rank), (Some(5), Some(6)));
         assert!(b.one_geometry_with(a));
         let (gb, ga) = (b.shear.unwrap(), a.shear.unwrap());
         assert!((gb - 1.7328e-7).abs() < 1e-11, "{gb}");
         assert!((ga - 2.0775e-7).abs() < 1e-11, "{ga}");
+    }
+
+    /// A file for the sides in progress of the test `name`, not there yet.
+    fn scratch(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("rgc-stiffening-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir.join("partial.json")
+    }
+
+    #[test]
+    fn a_killed_sequence_resumes_from_its_saved_sides() {
+        // Sequence of seed 1 at L = 3, critical at 1,101 rods, on a grid of
+        // two densities: the pair and the first grid side saved, then a
+        // kill.
+        let spec = StiffeningSpec {
+            densities: vec![38.0, 42.0],
+            ..one_sequence()
+        };
+        let r = record(1, 1101);
+        let part = scratch("resume");
+        let whole = probe(23.0, &r, &spec, None, &part).unwrap();
+        let saved: Partial = journal::read_spec(&part, "partial").unwrap();
+        assert_eq!(saved.grid.len(), 2);
+        // What the file holds is taken, not measured again: a side marked
+        // in it comes back marked, and the time spent before is kept.
+        let mut cut = saved.clone();
+        cut.grid.truncate(1);
+        cut.grid[0].moved = Some(-1.0);
+        cut.seconds = 1e6;
+        output::write_atomic(&part, serde_json::to_vec(&cut).unwrap()).unwrap();
+        let resumed = probe(23.0, &r, &spec, None, &part).unwrap();
+        assert_eq!(resumed.grid[0].moved, Some(-1.0));
+        assert_eq!(resumed.grid[1], whole.grid[1]);
+        assert_eq!((&resumed.before, &resumed.at), (&whole.before, &whole.at));
+        assert!(resumed.seconds > 1e6);
+        // Sides of other numbers of rods (another sequence's) are refused.
+        let other = record(1, 1200);
+        let err = probe(23.0, &other, &spec, None, &part)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("holds the sides of another sequence") && err.contains("1200"),
+            "{err}"
+        );
     }
 
     /// The side of `n` rods of the gamma 23, L = 3 sequence of `seed`.
@@ -336,7 +442,8 @@ mod tests {
         // critical one kept for its rods.
         let spec = one_sequence();
         for seed in [1, 2, 3] {
-            let s = probe(23.0, &record(seed, 1101), &spec, None).unwrap();
+            let part = scratch(&format!("below-{seed}"));
+            let s = probe(23.0, &record(seed, 1101), &spec, None, &part).unwrap();
             let (b, a) = (&s.before, &s.at);
             assert_eq!((b.strain_rank, a.strain_rank), (Some(6), Some(6)));
             assert_eq!(a.realization.as_deref(), Some("nearest"));

@@ -9,7 +9,9 @@
 //! forces. At given densities too, the moduli against the density (the
 //! stiffening curve `G(rho)`, `K(rho)`) beside the largest true cluster's
 //! share of the rods. Each sequence is one line of `stiffening.jsonl` (a
-//! [`super::journal`]), so a killed run resumes.
+//! [`super::journal`]), so a killed run resumes, and a sequence in
+//! progress is saved after each side (hours at large boxes), so it resumes
+//! from its last side.
 //!
 //! [`record`] holds what one line stores, [`summary`] what the lines say
 //! per box and across boxes, and [`measure`] measures the lines and calls

@@ -1,6 +1,7 @@
 //! What one line of a stiffening measurement stores: the spec it was
 //! measured under, and one sequence's sides (its moduli at a number of
-//! rods, or why there are none).
+//! rods, or why there are none); and what a sequence in progress has
+//! measured so far.
 
 use serde::{Deserialize, Serialize};
 
@@ -82,6 +83,20 @@ pub struct SequenceStiffening {
     /// At each of the spec's densities, in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub grid: Vec<Side>,
+    pub seconds: f64,
+}
+
+/// The sides a sequence in progress has measured, saved after each one:
+/// a sequence of a large box takes hours, and a killed run loses only the
+/// side it was on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Partial {
+    /// One rod below and at the critical number, measured together (one
+    /// geometry).
+    pub pair: Option<(Side, Side)>,
+    /// The first sides of the density grid, in order.
+    pub grid: Vec<Side>,
+    /// Seconds spent on them, over every run.
     pub seconds: f64,
 }
 
