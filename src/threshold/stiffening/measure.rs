@@ -198,10 +198,9 @@ fn resumed(part: &Path, n: usize, grid: &[usize]) -> Result<Partial> {
 }
 
 /// Where the sides of sequence `index` of box `box_len` at aspect ratio
-/// `gamma` are saved while it is measured.
-fn part_file(out: &Path, gamma: f64, box_len: f64, index: u64) -> PathBuf {
-    out.join("partial")
-        .join(format!("gamma{gamma}-box{box_len}-{index}.json"))
+/// `gamma` are saved while it is measured, in the directory `partial`.
+fn part_file(partial: &Path, gamma: f64, box_len: f64, index: u64) -> PathBuf {
+    partial.join(format!("gamma{gamma}-box{box_len}-{index}.json"))
 }
 
 /// The directory's spec file and lines.
@@ -275,18 +274,18 @@ pub fn run(
     }
     output::check_dir(out)?;
     let (spec_file, lines) = files(out);
+    let partial = out.join("partial");
     let mine = journal::measure(
         (&spec_file, spec, "stiffening spec"),
         &lines,
         &decided,
         progress,
         |gamma, r| {
-            let part = part_file(out, gamma, r.box_len, r.index);
+            let part = part_file(&partial, gamma, r.box_len, r.index);
             probe(gamma, r, spec, memory_limit, &part)
         },
     )?;
     // Every sequence is a line now: what was saved in progress is in them.
-    let partial = out.join("partial");
     match std::fs::remove_dir_all(&partial) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(Error::io(&partial, e)),
         _ => {}
