@@ -286,9 +286,10 @@ pub fn run(
         },
     )?;
     // Every sequence is a line now: what was saved in progress is in them.
-    match std::fs::remove_dir_all(&partial) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(Error::io(&partial, e)),
-        _ => {}
+    if let Err(e) = std::fs::remove_dir_all(&partial)
+        && e.kind() != std::io::ErrorKind::NotFound
+    {
+        return Err(Error::io(&partial, e));
     }
     // Each aspect ratio's threshold from its finished study (the first
     // given, where several have one aspect ratio); a study in progress has
