@@ -3,44 +3,18 @@
 //! below the square root of the rounding. One thread for the reasons of
 //! [`super::cholesky`]: a factor must not depend on the thread count.
 //!
-//! faer 0.24.4's supernodal QR mishandles a front whose rows leave some
-//! of its trailing columns without a pivot (a gap in the front's
-//! staircase, which a strong-Hall matrix can have): its blocking then
-//! loses columns, and the solve reads another front's blocks and stops at
-//! an assertion. At gamma 23, L = 5 this stopped 7 of the first 26
-//! sequences of the stiffening study. So a factor is kept only when it
-//! solves a consistent probe system to rounding; otherwise the columns are
-//! shuffled (the fill-reducing order, hence the fronts, change: the first
-//! shuffle was sound on both failing matrices kept from that study), and
-//! as a last resort the simplicial QR (without fronts, but 100 times
-//! slower at 20,000 columns) is used.
-
-use std::cell::Cell;
-use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Once;
+//! The faer built here is 0.24.4 with its supernodal factor mended
+//! (`vendor/README.md`): as published it loses columns after a gap in a
+//! front's staircase, which stopped 7 of the first 26 sequences of the
+//! gamma 23, L = 5 stiffening study and a side of the gamma 98 one.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::linalg::qr::{QrRef, QrSymbolicParams, SymbolicQr, factorize_symbolic_qr};
-use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
-use faer::{Accum, Conj, Mat, MatMut, Par};
-use rand::SeedableRng;
-use rand::seq::SliceRandom;
-use rand_chacha::ChaCha8Rng;
+use faer::{Conj, MatMut, Par};
 
 use crate::usage::{self, Refusal};
-
-/// Column shuffles tried after the order as given, before the simplicial
-/// factor.
-pub const SHUFFLES: u64 = 4;
-
-/// The largest residual of the probe system, over `|A|_F |x|`, a factor
-/// may leave: sound factors left 2e-18 to 1.3e-16 (the tests, and the two
-/// failing matrices of the study once shuffled), where the right-hand
-/// side itself, the scale of what a lost column leaves, was 2.1e-3 to 0.63
-/// of `|A|_F |x|`.
-pub const PROBE: f64 = 1e-10;
 
 /// Why a matrix got no factor.
 #[derive(Clone, Debug)]
@@ -48,7 +22,7 @@ pub enum Failure {
     /// The factor and its workspace would take the process past its
     /// memory bound (faer's symbolic step sizes them before they exist).
     Memory(Refusal),
-    /// Fewer rows than unknowns, or no factor that solves the probe.
+    /// Fewer rows than unknowns, or no symbolic factor.
     Unsound(String),
 }
 
@@ -59,15 +33,13 @@ pub struct Qr {
     indices: Vec<usize>,
     values: Vec<f64>,
     mem: MemBuffer,
-    /// The original column of each factored column, where shuffled.
-    order: Option<Vec<usize>>,
 }
 
 impl Qr {
     /// Factors `a` for least squares with up to `columns` right-hand
-    /// sides at once, or says why it cannot (more columns than rows, no
-    /// factor that solves the probe, or none that fits within `limit` on
-    /// the resident size and what the machine has room for).
+    /// sides at once, or says why it cannot (more columns than rows, or
+    /// no factor that fits within `limit` on the resident size and what
+    /// the machine has room for).
     pub fn factor(
         a: SparseColMatRef<'_, usize, f64>,
         columns: usize,
@@ -76,9 +48,8 @@ impl Qr {
         Self::factor_with(a, columns, SupernodalThreshold::AUTO, limit)
     }
 
-    /// [`Self::factor`], choosing faer's supernodal factor by `supernodal`
-    /// (faer's flop ratio; automatic outside tests) before the simplicial
-    /// last resort.
+    /// [`Self::factor`], choosing faer's supernodal or simplicial factor
+    /// by `supernodal` (faer's flop ratio; automatic outside tests).
     fn factor_with(
         a: SparseColMatRef<'_, usize, f64>,
         columns: usize,
@@ -92,51 +63,22 @@ impl Qr {
                 a.ncols()
             )));
         }
-        let tries = (0..=SHUFFLES)
-            .map(|k| (supernodal, (k > 0).then(|| shuffle(a.ncols(), k))))
-            .chain([(SupernodalThreshold::FORCE_SIMPLICIAL, None)]);
-        for (threshold, order) in tries {
-            let permuted = order.as_deref().map(|o| permute(a, o));
-            let factored = permuted.as_ref().map_or(a, |p| p.as_ref());
-            let tried = quietly(|| Self::numeric(factored, columns, threshold, limit));
-            if let Some(Err(refusal)) = tried {
-                return Err(Failure::Memory(refusal));
-            }
-            if let Some(Ok(Some(mut qr))) = tried {
-                qr.order = order;
-                if quietly(|| qr.solves_probe(a)) == Some(true) {
-                    return Ok(qr);
-                }
-            }
-        }
-        Err(Failure::Unsound(format!(
-            "faer's sparse QR of the {} x {} matrix failed in {} column orders and simplicially",
-            a.nrows(),
-            a.ncols(),
-            SHUFFLES + 1
-        )))
-    }
-
-    /// faer's factor of `a` as given, where the symbolic step succeeds,
-    /// unless its sizes do not fit within `limit` ([`usage::reserve`]).
-    fn numeric(
-        a: SparseColMatRef<'_, usize, f64>,
-        columns: usize,
-        threshold: SupernodalThreshold,
-        limit: Option<u64>,
-    ) -> Result<Option<Self>, Refusal> {
         let params = QrSymbolicParams {
-            supernodal_flop_ratio_threshold: threshold,
+            supernodal_flop_ratio_threshold: supernodal,
             ..Default::default()
         };
-        let Ok(symbolic) = factorize_symbolic_qr(a.symbolic(), params) else {
-            return Ok(None);
-        };
+        let symbolic = factorize_symbolic_qr(a.symbolic(), params).map_err(|e| {
+            Failure::Unsound(format!(
+                "no QR of the {} x {} matrix: {e:?}",
+                a.nrows(),
+                a.ncols()
+            ))
+        })?;
         let scratch = symbolic
             .factorize_numeric_qr_scratch::<f64>(Par::Seq, Default::default())
             .or(symbolic.solve_in_place_scratch::<f64>(columns.max(1), Par::Seq));
         let need = (symbolic.len_idx() + symbolic.len_val()) * 8 + scratch.size_bytes();
-        usage::reserve(need as u64, 0, limit)?;
+        usage::reserve(need as u64, 0, limit).map_err(Failure::Memory)?;
         let mut mem = MemBuffer::new(scratch);
         let mut indices = vec![0; symbolic.len_idx()];
         let mut values = vec![0.0; symbolic.len_val()];
@@ -148,105 +90,29 @@ impl Qr {
             MemStack::new(&mut mem),
             Default::default(),
         );
-        Ok(Some(Qr {
+        Ok(Qr {
             symbolic,
             indices,
             values,
             mem,
-            order: None,
-        }))
-    }
-
-    /// Whether the factor solves `a x = a x0` for a fixed `x0` to rounding
-    /// (a consistent system's residual does not grow with the conditioning).
-    fn solves_probe(&mut self, a: SparseColMatRef<'_, usize, f64>) -> bool {
-        let x0 = Mat::from_fn(a.ncols(), 1, |j, _| 1.0 + (j % 7) as f64 / 7.0);
-        let mut b = Mat::<f64>::zeros(a.nrows(), 1);
-        sparse_dense_matmul(b.as_mut(), Accum::Replace, a, x0.as_ref(), 1.0, Par::Seq);
-        let mut x = b.clone();
-        self.solve(x.as_mut());
-        let mut residual = b;
-        sparse_dense_matmul(
-            residual.as_mut(),
-            Accum::Add,
-            a,
-            x.subrows(0, a.ncols()),
-            -1.0,
-            Par::Seq,
-        );
-        let frobenius = a.val().iter().map(|v| v * v).sum::<f64>().sqrt();
-        residual.norm_l2() <= PROBE * frobenius * x0.norm_l2()
+        })
     }
 
     /// Overwrites the first `ncols` rows of `rhs` (of `nrows` rows) with
     /// the least-squares solution of `A x = rhs`, column by column.
-    pub fn solve(&mut self, mut rhs: MatMut<'_, f64>) {
+    pub fn solve(&mut self, rhs: MatMut<'_, f64>) {
         // The factor's parts as faer numbered them when it was made.
         let qr = unsafe { QrRef::new_unchecked(&self.symbolic, &self.indices, &self.values) };
-        qr.solve_in_place_with_conj(
-            Conj::No,
-            rhs.as_mut(),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-        );
-        if let Some(order) = &self.order {
-            let factored = rhs.as_ref().subrows(0, order.len()).to_owned();
-            for (j, &c) in order.iter().enumerate() {
-                rhs.as_mut().row_mut(c).copy_from(factored.row(j));
-            }
-        }
+        qr.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut self.mem));
     }
-}
-
-/// The `k`-th fixed shuffle of `n` columns.
-fn shuffle(n: usize, k: u64) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..n).collect();
-    order.shuffle(&mut ChaCha8Rng::seed_from_u64(k));
-    order
-}
-
-/// `a`'s columns in `order` (column `j` is `a`'s column `order[j]`).
-fn permute(a: SparseColMatRef<'_, usize, f64>, order: &[usize]) -> SparseColMat<usize, f64> {
-    let entries: Vec<Triplet<usize, usize, f64>> = order
-        .iter()
-        .enumerate()
-        .flat_map(|(j, &c)| {
-            a.row_idx_of_col(c)
-                .zip(a.val_of_col(c))
-                .map(move |(i, &v)| Triplet::new(i, j, v))
-        })
-        .collect();
-    SparseColMat::try_new_from_triplets(a.nrows(), a.ncols(), &entries)
-        .expect("a permutation of a valid matrix")
-}
-
-thread_local! {
-    /// Set while a panic of faer is expected and caught.
-    static QUIET: Cell<bool> = const { Cell::new(false) };
-}
-
-/// `f()`, or `None` where it panics, without the panic's message (the
-/// process's panic hook is kept for every other panic).
-fn quietly<T>(f: impl FnOnce() -> T) -> Option<T> {
-    static HOOK: Once = Once::new();
-    HOOK.call_once(|| {
-        let previous = std::panic::take_hook();
-        std::panic::set_hook(Box::new(move |info| {
-            if !QUIET.with(Cell::get) {
-                previous(info)
-            }
-        }));
-    });
-    let was = QUIET.with(|q| q.replace(true));
-    let out = catch_unwind(AssertUnwindSafe(f));
-    QUIET.with(|q| q.set(was));
-    out.ok()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use faer::Mat;
     use faer::linalg::solvers::SolveLstsq;
+    use faer::sparse::{SparseColMat, Triplet};
 
     fn matrix(t: &[(usize, usize, f64)], rows: usize, cols: usize) -> SparseColMat<usize, f64> {
         let entries: Vec<_> = t.iter().map(|&(i, j, v)| Triplet::new(i, j, v)).collect();
@@ -288,7 +154,8 @@ mod tests {
     }
 
     /// 96 rows of ones over 117 columns, shrunk from a random matrix on
-    /// which faer's supernodal QR loses a column (found by search).
+    /// which faer 0.24.4 as published loses a column of a supernodal front
+    /// (found by search) and does not solve it.
     const GAP: [&[usize]; 96] = [
         &[27, 104, 115],
         &[38, 39, 80],
@@ -389,7 +256,7 @@ mod tests {
     ];
 
     #[test]
-    fn a_gap_in_a_front_is_met_by_a_shuffle_and_the_solution_is_exact() {
+    fn a_gap_in_a_front_is_solved_exactly() {
         let n = 117;
         let mut t: Vec<(usize, usize, f64)> = GAP
             .iter()
@@ -399,24 +266,14 @@ mod tests {
         t.extend((0..n).map(|j| (GAP.len() + j, j, 1e-3)));
         let m = GAP.len() + n;
         let a = matrix(&t, m, n);
-        // faer's supernodal factor as given panics or fails the probe.
-        let plain = quietly(|| {
-            let mut qr =
-                Qr::numeric(a.as_ref(), 1, SupernodalThreshold::FORCE_SUPERNODAL, None).ok()??;
-            Some(qr.solves_probe(a.as_ref()))
-        });
-        assert!(
-            matches!(plain, None | Some(None) | Some(Some(false))),
-            "{plain:?}"
-        );
         let mut qr =
             Qr::factor_with(a.as_ref(), 2, SupernodalThreshold::FORCE_SUPERNODAL, None).unwrap();
-        assert!(qr.order.is_some(), "kept the failing order");
         let b = Mat::from_fn(m, 2, |i, j| ((i * 5 + j * 3) % 7) as f64 - 3.0);
         let mut x = b.clone();
         qr.solve(x.as_mut());
         let expected: Mat<f64> = a.to_dense().qr().solve_lstsq(&b);
         let error = (x.subrows(0, n) - &expected).norm_l2() / expected.norm_l2();
-        assert!(error < 1e-9, "{error:e}");
+        // 1.9e-13 measured.
+        assert!(error < 1e-11, "{error:e}");
     }
 }
