@@ -128,6 +128,13 @@ pub fn relax(
             break;
         }
     }
+    // A non-finite residual is no modulus: say so rather than record it
+    // (serialized, NaN would read as a missing value).
+    if !last.iter().all(|e| e.is_finite()) {
+        return Err(Error::analysis(format!(
+            "the relaxation of the {rows} x {columns} spring matrix gave non-finite energies {last:?}"
+        )));
+    }
     // `(resᵀ R)ᵀ = Rᵀ res`, without a transposed copy of `R`.
     let mut gt = Mat::<f64>::zeros(6, columns);
     dense_sparse_matmul(
@@ -176,5 +183,16 @@ mod tests {
         assert!((out.relaxed[1][2] - 3.0).abs() < 1e-12);
         assert_eq!(out.affine[0][0], 5.0);
         assert!(out.optimality <= 1e-15, "{}", out.optimality);
+    }
+
+    #[test]
+    fn a_non_finite_relaxation_is_an_error_not_a_modulus() {
+        let entries = [Triplet::new(0, 0, f64::NAN), Triplet::new(1, 1, 1.0)];
+        let mut b = Mat::<f64>::zeros(3, 6);
+        b[(0, 0)] = 1.0;
+        let Err(e) = relax(3, 2, &entries, &b, None) else {
+            panic!("a NaN spring gave a relaxation");
+        };
+        assert!(e.to_string().contains("non-finite energies"), "{e}");
     }
 }
