@@ -109,6 +109,7 @@ pub fn observations(spec: &StudySpec, records: &[Record]) -> Vec<BoxData> {
                         .map(|s| (s.n as f64 / volume, s.spans))
                         .collect(),
                     contacts: r.contacts.clone(),
+                    undecided: r.undecided.is_some(),
                 })
                 .collect();
             BoxData {

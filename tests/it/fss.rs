@@ -343,7 +343,24 @@ fn sequences_that_never_span_are_a_warning() {
             .iter()
             .any(|w| w.contains("L=5: 1 of 100 sequences never spanned"))
     );
+    assert!(!r.warnings.iter().any(|w| w.contains("verdict")));
     assert!(r.nu.lo.is_none() && r.boxes[0].mu_interval.is_none());
+
+    data[0].observations[0].undecided = true;
+    data[1].observations[0].critical = None;
+    let r = analyse(&data, &opts).unwrap();
+    let l5: Vec<&String> = r.warnings.iter().filter(|w| w.contains("L=5:")).collect();
+    assert_eq!(
+        l5,
+        [
+            "box L=5: 1 of 100 sequences lost truth's verdict (no realization of the model) before their critical number was found and are left out of the fit"
+        ]
+    );
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("L=6: 1 of 100 sequences never spanned"))
+    );
     let curve = fss::pi_curve(&data[0], Protocol::Nested);
     assert_eq!(curve.len(), 99);
     assert!((curve.last().unwrap().1 - 0.99).abs() < 1e-12 && curve[0].2 == 100);

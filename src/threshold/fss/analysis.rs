@@ -275,11 +275,21 @@ fn box_warnings(b: &BoxData, fit: &BoxResult, opts: &FssOptions) -> Vec<String> 
     let mut out = Vec::new();
     match opts.protocol {
         Protocol::Nested => {
-            let censored = b.observations.len() - fit.sequences;
+            let n = b.observations.len();
+            let undecided = b
+                .observations
+                .iter()
+                .filter(|o| o.critical.is_none() && o.undecided)
+                .count();
+            let censored = n - fit.sequences - undecided;
             if censored > 0 {
                 out.push(format!(
-                    "box L={l}: {censored} of {} sequences never spanned and are left out of the fit (biases the threshold low)",
-                    b.observations.len()
+                    "box L={l}: {censored} of {n} sequences never spanned and are left out of the fit (biases the threshold low)"
+                ));
+            }
+            if undecided > 0 {
+                out.push(format!(
+                    "box L={l}: {undecided} of {n} sequences lost truth's verdict (no realization of the model) before their critical number was found and are left out of the fit"
                 ));
             }
         }

@@ -26,6 +26,10 @@ pub struct Observation {
     pub fixed: Vec<(f64, bool)>,
     /// Contact numbers measured along the way.
     pub contacts: Vec<ContactPoint>,
+    /// Truth lost its verdict before the sequence spanned (no realization
+    /// of the model), so a missing critical density is no censoring.
+    #[serde(default)]
+    pub undecided: bool,
 }
 
 /// The observations of one box size.
