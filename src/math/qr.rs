@@ -5,8 +5,10 @@
 //!
 //! The faer built here is 0.24.4 with its supernodal factor mended
 //! (`vendor/README.md`): as published it loses columns after a gap in a
-//! front's staircase, which stopped 7 of the first 26 sequences of the
-//! gamma 23, L = 5 stiffening study and a side of the gamma 98 one.
+//! front's staircase, and its fronts' dense QR drops a column whose
+//! remainder falls below a rank threshold, which shifts the front's rows
+//! (NaN energies at gamma 98, where the regularization's `√λ` is all a
+//! column keeps).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SparseColMatRef;
@@ -254,6 +256,57 @@ mod tests {
         &[19, 27, 29, 99],
         &[21, 91],
     ];
+
+    /// faer's dense QR drops a column whose remainder is below
+    /// `16 (m - row) eps` of its norm, a rank threshold the supernodal
+    /// fronts cannot follow: their rows then shift, and the published solve
+    /// returned NaN here (and on a spring matrix of the gamma 98 study).
+    #[test]
+    fn a_column_below_the_dense_rank_threshold_keeps_its_row() {
+        use rand::{RngExt, SeedableRng};
+        let (rows, n) = (1200, 40);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        let mut dense =
+            nalgebra::DMatrix::<f64>::from_fn(rows + n, n, |_, _| rng.random::<f64>() - 0.5);
+        // Column 1 a copy of column 0: its remainder is the regularization's.
+        let first = dense.column(0).into_owned();
+        dense.set_column(1, &first);
+        let top = dense
+            .rows(0, rows)
+            .column_iter()
+            .map(|c| c.norm_squared())
+            .fold(0.0, f64::max);
+        let mut lower = dense.rows_mut(rows, n);
+        lower.fill(0.0);
+        lower.fill_diagonal((1e-24 * top).sqrt());
+        let t: Vec<(usize, usize, f64)> = (0..n)
+            .flat_map(|j| (0..rows + n).map(move |i| (i, j)))
+            .filter(|&(i, j)| dense[(i, j)] != 0.0)
+            .map(|(i, j)| (i, j, dense[(i, j)]))
+            .collect();
+        let a = matrix(&t, rows + n, n);
+        let mut qr =
+            Qr::factor_with(a.as_ref(), 1, SupernodalThreshold::FORCE_SUPERNODAL, None).unwrap();
+        let b = nalgebra::DVector::<f64>::from_fn(rows + n, |i, _| {
+            if i < rows {
+                ((i * 7) % 5) as f64 - 2.0
+            } else {
+                0.0
+            }
+        });
+        let mut x = Mat::from_fn(rows + n, 1, |i, _| b[i]);
+        qr.solve(x.as_mut());
+        let x = nalgebra::DVector::from_fn(n, |j, _| x[(j, 0)]);
+        // The reference: nalgebra's Householder QR, which has no threshold.
+        let reference = dense.clone().qr();
+        let qtb = reference.q().transpose() * &b;
+        let expected = reference.r().solve_upper_triangular(&qtb).unwrap();
+        let energy =
+            |x: &nalgebra::DVector<f64>| (b.rows(0, rows) - dense.rows(0, rows) * x).norm_squared();
+        let (got, want) = (energy(&x), energy(&expected));
+        // 5e-11 measured; the published factor gave NaN.
+        assert!((got - want).abs() < 1e-9 * want, "{got:e} against {want:e}");
+    }
 
     #[test]
     fn a_gap_in_a_front_is_solved_exactly() {

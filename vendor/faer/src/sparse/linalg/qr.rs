@@ -1289,7 +1289,9 @@ pub mod supernodal {
 								.rb_mut()
 								.subrows_mut(0, bs)
 								.subcols_mut(current_start, ncols);
-							linalg::qr::no_pivoting::factor::qr_in_place(
+							// rgc: without the dense rank threshold, which
+							// drops a column and shifts the rows under it.
+							linalg::qr::no_pivoting::factor::qr_in_place_full_rank(
 								left.rb_mut(),
 								s_tau.rb_mut(),
 								par,

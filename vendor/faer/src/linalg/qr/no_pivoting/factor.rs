@@ -13,6 +13,7 @@ fn qr_in_place_unblocked<T: ComplexField>(
 	H: RowMut<'_, T>,
 	row_start: usize,
 	col_start: usize,
+	full_rank: bool,
 ) -> usize {
 	let mut A = A;
 	let mut H = H;
@@ -57,11 +58,13 @@ fn qr_in_place_unblocked<T: ComplexField>(
 		let tau_inv = &info.tau.recip();
 		H[row] = info.tau.to_cplx();
 
+		// rgc: with `full_rank`, every column keeps its row, however small
+		// its norm (a sparse front's staircase assumes it).
 		if *tau_inv < min_positive() {
-			if info.norm > zero() {
+			if full_rank || info.norm > zero() {
 				row += 1;
 			}
-		} else if info.norm > threshold {
+		} else if full_rank || info.norm > threshold {
 			for (head, tail) in
 				core::iter::zip(A01.iter_mut(), A11.col_iter_mut())
 			{
@@ -142,6 +145,7 @@ fn qr_in_place_blocked<T: ComplexField>(
 	par: Par,
 	stack: &mut MemStack,
 	params: Spec<QrParams, T>,
+	full_rank: bool,
 ) -> usize {
 	let params = params.config;
 	let (m, n) = A.shape();
@@ -149,7 +153,13 @@ fn qr_in_place_blocked<T: ComplexField>(
 	let block_size = H.nrows();
 	assert!(block_size > 0);
 	if block_size == 1 {
-		return qr_in_place_unblocked(A, H.row_mut(0), row_start, col_start);
+		return qr_in_place_unblocked(
+			A,
+			H.row_mut(0),
+			row_start,
+			col_start,
+			full_rank,
+		);
 	}
 	let sub_block_size = if m * n < params.blocking_threshold {
 		1
@@ -178,6 +188,7 @@ fn qr_in_place_blocked<T: ComplexField>(
 				par,
 				stack,
 				params.into(),
+				full_rank,
 			);
 			let local = new_row - row;
 			if local > 0 {
@@ -262,6 +273,29 @@ pub fn qr_in_place<T: ComplexField>(
 	stack: &mut MemStack,
 	params: Spec<QrParams, T>,
 ) -> QrInfo {
+	qr_in_place_imp(A, Q_coeff, par, stack, params, false)
+}
+/// rgc: [`qr_in_place`] without its rank threshold: every column keeps its
+/// row, as the supernodal sparse factor's fronts require.
+#[track_caller]
+pub(crate) fn qr_in_place_full_rank<T: ComplexField>(
+	A: MatMut<'_, T>,
+	Q_coeff: MatMut<'_, T>,
+	par: Par,
+	stack: &mut MemStack,
+	params: Spec<QrParams, T>,
+) -> QrInfo {
+	qr_in_place_imp(A, Q_coeff, par, stack, params, true)
+}
+#[track_caller]
+fn qr_in_place_imp<T: ComplexField>(
+	A: MatMut<'_, T>,
+	Q_coeff: MatMut<'_, T>,
+	par: Par,
+	stack: &mut MemStack,
+	params: Spec<QrParams, T>,
+	full_rank: bool,
+) -> QrInfo {
 	let block_size = Q_coeff.nrows();
 	assert!(all(
 		block_size > 0,
@@ -283,7 +317,7 @@ pub fn qr_in_place<T: ComplexField>(
 	}
 	let mut Q_coeff = Q_coeff;
 	let rank =
-		qr_in_place_blocked(A, Q_coeff.rb_mut(), 0, 0, par, stack, params);
+		qr_in_place_blocked(A, Q_coeff.rb_mut(), 0, 0, par, stack, params, full_rank);
 	Q_coeff.rb_mut().get_mut(.., rank..).fill(zero());
 	let mut col = rank / block_size * block_size;
 	let n = Q_coeff.ncols();
