@@ -60,8 +60,10 @@ pub struct Conditioning {
     /// optimality, at rounding of the affine columns' size when the solve
     /// is well posed (`|b| / |r|` times the precision).
     pub optimality: f64,
-    /// Refinement steps taken.
+    /// Refinement steps taken, and whether the energies settled (if not,
+    /// the moduli are upper bounds the refinement had not reached).
     pub steps: usize,
+    pub settled: bool,
     /// The smallest eigenvalue kept over the Born tensor's largest (none
     /// when the strain rank is 0).
     pub kept: Option<f64>,
@@ -256,6 +258,7 @@ pub fn of_realization(
         regularization,
         optimality,
         steps,
+        settled,
     } = relax::relax(rows, columns, &entries, &affine, limit)?;
     let volume = real.side.powi(3);
     let raw = Voigt::of_strain_columns(&relaxed, stiffness / volume);
@@ -304,6 +307,7 @@ pub fn of_realization(
             regularization,
             optimality,
             steps,
+            settled,
             kept,
             dropped,
         },

@@ -57,6 +57,9 @@ pub struct Relaxation {
     pub optimality: f64,
     /// Refinement steps taken.
     pub steps: usize,
+    /// Whether the energies settled within [`MAX_STEPS`]; if not, the
+    /// relaxed energies (and the moduli) are upper bounds still falling.
+    pub settled: bool,
 }
 
 /// The Gram matrix of the columns of `m`.
@@ -110,7 +113,7 @@ pub fn relax(
     let mut u = Mat::<f64>::zeros(columns, 6);
     let mut res = b.clone();
     let mut last = energies(&res);
-    let mut steps = 0;
+    let (mut steps, mut settled) = (0, false);
     while steps < MAX_STEPS {
         let mut step = Mat::<f64>::zeros(rows + columns, 6);
         step.subrows_mut(0, rows).copy_from(&res);
@@ -119,7 +122,7 @@ pub fn relax(
         res = b + times(&r, u.as_ref());
         steps += 1;
         let now = energies(&res);
-        let settled = now
+        settled = now
             .iter()
             .zip(&last)
             .all(|(e, l)| (e - l).abs() <= SETTLED * e.max(*l));
@@ -158,6 +161,7 @@ pub fn relax(
         regularization: lambda,
         optimality,
         steps,
+        settled,
     })
 }
 
@@ -183,6 +187,24 @@ mod tests {
         assert!((out.relaxed[1][2] - 3.0).abs() < 1e-12);
         assert_eq!(out.affine[0][0], 5.0);
         assert!(out.optimality <= 1e-15, "{}", out.optimality);
+        assert!(out.settled && out.steps < MAX_STEPS, "{} steps", out.steps);
+    }
+
+    #[test]
+    fn a_mode_at_the_regularization_relaxes_by_half_a_step_and_does_not_settle() {
+        // R = diag(1, 1e-12): λ = 1e-24 puts σ² = λ for the second column,
+        // which each refinement relaxes by λ / (σ² + λ) = 1/2.
+        let entries = [Triplet::new(0, 0, 1.0), Triplet::new(1, 1, 1e-12)];
+        let mut b = Mat::<f64>::zeros(2, 6);
+        b[(1, 0)] = 1.0;
+        let out = relax(2, 2, &entries, &b, None).unwrap();
+        assert_eq!((out.steps, out.settled), (MAX_STEPS, false));
+        let expected = 0.25_f64.powi(MAX_STEPS as i32);
+        assert!(
+            (out.relaxed[0][0] / expected - 1.0).abs() < 1e-6,
+            "{:e}",
+            out.relaxed[0][0]
+        );
     }
 
     #[test]

@@ -52,6 +52,7 @@ fn side(
         moved: None,
         largest: None,
         failed: None,
+        settled: None,
     };
     let failed = |e: Error, side: Side| match e {
         // Over the memory limit is no answer about the sequence: stop.
@@ -89,6 +90,7 @@ fn side(
         born_shear: Some(e.born_shear),
         realization: Some(e.realization),
         moved: e.moved.map(|m| m.contacts),
+        settled: Some(e.conditioning.settled),
         ..known.clone()
     };
     // The larger system's geometry, unless it is special for these rods

@@ -46,6 +46,18 @@ pub struct Side {
     #[serde(default)]
     pub largest: Option<usize>,
     pub failed: Option<String>,
+    /// Whether the relaxation's energies settled (none without floats,
+    /// and in records older than the field); if not, the moduli are upper
+    /// bounds the refinement had not reached.
+    #[serde(default)]
+    pub settled: Option<bool>,
+}
+
+impl Side {
+    /// Its relaxation ran out of refinement steps.
+    pub fn unsettled(&self) -> bool {
+        self.settled == Some(false)
+    }
 }
 
 impl Side {

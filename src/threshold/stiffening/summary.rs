@@ -137,6 +137,9 @@ pub struct StiffeningSummary {
     /// rounding (`1e-9` of the Born modulus): adding springs to one
     /// geometry cannot lower it, so any is a defect.
     pub shear_fell: usize,
+    /// Critical sides (below or at the rod) whose relaxation did not
+    /// settle: their `G` is an upper bound.
+    pub unsettled: usize,
     /// At each density of the spec.
     pub grid: Vec<GridPoint>,
     /// The exponent `f` of `G ~ (rho - rho_t)^f` from the mean shear
@@ -259,6 +262,8 @@ pub struct GridPoint {
     /// Sides that are [`Side::comparable`] (the rest projected from a random
     /// start: not comparable).
     pub comparable: usize,
+    /// Measured sides whose relaxation did not settle.
+    pub unsettled: usize,
 }
 
 impl GridPoint {
@@ -280,6 +285,7 @@ impl GridPoint {
             bulk: mean(&comparable, &|s| s.bulk),
             largest_share: mean(&ok, &|s| s.largest.map(|l| l as f64 / s.rods as f64)),
             comparable: comparable.len(),
+            unsettled: ok.iter().filter(|s| s.unsettled()).count(),
         }
     }
 }
@@ -350,6 +356,10 @@ pub fn summarize(
                         ga < gb - 1e-9 * a.born_shear.unwrap_or(0.0)
                     })
                     .count(),
+                unsettled: measured
+                    .iter()
+                    .map(|(b, a)| usize::from(b.unsettled()) + usize::from(a.unsettled()))
+                    .sum(),
                 grid: densities
                     .iter()
                     .enumerate()
@@ -445,6 +455,7 @@ mod tests {
             moved: None,
             largest: None,
             failed: None,
+            settled: solid.then_some(true),
         }
     }
 
@@ -515,6 +526,7 @@ mod tests {
         // The curve's mean G at 44 leaves the random start out too.
         let top = &s.grid[4];
         assert_eq!((top.measured, top.comparable), (3, 2));
+        assert_eq!((top.unsettled, s.unsettled), (0, 0));
         assert!((top.shear.unwrap().mean - 11f64.powf(1.5)).abs() < 1e-9);
         assert_eq!(
             (e.points, e.threshold, e.from, e.to),
@@ -526,9 +538,15 @@ mod tests {
         for s in &mut common[1..] {
             s.grid[1] = side(272, 0.0, "nearest");
         }
-        let e = summarize(&common, &densities, &[(23.0, 33.0)])[0]
-            .exponent
-            .unwrap();
+        // Relaxations that ran out of steps are counted, not left out.
+        common[0].grid[3].settled = Some(false);
+        common[2].at.settled = Some(false);
+        let s = &summarize(&common, &densities, &[(23.0, 33.0)])[0];
+        assert_eq!(
+            (s.grid[3].unsettled, s.grid[3].comparable, s.unsettled),
+            (1, 3, 1)
+        );
+        let e = s.exponent.unwrap();
         assert!((e.f - 1.947_747_158_653_809).abs() < 1e-9, "{e:?}");
     }
 

@@ -87,11 +87,16 @@ pub fn run(a: ModuliArgs, out: &mut String) -> Result<()> {
     let opt = |x: Option<f64>| x.map_or("-".into(), |x| format!("{x:.2e}"));
     say!(
         out,
-        "conditioning: smallest kept eigenvalue {} and largest dropped {} of Born's largest; optimality {:.1e} after {} refinements (lambda {:.1e})",
+        "conditioning: smallest kept eigenvalue {} and largest dropped {} of Born's largest; optimality {:.1e} after {} refinements{} (lambda {:.1e})",
         opt(c.kept),
         opt(c.dropped),
         c.optimality,
         c.steps,
+        if c.settled {
+            ""
+        } else {
+            ", not settled: the moduli are upper bounds"
+        },
         c.regularization
     );
     say!(

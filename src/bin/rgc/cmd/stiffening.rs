@@ -62,7 +62,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
     };
     say!(
         out,
-        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10} {:>8} {:>6}",
+        "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10} {:>8} {:>6} {:>9}",
         "gamma",
         "box",
         "seqs",
@@ -76,13 +76,14 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         "G jump",
         "comparable",
         "one geom",
-        "G fell"
+        "G fell",
+        "unsettled"
     );
     for s in summaries {
         let rank = |m: Option<Mean>| m.map_or("-".to_string(), |m| format!("{:.2}", m.mean));
         say!(
             out,
-            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10} {:>8} {:>6}",
+            "{:>6} {:>5} {:>4} {:>6} {:>10} {:>10} {:>6} {:>6} {:>22} {:>22} {:>22} {:>10} {:>8} {:>6} {:>9}",
             s.gamma,
             s.box_len,
             s.sequences,
@@ -96,20 +97,22 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
             mean(s.shear_jump),
             s.both_comparable,
             s.one_geometry,
-            s.shear_fell
+            s.shear_fell,
+            s.unsettled
         );
     }
     for s in summaries {
         for p in &s.grid {
             say!(
                 out,
-                "gamma {} box {} rho {}: {} measured ({} failed, {} comparable: exact zeros or nearest the rods), solid {}, G {}, K {}, largest cluster {}",
+                "gamma {} box {} rho {}: {} measured ({} failed, {} comparable: exact zeros or nearest the rods, {} unsettled), solid {}, G {}, K {}, largest cluster {}",
                 s.gamma,
                 s.box_len,
                 p.density,
                 p.measured,
                 p.failed,
                 p.comparable,
+                p.unsettled,
                 p.solid,
                 mean(p.shear),
                 mean(p.bulk),
