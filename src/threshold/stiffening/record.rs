@@ -58,9 +58,7 @@ impl Side {
     pub fn unsettled(&self) -> bool {
         self.settled == Some(false)
     }
-}
 
-impl Side {
     /// Whether its moduli compare with other sequences': exact where the
     /// rods resist no strain, else from the realization nearest the rods,
     /// its own or the next side's (one from a random start is another
