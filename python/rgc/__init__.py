@@ -225,9 +225,12 @@ def moduli(
     k: float = 1.0,
     seed: int = 1,
     memory_limit: Optional[int] = None,
+    solver: str = "auto",
 ) -> dict:
     """The elastic moduli of ``rods`` in a cubic periodic box (the same
-    answer as ``rgc moduli --json`` with that seed): a spring of stiffness
+    answer as ``rgc moduli --json`` with that seed and ``solver``: 'auto',
+    the sparse QR where it fits in memory and LSMR where it does not, or
+    'qr' or 'lsmr' alone; ``conditioning['solver']`` says which ran): a spring of stiffness
     ``k`` at every contact, the rods rigid, the non-affine relaxation.
     ``tensor`` and ``born`` are 6 x 6 float64 arrays in Voigt's notation
     (xx, yy, zz, yz, xz, xy) in ``k / L_rod``; ``shear`` and ``bulk`` are
@@ -235,7 +238,7 @@ def moduli(
     is truth's exact strain rank, at which the tensor is kept; and the
     ``conditioning``. A system whose float tensor shows no gap at the
     strain rank, or whose strain rank is unknown, raises ValueError."""
-    out = json.loads(_moduli(rods, k=k, seed=seed, memory_limit=memory_limit))
+    out = json.loads(_moduli(rods, k=k, seed=seed, memory_limit=memory_limit, solver=solver))
     for key in ("tensor", "born", "eigenvalues"):
         out[key] = np.asarray(out[key], dtype=np.float64)
     return out

@@ -2,7 +2,7 @@
 
 use pyo3::prelude::*;
 
-use rgc::moduli::{ModuliOptions, of_system};
+use rgc::moduli::{ModuliOptions, Solver, of_system};
 use rgc::truth::TruthOptions;
 
 use crate::compress::check_memory;
@@ -10,12 +10,12 @@ use crate::system::PyRods;
 use crate::{count, interrupt, value_error};
 
 /// The elastic tensor of `rods` (a spring `k` at every contact, rigid
-/// rods), as the JSON text of `rgc moduli --json` with that seed;
-/// `rgc.moduli` reads it into arrays.
+/// rods), as the JSON text of `rgc moduli --json` with that seed and
+/// solver (`auto`, `qr` or `lsmr`); `rgc.moduli` reads it into arrays.
 #[pyfunction]
 #[pyo3(
-    signature = (rods, k=1.0, seed=None, memory_limit=None),
-    text_signature = "(rods, k=1.0, seed=1, memory_limit=None)"
+    signature = (rods, k=1.0, seed=None, memory_limit=None, solver="auto"),
+    text_signature = "(rods, k=1.0, seed=1, memory_limit=None, solver='auto')"
 )]
 pub fn moduli(
     py: Python<'_>,
@@ -23,8 +23,19 @@ pub fn moduli(
     k: f64,
     seed: Option<&Bound<'_, PyAny>>,
     memory_limit: Option<&Bound<'_, PyAny>>,
+    solver: &str,
 ) -> PyResult<String> {
     let seed = crate::seed(seed)?;
+    let solver = match solver {
+        "auto" => Solver::Auto,
+        "qr" => Solver::Qr,
+        "lsmr" => Solver::Lsmr,
+        other => {
+            return Err(value_error(format!(
+                "solver must be 'auto', 'qr' or 'lsmr', not {other:?}"
+            )));
+        }
+    };
     let memory_limit = match memory_limit {
         Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),
         None => None,
@@ -37,6 +48,7 @@ pub fn moduli(
             memory_limit,
             ..TruthOptions::seeded(seed)
         },
+        solver,
     };
     let e = interrupt::run(py, move || {
         let network = rgc::network::Network::detect((*system).clone());

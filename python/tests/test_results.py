@@ -171,3 +171,9 @@ def test_moduli_match_the_command_line(cli):
     assert 0 < m["shear"] < m["born_shear"]
     with pytest.raises(ValueError, match="stiffness k must be positive"):
         rgc.moduli(rods, k=-1.0)
+    # LSMR gives the QR's tensor, and says it ran.
+    by_lsmr = rgc.moduli(rods, k=2.0, seed=1, solver="lsmr")
+    assert (m["conditioning"]["solver"], by_lsmr["conditioning"]["solver"]) == ("qr", "lsmr")
+    assert np.allclose(by_lsmr["tensor"], m["tensor"], rtol=1e-8, atol=1e-12 * m["born"].max())
+    with pytest.raises(ValueError, match="solver must be 'auto', 'qr' or 'lsmr'"):
+        rgc.moduli(rods, solver="cg")

@@ -1,11 +1,12 @@
 //! The elastic moduli against truth on the same gamma 23 systems near and
 //! above truth's threshold: both timed in one run (the moduli include the
-//! truth they take the strain rank from, so the ratio is at least 1).
+//! truth they take the strain rank from, so the ratio is at least 1), by
+//! the QR, and the relaxation alone by LSMR on the same realization.
 
 use serde::Serialize;
 
 use super::truth::TRUTH_GAMMA;
-use crate::moduli::{ModuliOptions, of_system};
+use crate::moduli::{self, ModuliOptions, Solver, of_system};
 use crate::network::Network;
 use crate::rods::{RodParams, RodSystem};
 use crate::truth::TruthOptions;
@@ -36,19 +37,39 @@ pub struct ModuliRow {
     /// The relaxation alone on the realization, over truth's seconds: what
     /// the moduli would cost against truth with a realization for free.
     pub relaxation_ratio: f64,
+    /// The same relaxation by LSMR instead of the QR, on the same
+    /// realization, over truth's seconds, and the G it gives (none where
+    /// the strain rank is 0: no relaxation).
+    #[serde(default)]
+    pub lsmr_relaxation_ratio: Option<f64>,
+    #[serde(default)]
+    pub lsmr_shear: Option<f64>,
 }
 
 /// The moduli of one system at gamma 23, timed with the truth inside them.
 pub fn measure(density: f64, box_len: usize, seed: u64) -> crate::Result<ModuliRow> {
     let params = RodParams::new(TRUTH_GAMMA, box_len as f64, density)?;
     let network = Network::detect(RodSystem::generate(params, seed));
-    let e = of_system(
-        network.view(),
-        ModuliOptions {
-            stiffness: 1.0,
-            truth: TruthOptions::seeded(seed),
-        },
-    )?;
+    let opts = ModuliOptions {
+        stiffness: 1.0,
+        truth: TruthOptions::seeded(seed),
+        solver: Solver::Qr,
+    };
+    let e = of_system(network.view(), opts)?;
+    // Truth and the realization again (untimed), for LSMR's relaxation.
+    let lsmr = if e.strain_rank > 0 {
+        let view = network.view();
+        let exact = moduli::exact(view, opts)?;
+        let floats = moduli::floats(view, seed, true, None)?;
+        let opts = ModuliOptions {
+            solver: Solver::Lsmr,
+            ..opts
+        };
+        Some(moduli::of_floats(view, exact, &floats, opts)?)
+    } else {
+        None
+    };
+    let over_truth = |s: f64| s / e.truth_seconds.max(f64::MIN_POSITIVE);
     Ok(ModuliRow {
         density,
         box_len,
@@ -58,7 +79,9 @@ pub fn measure(density: f64, box_len: usize, seed: u64) -> crate::Result<ModuliR
         realization: e.realization,
         truth_seconds: e.truth_seconds,
         seconds: e.seconds,
-        ratio: e.seconds / e.truth_seconds.max(f64::MIN_POSITIVE),
-        relaxation_ratio: e.relaxation_seconds / e.truth_seconds.max(f64::MIN_POSITIVE),
+        ratio: over_truth(e.seconds),
+        relaxation_ratio: over_truth(e.relaxation_seconds),
+        lsmr_relaxation_ratio: lsmr.as_ref().map(|l| over_truth(l.relaxation_seconds)),
+        lsmr_shear: lsmr.map(|l| l.shear),
     })
 }

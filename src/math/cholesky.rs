@@ -7,9 +7,17 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
+use faer::matrix_free::{BiLinOp, BiPrecond, LinOp, Precond};
+use faer::perm::{PermRef, permute_rows};
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{
+    LltRef, SymbolicCholesky, SymbolicCholeskyRaw, factorize_symbolic_cholesky,
+};
+use faer::sparse::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_lower_triangular_transpose_in_place,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Conj, MatMut, MatRef, Par, Side};
 
 /// A symmetric positive definite pattern's Cholesky factor `L Lᵀ`, read
 /// from the lower triangle.
@@ -76,7 +84,149 @@ impl Llt {
             MemStack::new(&mut self.mem),
         );
     }
+
+    /// The factor of `A = Qᵀ L Lᵀ Q` (`Q` faer's fill-reducing order) as
+    /// the right preconditioner `M = Qᵀ L⁻ᵀ`, for which `Mᵀ A M = I`; none
+    /// before a successful factor.
+    pub fn root(&self) -> Option<Root<'_>> {
+        let factor = match self.symbolic.raw() {
+            _ if !self.factored => return None,
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                Factor::Simplicial(SparseColMatRef::new(s.factor(), &self.values))
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                Factor::Supernodal(SupernodalLltRef::new(s, &self.values))
+            }
+        };
+        Some(Root {
+            factor,
+            order: self.symbolic.perm(),
+        })
+    }
 }
+
+/// `L`, as faer's simplicial or supernodal factor stores it.
+#[derive(Clone, Copy)]
+enum Factor<'a> {
+    Simplicial(SparseColMatRef<'a, usize, f64>),
+    Supernodal(SupernodalLltRef<'a, usize, f64>),
+}
+
+/// A Cholesky factor applied as `M = Qᵀ L⁻ᵀ` and `Mᵀ = L⁻¹ Q` (faer's
+/// operator traits, for its Krylov solvers).
+#[derive(Clone, Copy)]
+pub struct Root<'a> {
+    factor: Factor<'a>,
+    /// `Q`, where faer reordered.
+    order: Option<PermRef<'a, usize>>,
+}
+
+impl std::fmt::Debug for Root<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Root")
+            .field("n", &self.n())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Root<'_> {
+    fn n(&self) -> usize {
+        match self.factor {
+            Factor::Simplicial(l) => l.nrows(),
+            Factor::Supernodal(l) => l.symbolic().nrows(),
+        }
+    }
+
+    /// `out = Qᵀ L⁻ᵀ rhs`.
+    fn inverse_transpose(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, stack: &mut MemStack) {
+        let mut z = rhs.to_owned();
+        match self.factor {
+            Factor::Simplicial(l) => {
+                solve_lower_triangular_transpose_in_place(l, Conj::No, z.as_mut(), Par::Seq)
+            }
+            Factor::Supernodal(l) => {
+                l.l_transpose_solve_with_conj(Conj::No, z.as_mut(), Par::Seq, stack)
+            }
+        }
+        match self.order {
+            Some(q) => permute_rows(out, z.as_ref(), q.inverse()),
+            None => { out }.copy_from(&z),
+        }
+    }
+
+    /// `out = L⁻¹ Q rhs`.
+    fn inverse(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, stack: &mut MemStack) {
+        let mut out = out;
+        match self.order {
+            Some(q) => permute_rows(out.as_mut(), rhs, q),
+            None => out.copy_from(rhs),
+        }
+        match self.factor {
+            Factor::Simplicial(l) => solve_lower_triangular_in_place(l, Conj::No, out, Par::Seq),
+            Factor::Supernodal(l) => l.l_solve_with_conj(Conj::No, out, Par::Seq, stack),
+        }
+    }
+
+    fn scratch(&self, k: usize) -> StackReq {
+        match self.factor {
+            Factor::Simplicial(_) => StackReq::EMPTY,
+            Factor::Supernodal(l) => l.symbolic().solve_in_place_scratch::<f64>(k, Par::Seq),
+        }
+    }
+}
+
+impl LinOp<f64> for Root<'_> {
+    fn apply_scratch(&self, k: usize, _par: Par) -> StackReq {
+        self.scratch(k)
+    }
+    fn nrows(&self) -> usize {
+        self.n()
+    }
+    fn ncols(&self) -> usize {
+        self.n()
+    }
+    fn apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, stack: &mut MemStack) {
+        self.inverse_transpose(out, rhs, stack);
+    }
+    /// Real: the conjugate is the operator.
+    fn conj_apply(
+        &self,
+        out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        par: Par,
+        stack: &mut MemStack,
+    ) {
+        self.apply(out, rhs, par, stack);
+    }
+}
+
+impl BiLinOp<f64> for Root<'_> {
+    fn transpose_apply_scratch(&self, k: usize, _par: Par) -> StackReq {
+        self.scratch(k)
+    }
+    fn transpose_apply(
+        &self,
+        out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        _par: Par,
+        stack: &mut MemStack,
+    ) {
+        self.inverse(out, rhs, stack);
+    }
+    /// Real: the adjoint is the transpose.
+    fn adjoint_apply(
+        &self,
+        out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        par: Par,
+        stack: &mut MemStack,
+    ) {
+        self.transpose_apply(out, rhs, par, stack);
+    }
+}
+
+impl Precond<f64> for Root<'_> {}
+impl BiPrecond<f64> for Root<'_> {}
 
 /// faer's symbolic factor of `pattern` and the workspace its factor and
 /// solves (up to 6 columns) take.

@@ -29,7 +29,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::relax::{self, Relaxation};
+use super::relax::{self, Relaxation, Solver};
 use super::voigt::Voigt;
 use crate::graph::Topology;
 use crate::math::vec3::{Line, V3, add, dot, foot, scale, sub};
@@ -48,6 +48,8 @@ pub struct ModuliOptions {
     pub stiffness: f64,
     /// Truth's options, for the exact strain rank.
     pub truth: TruthOptions,
+    /// How the springs' least squares is solved.
+    pub solver: Solver,
 }
 
 /// How well posed the solve was.
@@ -64,6 +66,10 @@ pub struct Conditioning {
     /// the moduli are upper bounds the refinement had not reached).
     pub steps: usize,
     pub settled: bool,
+    /// The solver that relaxed the strain columns (absent in results made
+    /// before LSMR: the QR).
+    #[serde(default = "Solver::qr")]
+    pub solver: Solver,
     /// The smallest eigenvalue kept over the Born tensor's largest (none
     /// when the strain rank is 0).
     pub kept: Option<f64>,
@@ -224,17 +230,18 @@ pub fn springs(
 
 /// The moduli of the realization `real` of the `active` rods of a
 /// periodic `topo`, kept at the exact `strain_rank`; `centres` (per rod, on
-/// its line) move with the strain in the Born tensor. The factor is
-/// refused where it would take the process past `limit` (bytes resident).
+/// its line) move with the strain in the Born tensor; springs of
+/// `opts.stiffness`, solved by `opts.solver`. The factor is refused where
+/// it would take the process past truth's memory limit (bytes resident).
 pub fn of_realization(
     topo: &Topology,
     active: &[bool],
     real: &Realization<f64>,
     centres: &[Option<V3<f64>>],
     strain_rank: u8,
-    stiffness: f64,
-    limit: Option<u64>,
+    opts: ModuliOptions,
 ) -> Result<Elastic> {
+    let stiffness = opts.stiffness;
     if topo.periodic != [true; 3] || topo.shifts.is_none() {
         return Err(Error::Parameter(
             "moduli need a box periodic along x, y and z".into(),
@@ -259,7 +266,15 @@ pub fn of_realization(
         optimality,
         steps,
         settled,
-    } = relax::relax(rows, columns, &entries, &affine, limit)?;
+        solver,
+    } = relax::relax(
+        rows,
+        columns,
+        &entries,
+        &affine,
+        opts.solver,
+        opts.truth.memory_limit,
+    )?;
     let volume = real.side.powi(3);
     let raw = Voigt::of_strain_columns(&relaxed, stiffness / volume);
     let born = Voigt::of_strain_columns(&born, stiffness / volume);
@@ -308,6 +323,7 @@ pub fn of_realization(
             optimality,
             steps,
             settled,
+            solver,
             kept,
             dropped,
         },
@@ -657,8 +673,7 @@ pub fn of_floats(network: View, exact: Exact, f: &Floats, opts: ModuliOptions) -
         &f.real,
         &f.centres,
         exact.strain_rank,
-        opts.stiffness,
-        opts.truth.memory_limit,
+        opts,
     )?;
     e.realization = f.how.into();
     e.moved = f.moved;

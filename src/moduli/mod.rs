@@ -5,7 +5,8 @@
 //! tensor (Voigt) per unit volume is `C = (k/V) Bᵀ (I - R R⁺) B`:
 //!
 //! * [`relax`] — the least squares of every strain column at once, by
-//!   faer's sparse QR of `R` over `√λ I`, refined;
+//!   faer's sparse QR of `R` over `√λ I`, refined, or where that does not
+//!   fit in memory by LSMR preconditioned by the normal equations' factor;
 //! * [`voigt`] — the tensor in Voigt's notation, its spectrum, its
 //!   isotropic (Voigt) averages;
 //! * [`elastic`] — the matrix in floats from truth's own rows, the tensor
@@ -19,5 +20,5 @@ pub use elastic::{
     Conditioning, Elastic, Exact, Floats, ModuliOptions, Moved, Springs, exact, floats, of_exact,
     of_floats, of_realization, of_system, springs,
 };
-pub use relax::Relaxation;
+pub use relax::{Relaxation, Solver};
 pub use voigt::Voigt;

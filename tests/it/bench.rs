@@ -198,7 +198,7 @@ fn rule_load_times_the_extended_sets_and_names_a_missing_file() {
 /// its ratio counts the truth inside them (so it is at least 1).
 #[test]
 fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
-    use rgc::moduli::{ModuliOptions, of_system};
+    use rgc::moduli::{ModuliOptions, Solver, of_system};
     use rgc::network::Network;
     use rgc::truth::TruthOptions;
     let (density, box_len, seed) = bench::moduli::SYSTEMS[0];
@@ -210,6 +210,7 @@ fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
         ModuliOptions {
             stiffness: 1.0,
             truth: TruthOptions::seeded(seed),
+            solver: Solver::Qr,
         },
     )
     .unwrap();
@@ -219,8 +220,20 @@ fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
     );
     assert!(row.truth_seconds > 0.0 && row.seconds >= row.truth_seconds);
     assert_eq!(row.ratio, row.seconds / row.truth_seconds);
-    // The relaxation is a part of the whole, after truth.
+    // The relaxation is a part of the whole, after truth; the first
+    // system resists no strain, so there is none by LSMR.
     assert!(row.relaxation_ratio > 0.0 && row.relaxation_ratio < row.ratio - 1.0);
+    assert_eq!((row.lsmr_relaxation_ratio, row.lsmr_shear), (None, None));
+    // A solid one: LSMR's G is the QR's.
+    let (density, box_len, seed) = bench::moduli::SYSTEMS[1];
+    let solid = bench::moduli::measure(density, box_len, seed).unwrap();
+    let lsmr = solid.lsmr_shear.unwrap();
+    assert!(
+        (lsmr / solid.shear - 1.0).abs() < 1e-8,
+        "{lsmr} against {}",
+        solid.shear
+    );
+    assert!(solid.lsmr_relaxation_ratio.unwrap() > 0.0);
 
     // The command writes the rows it prints, one per system, in order.
     let dir = crate::scratch("bench-moduli");

@@ -8,6 +8,7 @@
 use std::process::{Command, Output};
 
 use rgc::bench::{LimitRow, TruthSystem, within_limit};
+use serde_json::Value;
 
 const RGC: &str = env!("CARGO_BIN_EXE_rgc");
 
@@ -90,24 +91,26 @@ fn truth_over_its_limit_names_what_it_holds_and_what_the_front_needs() {
     assert!(held <= 32.0 * 1024.0 * 1024.0, "{err}");
 }
 
+/// The system of the moduli's memory tests: gamma 23, L 3, density 45.
+const MODULI_SYSTEM: [&str; 8] = [
+    "--gamma",
+    "23",
+    "--box",
+    "3",
+    "--density",
+    "45",
+    "--seed",
+    "1",
+];
+
 #[test]
 fn moduli_over_their_limit_refuse_the_projection_or_the_factor_before_they_start() {
     // gamma 23, L 3: truth and the projection fit in 60 MiB, the sparse
     // QR of the springs (sized by faer's symbolic step) does not; at
     // gamma 98, L 5 an unguarded factor of 9 GiB was killed by the kernel.
-    let args = [
-        "moduli",
-        "--gamma",
-        "23",
-        "--box",
-        "3",
-        "--density",
-        "45",
-        "--seed",
-        "1",
-        "--memory-limit",
-        "60M",
-    ];
+    let mut args = vec!["moduli", "--solver", "qr"];
+    args.extend_from_slice(&MODULI_SYSTEM);
+    args.extend_from_slice(&["--memory-limit", "60M"]);
     let err = refused(
         &rgc_under(None, &args),
         &[
@@ -121,8 +124,7 @@ fn moduli_over_their_limit_refuse_the_projection_or_the_factor_before_they_start
     assert!(held <= 60.0 * 1024.0 * 1024.0, "{err}");
     // Under 32 MiB the projection that gives the springs their
     // realization is refused before it starts (it peaks near 41 MiB).
-    let mut args = args;
-    args[10] = "32M";
+    args[12] = "32M";
     let err = refused(
         &rgc_under(None, &args),
         &[
@@ -132,6 +134,33 @@ fn moduli_over_their_limit_refuse_the_projection_or_the_factor_before_they_start
     );
     let need = size_after(&err, "needs about ");
     assert!(need > 16.0 * 1024.0 * 1024.0, "{err}");
+}
+
+#[test]
+fn moduli_whose_qr_is_over_the_limit_are_relaxed_by_lsmr_within_it() {
+    // The system above: under 60 MiB the QR is refused, and by default the
+    // relaxation falls back to LSMR, whose preconditioner (the Cholesky
+    // factor of the normal equations) fits; its moduli are the QR's.
+    let run = |extra: &[&str]| -> Value {
+        let mut args = vec!["moduli", "--json"];
+        args.extend_from_slice(&MODULI_SYSTEM);
+        args.extend_from_slice(extra);
+        let out = rgc_under(None, &args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        serde_json::from_slice(&out.stdout).expect("one JSON object")
+    };
+    let lsmr = run(&["--memory-limit", "60M"]);
+    let qr = run(&["--solver", "qr"]);
+    assert_eq!(lsmr["conditioning"]["solver"], "lsmr");
+    assert_eq!(qr["conditioning"]["solver"], "qr");
+    assert_eq!(lsmr["conditioning"]["settled"], true);
+    for key in ["shear", "bulk", "born_shear"] {
+        let (a, b) = (lsmr[key].as_f64().unwrap(), qr[key].as_f64().unwrap());
+        assert!(
+            (a / b - 1.0).abs() < 1e-8,
+            "{key}: {a} by LSMR, {b} by the QR"
+        );
+    }
 }
 
 #[test]

@@ -6,7 +6,9 @@
 use faer::Mat;
 use rgc::graph::{ContactGraph, Topology};
 use rgc::math::vec3::Line;
-use rgc::moduli::{Elastic, ModuliOptions, Voigt, floats, of_realization, of_system, springs};
+use rgc::moduli::{
+    Elastic, ModuliOptions, Solver, Voigt, floats, of_realization, of_system, springs,
+};
 use rgc::network::Network;
 use rgc::rods::{Rod, RodParams, RodSystem};
 use rgc::truth::TruthOptions;
@@ -16,6 +18,7 @@ fn opts(k: f64) -> ModuliOptions {
     ModuliOptions {
         stiffness: k,
         truth: TruthOptions::seeded(1),
+        solver: Solver::Auto,
     }
 }
 
@@ -64,7 +67,7 @@ fn a_chain_of_rods_along_x_resists_its_stretch_in_series() {
     };
     let centres: Vec<_> = real.lines.iter().map(|l| l.map(|l| l.p)).collect();
     let k = 2.0;
-    let e = of_realization(&topo, &[true; 3], &real, &centres, 1, k, None).unwrap();
+    let e = of_realization(&topo, &[true; 3], &real, &centres, 1, opts(k)).unwrap();
     let near = |a: f64, b: f64| (a - b).abs() < 1e-12;
     let mut want = [[0.0; 6]; 6];
     want[0][0] = k / 3.0;
@@ -77,7 +80,7 @@ fn a_chain_of_rods_along_x_resists_its_stretch_in_series() {
     assert!(near(e.nonaffinity.unwrap(), 0.6));
     // Kept at rank 0, the tensor is zero and the eigenvalue dropped, k/3,
     // is all of Born's largest: the conditioning says so.
-    let zero = of_realization(&topo, &[true; 3], &real, &centres, 0, k, None).unwrap();
+    let zero = of_realization(&topo, &[true; 3], &real, &centres, 0, opts(k)).unwrap();
     assert_eq!((zero.tensor, zero.shear), (Voigt::ZERO, 0.0));
     assert!((zero.conditioning.dropped.unwrap() - 1.0).abs() < 1e-12);
     assert!((e.conditioning.kept.unwrap() - 1.0).abs() < 1e-12);
@@ -118,8 +121,9 @@ fn dense(net: &Network, k: f64) -> (Voigt, Voigt) {
     )
 }
 
-/// Below the threshold (strain rank 0) and solid (6): the sparse solve
-/// and the dense pseudo-inverse agree on the tensor and the Born tensor.
+/// Below the threshold (strain rank 0) and solid (6): the sparse solve,
+/// by the QR and by LSMR, and the dense pseudo-inverse agree on the
+/// tensor and the Born tensor.
 #[test]
 fn small_systems_agree_with_a_dense_pseudo_inverse() {
     let fluid = Network::detect(RodSystem::generate(
@@ -127,14 +131,34 @@ fn small_systems_agree_with_a_dense_pseudo_inverse() {
         1,
     ));
     for (net, rank) in [(fluid, 0), (solid(), 6)] {
-        let e = of_system(net.view(), opts(1.5)).unwrap();
-        assert_eq!(e.strain_rank, rank);
         let (c, born) = dense(&net, 1.5);
-        assert!(close(&e.born, &born, 1e-9), "{:?} {:?}", e.born, born);
-        let off = e.tensor.minus(&c).largest();
-        assert!(off <= 1e-6 * born.largest(), "{:?}\n{:?}", e.tensor, c);
         if rank == 0 {
             assert!(c.largest() < 1e-9 * born.largest(), "{c:?}");
+        }
+        for solver in [Solver::Qr, Solver::Lsmr] {
+            let e = of_system(
+                net.view(),
+                ModuliOptions {
+                    solver,
+                    ..opts(1.5)
+                },
+            )
+            .unwrap();
+            assert_eq!(e.strain_rank, rank);
+            assert!(close(&e.born, &born, 1e-9), "{:?} {:?}", e.born, born);
+            let off = e.tensor.minus(&c).largest();
+            assert!(
+                off <= 1e-6 * born.largest(),
+                "{solver:?}: {:?}\n{:?}",
+                e.tensor,
+                c
+            );
+            if rank > 0 {
+                assert_eq!(
+                    (e.conditioning.solver, e.conditioning.settled),
+                    (solver, true)
+                );
+            }
         }
     }
 }
@@ -271,8 +295,8 @@ fn permuting_a_solid_s_axes_permutes_its_tensor() {
         points: f.real.points.iter().map(|x| x.map(turn)).collect(),
     };
     let centres: Vec<_> = f.centres.iter().map(|c| c.map(turn)).collect();
-    let a = of_realization(&topo, &f.active, &f.real, &f.centres, 6, 1.0, None).unwrap();
-    let b = of_realization(&turned, &f.active, &real, &centres, 6, 1.0, None).unwrap();
+    let a = of_realization(&topo, &f.active, &f.real, &f.centres, 6, opts(1.0)).unwrap();
+    let b = of_realization(&turned, &f.active, &real, &centres, 6, opts(1.0)).unwrap();
     check(&a);
     assert!(a.shear > 0.0 && a.bulk > 0.0);
     assert_permuted(&a, &b);

@@ -29,17 +29,18 @@ fn side(
     seq: &Sequence,
     r: &Record,
     n: usize,
-    stiffness: f64,
+    spec: &StiffeningSpec,
     next: Option<&Floats>,
     limit: Option<u64>,
 ) -> Result<(Side, Option<Floats>)> {
     let graph = seq.graph(n);
     let opts = ModuliOptions {
-        stiffness,
+        stiffness: spec.stiffness,
         truth: TruthOptions {
             memory_limit: limit,
             ..TruthOptions::seeded(run_seed(r.seed, n as u64))
         },
+        solver: spec.solver,
     };
     let view = seq.view(n, &graph);
     let blank = Side {
@@ -53,6 +54,7 @@ fn side(
         largest: None,
         failed: None,
         settled: None,
+        solver: None,
     };
     let failed = |e: Error, side: Side| match e {
         // Over the memory limit is no answer about the sequence: stop.
@@ -91,6 +93,7 @@ fn side(
         realization: Some(e.realization),
         moved: e.moved.map(|m| m.contacts),
         settled: Some(e.conditioning.settled),
+        solver: Some(e.conditioning.solver),
         ..known.clone()
     };
     // The larger system's geometry, unless it is special for these rods
@@ -130,7 +133,6 @@ fn probe(
 ) -> Result<SequenceStiffening> {
     let start = Instant::now();
     let n = r.rigid_critical.expect("chosen records are decided");
-    let k = spec.stiffness;
     let grid: Vec<usize> = spec
         .densities
         .iter()
@@ -152,14 +154,14 @@ fn probe(
         // The critical rod's side first: the side below it is measured on
         // the same realization, so that the jump is the rod's, not another
         // member's of the family.
-        let (at, floats) = side(&seq, r, n, k, None, limit)?;
-        let (before, _) = side(&seq, r, n - 1, k, floats.as_ref(), limit)?;
+        let (at, floats) = side(&seq, r, n, spec, None, limit)?;
+        let (before, _) = side(&seq, r, n - 1, spec, floats.as_ref(), limit)?;
         done.pair = Some((before, at));
         done.seconds = seconds();
         save(&done)?;
     }
     for &m in &grid[done.grid.len()..] {
-        done.grid.push(side(&seq, r, m, k, None, limit)?.0);
+        done.grid.push(side(&seq, r, m, spec, None, limit)?.0);
         done.seconds = seconds();
         save(&done)?;
     }
@@ -352,6 +354,7 @@ mod tests {
             sequences: 1,
             stiffness: 1.0,
             densities: vec![],
+            solver: Default::default(),
         }
     }
 
@@ -432,7 +435,7 @@ mod tests {
     /// The side of `n` rods of the gamma 23, L = 3 sequence of `seed`.
     fn side_of(seed: u64, n: usize) -> Side {
         let seq = Sequence::new(23.0, 3.0, n, seed).unwrap();
-        super::side(&seq, &record(seed, n), n, 1.0, None, None)
+        super::side(&seq, &record(seed, n), n, &one_sequence(), None, None)
             .unwrap()
             .0
     }

@@ -5,6 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::moduli::Solver;
 use crate::threshold::journal;
 
 /// What a measurement takes: which studies, boxes and sequences, and the
@@ -23,6 +24,10 @@ pub struct StiffeningSpec {
     /// too.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub densities: Vec<f64>,
+    /// How the springs' least squares is solved (absent: the QR where it
+    /// fits, else LSMR).
+    #[serde(default, skip_serializing_if = "Solver::is_auto")]
+    pub solver: Solver,
 }
 
 /// The moduli of one prefix of a sequence, or why there are none.
@@ -51,6 +56,10 @@ pub struct Side {
     /// bounds the refinement had not reached.
     #[serde(default)]
     pub settled: Option<bool>,
+    /// The solver that relaxed it (none without floats, and absent in
+    /// sides older than LSMR, which the QR relaxed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<Solver>,
 }
 
 impl Side {

@@ -456,6 +456,7 @@ mod tests {
             largest: None,
             failed: None,
             settled: solid.then_some(true),
+            solver: solid.then_some(crate::moduli::Solver::Qr),
         }
     }
 

@@ -485,7 +485,7 @@ fn moduli(a: BenchArgs, out: &mut String) -> Result<()> {
     for r in &rows {
         say!(
             out,
-            "gamma 23, rho {}, L {}, seed {}: strain rank {}, G {:.3e} ({}); moduli {:.3} s, truth {:.3} s: {:.1}x (the relaxation alone {:.1}x)",
+            "gamma 23, rho {}, L {}, seed {}: strain rank {}, G {:.3e} ({}); moduli {:.3} s, truth {:.3} s: {:.1}x (the relaxation alone {:.1}x; by LSMR {})",
             r.density,
             r.box_len,
             r.seed,
@@ -495,7 +495,11 @@ fn moduli(a: BenchArgs, out: &mut String) -> Result<()> {
             r.seconds,
             r.truth_seconds,
             r.ratio,
-            r.relaxation_ratio
+            r.relaxation_ratio,
+            match (r.lsmr_relaxation_ratio, r.lsmr_shear) {
+                (Some(x), Some(g)) => format!("{x:.1}x, G {g:.3e}"),
+                _ => "-".into(),
+            }
         );
     }
     Ok(())

@@ -4,7 +4,7 @@ use clap::Args;
 
 use crate::args::{MemoryArgs, RodsArgs};
 
-use rgc::moduli::{self, ModuliOptions, Voigt};
+use rgc::moduli::{self, ModuliOptions, Solver, Voigt};
 use rgc::network::Network;
 use rgc::sample::Rods;
 use rgc::truth::TruthOptions;
@@ -23,6 +23,11 @@ pub struct ModuliArgs {
     /// Spring stiffness k of a contact, in each direction.
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     k: f64,
+    /// How the springs' least squares is solved: the sparse QR where it
+    /// fits in memory, else LSMR preconditioned by the normal equations'
+    /// Cholesky factor (a tenth of the QR's memory), or either alone.
+    #[arg(long, value_enum, default_value_t = Solver::Auto)]
+    solver: Solver,
     /// Print JSON instead of a summary.
     #[arg(long)]
     json: bool,
@@ -47,6 +52,7 @@ pub fn run(a: ModuliArgs, out: &mut String) -> Result<()> {
             memory_limit: a.memory.memory_limit,
             ..TruthOptions::seeded(a.seed)
         },
+        solver: a.solver,
     };
     let e = moduli::of_system(network.view(), opts)?;
     if a.json {
@@ -85,9 +91,13 @@ pub fn run(a: ModuliArgs, out: &mut String) -> Result<()> {
     );
     let c = &e.conditioning;
     let opt = |x: Option<f64>| x.map_or("-".into(), |x| format!("{x:.2e}"));
+    let (steps, shift) = match c.solver {
+        Solver::Lsmr => ("LSMR iterations", "mu"),
+        _ => ("refinements", "lambda"),
+    };
     say!(
         out,
-        "conditioning: smallest kept eigenvalue {} and largest dropped {} of Born's largest; optimality {:.1e} after {} refinements{} (lambda {:.1e})",
+        "conditioning: smallest kept eigenvalue {} and largest dropped {} of Born's largest; optimality {:.1e} after {} {steps}{} ({shift} {:.1e})",
         opt(c.kept),
         opt(c.dropped),
         c.optimality,

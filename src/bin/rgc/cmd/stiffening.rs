@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use rgc::moduli::Solver;
 use rgc::threshold::stiffening::{self, Mean, StiffeningSpec};
 use rgc::{Result, output, plot, threshold};
 
@@ -22,6 +23,9 @@ pub struct StiffeningArgs {
     /// Also measure each sequence at these densities (rods per unit volume, increasing): the stiffening curve.
     #[arg(long, value_delimiter = ',')]
     densities: Vec<f64>,
+    /// How the springs' least squares is solved (as `rgc moduli --solver`).
+    #[arg(long, value_enum, default_value_t = Solver::Auto)]
+    solver: Solver,
     /// Also write the summary as PREFIX.json, and with --densities the chart as PREFIX.svg and PREFIX.png.
     #[arg(long)]
     summary: Option<PathBuf>,
@@ -44,6 +48,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         sequences: m.sequences,
         stiffness: a.k,
         densities: a.densities.clone(),
+        solver: a.solver,
     };
     let summary = stiffening::run(
         &m.dirs,
