@@ -80,8 +80,8 @@ impl Solver {
         Solver::Qr
     }
 
-    pub fn is_auto(&self) -> bool {
-        *self == Solver::Auto
+    pub fn is_qr(&self) -> bool {
+        *self == Solver::Qr
     }
 }
 

@@ -3,8 +3,25 @@
 //! sequence.
 
 use crate::cli::{fails, rgc};
+use rgc::moduli::Solver;
 use rgc::threshold::sequence::Record;
 use rgc::threshold::stiffening::{self, SequenceStiffening};
+
+/// `rgc stiffening` of the first sequence of box 3.5 of the study `study`
+/// at `densities` into `out`, with `more` arguments.
+fn box_3_5_run(study: &str, densities: &str, out: &str, more: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "stiffening",
+        study,
+        "--densities",
+        densities,
+        "--boxes",
+        "3.5",
+    ];
+    args.extend(["--sequences", "1", "--quiet", "--out", out]);
+    args.extend_from_slice(more);
+    rgc(&args)
+}
 
 fn ok(args: &[&str]) -> String {
     let o = rgc(args);
@@ -133,22 +150,17 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     assert!((top["shear"]["mean"].as_f64().unwrap() - (g[0] + g[1]) / 2.0).abs() < 1e-15);
     // Another box joins the summary: the shear modulus at the critical rod
     // by box.
+    let box_3_5_into = |densities: &str, into: &std::path::Path, more: &[&str]| {
+        box_3_5_run(s, densities, into.to_str().unwrap(), more)
+    };
     let box_3_5 = |densities: &str, into: &std::path::Path| {
-        ok(&[
-            "stiffening",
-            s,
-            "--densities",
-            densities,
-            "--boxes",
-            "3.5",
-            "--sequences",
-            "1",
-            "--quiet",
-            "--out",
-            into.to_str().unwrap(),
-            "--with",
-            o,
-        ])
+        let out = box_3_5_into(densities, into, &["--with", o]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
     };
     let other = dir.join("moduli-3.5");
     let printed = box_3_5("30,38", &other);
@@ -179,6 +191,45 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     ] {
         assert_eq!(printed.contains(line), there, "{line}: {printed}");
     }
+    // The lower grid extended to the other's: only the new side is
+    // measured (here by LSMR), the old sides stay as they were, and the
+    // new one is the other directory's side (by the QR).
+    let lower = dir.join("moduli-3.5-lower");
+    let before = stiffening::read(&lower.join("stiffening.jsonl")).unwrap();
+    let extend = |densities: &str, solver: &str| {
+        box_3_5_into(densities, &lower, &["--extend", "--solver", solver])
+    };
+    assert!(extend("30,38", "lsmr").status.success());
+    let after = stiffening::read(&lower.join("stiffening.jsonl")).unwrap();
+    assert_eq!((after.len(), after[0].grid.len()), (1, 2));
+    assert_eq!(
+        (&after[0].before, &after[0].at, &after[0].grid[0]),
+        (&before[0].before, &before[0].at, &before[0].grid[0])
+    );
+    let (new, qr) = (&after[0].grid[1], &joined[0].grid[1]);
+    assert_eq!(
+        (new.solver, qr.solver),
+        (Some(Solver::Lsmr), Some(Solver::Qr))
+    );
+    let (a, b) = (new.shear.unwrap(), qr.shear.unwrap());
+    assert!((a / b - 1.0).abs() < 1e-8, "{a} by LSMR, {b} by the QR");
+    assert!(after[0].seconds > before[0].seconds);
+    // Again: nothing to add. A grid that does not continue the old one,
+    // and a solver left to the memory free, are refused.
+    let text = std::fs::read_to_string(lower.join("stiffening.jsonl")).unwrap();
+    assert!(extend("30,38", "lsmr").status.success());
+    assert_eq!(
+        std::fs::read_to_string(lower.join("stiffening.jsonl")).unwrap(),
+        text
+    );
+    let refused = |densities: &str, solver: &str, needle: &str| {
+        let o = extend(densities, solver);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle), "{err}");
+    };
+    refused("30,36", "qr", "--extend adds densities after the last of");
+    refused("30,38,45", "auto", "solves by the QR or by LSMR");
     // One box on two grids is refused before any work.
     let two = dir.join("two-grids");
     fails(

@@ -10,7 +10,7 @@ use std::time::Instant;
 use super::record::{Partial, SequenceStiffening, Side, StiffeningSpec};
 use super::summary::{Stiffening, one_grid_per_box, shear_decay, summarize_grids};
 use crate::engine::run_seed;
-use crate::moduli::{self, Floats, ModuliOptions};
+use crate::moduli::{self, Floats, ModuliOptions, Solver};
 use crate::progress::Progress;
 use crate::threshold::journal::{self, Line};
 use crate::threshold::report;
@@ -212,18 +212,79 @@ fn files(out: &Path) -> (PathBuf, PathBuf) {
     (out.join("stiffening.json"), out.join("stiffening.jsonl"))
 }
 
+/// Gives the finished sequences of the measurement in `out` the densities
+/// `spec` adds after its grid's last: each line goes back to `partial/` as
+/// a sequence in progress with the old grid measured, and leaves the
+/// journal, and then the spec takes the new grid and solver, so that the
+/// run measures only the new sides (each a prefix of its own, as if
+/// measured with the rest). Killed at any point, the same command
+/// finishes it. A directory already on `spec` is left as it is.
+fn extend(out: &Path, spec: &StiffeningSpec) -> Result<()> {
+    let (spec_file, lines) = files(out);
+    if !spec_file.exists() {
+        return Err(Error::Parameter(format!(
+            "--extend: {} holds no stiffening measurement to extend",
+            out.display()
+        )));
+    }
+    let there: StiffeningSpec = journal::read_spec(&spec_file, "stiffening spec")?;
+    if &there == spec {
+        return Ok(());
+    }
+    let old = &there.densities;
+    let same_else = StiffeningSpec {
+        densities: old.clone(),
+        solver: there.solver,
+        ..spec.clone()
+    } == there;
+    let continues = spec.densities.len() > old.len() && spec.densities.starts_with(old);
+    if !(same_else && continues) {
+        return Err(Error::Parameter(format!(
+            "--extend adds densities after the last of {} ({old:?}) with the same studies, boxes, sequences and k; this run's are {:?}",
+            spec_file.display(),
+            spec.densities
+        )));
+    }
+    let partial = out.join("partial");
+    std::fs::create_dir_all(&partial).map_err(|e| Error::io(&partial, e))?;
+    for s in read(&lines)? {
+        let part = Partial {
+            pair: Some((s.before, s.at)),
+            grid: s.grid,
+            seconds: s.seconds,
+        };
+        let file = part_file(&partial, s.gamma, s.box_len, s.index);
+        output::write_atomic(&file, serde_json::to_vec(&part).expect("sides serialize"))?;
+    }
+    // The lines go only once their sides are saved, and the spec changes
+    // last: a run killed before it extends again from the same state.
+    output::write_atomic(&lines, Vec::new())?;
+    output::write_atomic(
+        &spec_file,
+        serde_json::to_string_pretty(spec).expect("spec serializes"),
+    )
+}
+
 /// Measures the chosen sequences of the truth studies `dirs` into `out`
-/// (resuming what is there) and summarizes them with the sequences of the
-/// measurements `with` (other boxes, with the same springs; each box on
-/// its own grid) per aspect ratio and box, and across boxes.
+/// (resuming what is there; with `grow`, first giving its finished
+/// sequences the new densities of `spec`) and summarizes them with the
+/// sequences of the measurements `with` (other boxes, with the same
+/// springs; each box on its own grid) per aspect ratio and box, and across
+/// boxes.
 pub fn run(
     dirs: &[PathBuf],
     spec: &StiffeningSpec,
     out: &Path,
+    grow: bool,
     with: &[PathBuf],
     memory_limit: Option<u64>,
     progress: &dyn Progress,
 ) -> Result<Stiffening> {
+    if spec.solver == Solver::Auto {
+        return Err(Error::Parameter(
+            "a stiffening measurement solves by the QR or by LSMR (--solver qr or lsmr), not by what the memory free at the time allows".into(),
+        ));
+    }
     let others = with
         .iter()
         .map(|dir| joined(dir, spec))
@@ -277,6 +338,9 @@ pub fn run(
         }
     }
     output::check_dir(out)?;
+    if grow {
+        extend(out, spec)?;
+    }
     let (spec_file, lines) = files(out);
     let partial = out.join("partial");
     let mine = journal::measure(
@@ -354,7 +418,7 @@ mod tests {
             sequences: 1,
             stiffness: 1.0,
             densities: vec![],
-            solver: Default::default(),
+            solver: Solver::Qr,
         }
     }
 

@@ -24,9 +24,11 @@ pub struct StiffeningSpec {
     /// too.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub densities: Vec<f64>,
-    /// How the springs' least squares is solved (absent: the QR where it
-    /// fits, else LSMR).
-    #[serde(default, skip_serializing_if = "Solver::is_auto")]
+    /// How the springs' least squares is solved: the QR or LSMR, never
+    /// chosen by the memory free at the time (absent: the QR). Sides
+    /// added by `--extend` take the extending run's; each side records
+    /// its own.
+    #[serde(default = "Solver::qr", skip_serializing_if = "Solver::is_qr")]
     pub solver: Solver,
 }
 

@@ -23,9 +23,12 @@ pub struct StiffeningArgs {
     /// Also measure each sequence at these densities (rods per unit volume, increasing): the stiffening curve.
     #[arg(long, value_delimiter = ',')]
     densities: Vec<f64>,
-    /// How the springs' least squares is solved (as `rgc moduli --solver`).
-    #[arg(long, value_enum, default_value_t = Solver::Auto)]
+    /// How the springs' least squares is solved: qr or lsmr (as `rgc moduli --solver`; a measurement never lets the memory free at the time choose).
+    #[arg(long, value_enum, default_value_t = Solver::Qr)]
     solver: Solver,
+    /// Add the densities of --densities that continue the directory's grid (its densities, then more) to its finished sequences, measuring only the new sides (with this run's --solver; each side records its own).
+    #[arg(long)]
+    extend: bool,
     /// Also write the summary as PREFIX.json, and with --densities the chart as PREFIX.svg and PREFIX.png.
     #[arg(long)]
     summary: Option<PathBuf>,
@@ -54,6 +57,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         &m.dirs,
         &spec,
         &m.out,
+        a.extend,
         &a.with,
         a.memory.memory_limit,
         &Reporter::new(m.quiet),
