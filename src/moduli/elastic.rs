@@ -56,14 +56,16 @@ pub struct ModuliOptions {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Conditioning {
     /// The regularization `λ` of the least squares (`R` stacked on
-    /// `√λ I`).
+    /// `√λ I`), or with LSMR the shift `μ` of its preconditioner
+    /// (`RᵀR + μI`).
     pub regularization: f64,
     /// The largest `|Rᵀ r| / (|R|_F |r|)` left: the least squares'
     /// optimality, at rounding of the affine columns' size when the solve
     /// is well posed (`|b| / |r|` times the precision).
     pub optimality: f64,
-    /// Refinement steps taken, and whether the energies settled (if not,
-    /// the moduli are upper bounds the refinement had not reached).
+    /// Refinement steps taken (LSMR's iterations), and whether the
+    /// energies settled (if not, the moduli are upper bounds the solve had
+    /// not reached).
     pub steps: usize,
     pub settled: bool,
     /// The solver that relaxed the strain columns (absent in results made

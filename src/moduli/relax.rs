@@ -92,7 +92,7 @@ pub struct Relaxation {
     pub relaxed: [[f64; 6]; 6],
     /// `b_i . b_j` over the columns as given (the affine stretches).
     pub affine: [[f64; 6]; 6],
-    /// `λ` used.
+    /// `λ` used (the QR), or the preconditioner's shift `μ` (LSMR).
     pub regularization: f64,
     /// The largest `|Rᵀ r| / (|R|_F |r|)` over the columns left (0 when
     /// every residual vanishes).
@@ -138,7 +138,7 @@ pub fn relax(
         Failure::Memory(refusal) => Error::Memory(refusal.describe(&what)),
         Failure::Unsound(why) => Error::analysis(why),
     };
-    let qr = || {
+    let by_qr = || {
         refined(&r, entries, b, lambda, limit).map_err(|f| {
             let stacked = rows + columns;
             failure(
@@ -147,7 +147,7 @@ pub fn relax(
             )
         })
     };
-    let lsmr = || {
+    let by_lsmr = || {
         lsmr::least_squares(
             r.as_ref(),
             b.as_ref(),
@@ -173,10 +173,10 @@ pub fn relax(
         })
     };
     let (res, steps, settled, regularization, solver) = match solver {
-        Solver::Qr => qr()?,
-        Solver::Lsmr => lsmr()?,
-        Solver::Auto => match qr() {
-            Err(Error::Memory(_)) => lsmr()?,
+        Solver::Qr => by_qr()?,
+        Solver::Lsmr => by_lsmr()?,
+        Solver::Auto => match by_qr() {
+            Err(Error::Memory(_)) => by_lsmr()?,
             other => other?,
         },
     };
@@ -293,7 +293,7 @@ mod tests {
 
     #[test]
     fn lsmr_relaxes_as_the_qr_does() {
-        // R = [1 0; 0 1; 0 0] and b as above, over two solvers.
+        // R = [1 0; 0 1; 1/2 0], six columns b, by both solvers.
         let entries = [
             Triplet::new(0, 0, 1.0),
             Triplet::new(1, 1, 1.0),
@@ -310,9 +310,14 @@ mod tests {
                 assert!((a - b).abs() < 1e-12, "{i} {j}: {a} against {b}");
             }
         }
-        // The residual of column j is orthogonal to R's columns: with one
-        // row left over two unknowns, (2 b_0 - b_2 ... ) projects on a line.
-        assert!(qr.relaxed[0][0] > 0.1, "{:?}", qr.relaxed);
+        // R's one left null vector is w = (-1/2, 0, 1): a residual is b's
+        // part along w, of energy (w . b)² / |w|². Column 0 is
+        // b = (-3/2, -1/2, 1/2): (5/4)² / (5/4) = 5/4.
+        assert!(
+            (lsmr.relaxed[0][0] - 1.25).abs() < 1e-12,
+            "{:?}",
+            lsmr.relaxed
+        );
     }
 
     #[test]
