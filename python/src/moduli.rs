@@ -26,16 +26,12 @@ pub fn moduli(
     solver: &str,
 ) -> PyResult<String> {
     let seed = crate::seed(seed)?;
-    let solver = match solver {
-        "auto" => Solver::Auto,
-        "qr" => Solver::Qr,
-        "lsmr" => Solver::Lsmr,
-        other => {
-            return Err(value_error(format!(
-                "solver must be 'auto', 'qr' or 'lsmr', not {other:?}"
-            )));
-        }
-    };
+    // Solver's own names, as its JSON spells them.
+    let solver: Solver = serde_json::from_value(serde_json::Value::from(solver)).map_err(|_| {
+        value_error(format!(
+            "solver must be 'auto', 'qr' or 'lsmr', not {solver:?}"
+        ))
+    })?;
     let memory_limit = match memory_limit {
         Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),
         None => None,

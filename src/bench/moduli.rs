@@ -3,10 +3,12 @@
 //! truth they take the strain rank from, so the ratio is at least 1), by
 //! the QR, and the relaxation alone by LSMR on the same realization.
 
+use std::time::Instant;
+
 use serde::Serialize;
 
 use super::truth::TRUTH_GAMMA;
-use crate::moduli::{self, ModuliOptions, Solver, of_system};
+use crate::moduli::{self, ModuliOptions, Solver};
 use crate::network::Network;
 use crate::rods::{RodParams, RodSystem};
 use crate::truth::TruthOptions;
@@ -55,20 +57,23 @@ pub fn measure(density: f64, box_len: usize, seed: u64) -> crate::Result<ModuliR
         truth: TruthOptions::seeded(seed),
         solver: Solver::Qr,
     };
-    let e = of_system(network.view(), opts)?;
-    // Truth and the realization again (untimed), for LSMR's relaxation.
-    let lsmr = if e.strain_rank > 0 {
-        let view = network.view();
-        let exact = moduli::exact(view, opts)?;
-        let floats = moduli::floats(view, seed, true, None)?;
-        let opts = ModuliOptions {
-            solver: Solver::Lsmr,
-            ..opts
-        };
-        Some(moduli::of_floats(view, exact, &floats, opts)?)
-    } else {
-        None
-    };
+    // `of_system`'s steps, timed as it times them, with the realization
+    // kept for LSMR's relaxation on it.
+    let view = network.view();
+    let start = Instant::now();
+    let exact = moduli::exact(view, opts)?;
+    let floats = moduli::floats(view, opts.truth.seed, true, None)?;
+    let mut e = moduli::of_floats(view, exact, &floats, opts)?;
+    e.seconds = start.elapsed().as_secs_f64();
+    let lsmr = (e.strain_rank > 0)
+        .then(|| {
+            let opts = ModuliOptions {
+                solver: Solver::Lsmr,
+                ..opts
+            };
+            moduli::of_floats(view, exact, &floats, opts)
+        })
+        .transpose()?;
     let over_truth = |s: f64| s / e.truth_seconds.max(f64::MIN_POSITIVE);
     Ok(ModuliRow {
         density,

@@ -7,6 +7,8 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::linalg::{temp_mat_scratch, temp_mat_zeroed};
+use faer::mat::AsMatMut;
 use faer::matrix_free::{BiLinOp, BiPrecond, LinOp, Precond};
 use faer::perm::{PermRef, permute_rows};
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
@@ -139,7 +141,10 @@ impl Root<'_> {
 
     /// `out = Qᵀ L⁻ᵀ rhs`.
     fn inverse_transpose(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, stack: &mut MemStack) {
-        let mut z = rhs.to_owned();
+        // In the workspace, not the heap: LSMR applies it every iteration.
+        let (mut z, stack) = temp_mat_zeroed::<f64, _, _>(rhs.nrows(), rhs.ncols(), stack);
+        let mut z = z.as_mat_mut();
+        z.copy_from(rhs);
         match self.factor {
             Factor::Simplicial(l) => {
                 solve_lower_triangular_transpose_in_place(l, Conj::No, z.as_mut(), Par::Seq)
@@ -167,11 +172,13 @@ impl Root<'_> {
         }
     }
 
+    /// A copy of the right-hand sides, and the supernodal solves' own.
     fn scratch(&self, k: usize) -> StackReq {
-        match self.factor {
+        let solve = match self.factor {
             Factor::Simplicial(_) => StackReq::EMPTY,
             Factor::Supernodal(l) => l.symbolic().solve_in_place_scratch::<f64>(k, Par::Seq),
-        }
+        };
+        temp_mat_scratch::<f64>(self.n(), k).and(solve)
     }
 }
 

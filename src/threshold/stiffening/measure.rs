@@ -141,12 +141,6 @@ fn probe(
     let mut done = resumed(part, n, &grid)?;
     let spent = done.seconds;
     let seconds = || spent + start.elapsed().as_secs_f64();
-    let save = |done: &Partial| {
-        if let Some(dir) = part.parent() {
-            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        }
-        output::write_atomic(part, serde_json::to_vec(done).expect("sides serialize"))
-    };
     // One sequence to the most rods any side needs; each side a prefix.
     let most = grid.iter().copied().fold(n, usize::max);
     let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
@@ -158,12 +152,12 @@ fn probe(
         let (before, _) = side(&seq, r, n - 1, spec, floats.as_ref(), limit)?;
         done.pair = Some((before, at));
         done.seconds = seconds();
-        save(&done)?;
+        save(part, &done)?;
     }
     for &m in &grid[done.grid.len()..] {
         done.grid.push(side(&seq, r, m, spec, None, limit)?.0);
         done.seconds = seconds();
-        save(&done)?;
+        save(part, &done)?;
     }
     let (before, at) = done.pair.expect("measured above");
     Ok(SequenceStiffening {
@@ -199,6 +193,14 @@ fn resumed(part: &Path, n: usize, grid: &[usize]) -> Result<Partial> {
         )));
     }
     Ok(done)
+}
+
+/// Saves the sides of a sequence in progress to `part` (atomically).
+fn save(part: &Path, done: &Partial) -> Result<()> {
+    if let Some(dir) = part.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    output::write_atomic(part, serde_json::to_vec(done).expect("sides serialize"))
 }
 
 /// Where the sides of sequence `index` of box `box_len` at aspect ratio
@@ -246,15 +248,13 @@ fn extend(out: &Path, spec: &StiffeningSpec) -> Result<()> {
         )));
     }
     let partial = out.join("partial");
-    std::fs::create_dir_all(&partial).map_err(|e| Error::io(&partial, e))?;
     for s in read(&lines)? {
         let part = Partial {
             pair: Some((s.before, s.at)),
             grid: s.grid,
             seconds: s.seconds,
         };
-        let file = part_file(&partial, s.gamma, s.box_len, s.index);
-        output::write_atomic(&file, serde_json::to_vec(&part).expect("sides serialize"))?;
+        save(&part_file(&partial, s.gamma, s.box_len, s.index), &part)?;
     }
     // The lines go only once their sides are saved, and the spec changes
     // last: a run killed before it extends again from the same state.
