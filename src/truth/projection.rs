@@ -386,6 +386,7 @@ impl<'a> System<'a> {
     /// into its trap (gamma 23, L = 6, rho 36, seed 1: 216 factorizations,
     /// 54 s; from the planes 9, 4.3 s).
     fn to_planes(&self, u: &mut [f64]) {
+        let before = self.points(u);
         let mut moved = vec![false; self.line.len()];
         for (r, at) in self.line.iter().enumerate() {
             let Some(at) = *at else { continue };
@@ -399,12 +400,13 @@ impl<'a> System<'a> {
             put_line(u, at, p, scale(d, 1.0 / len));
             moved[r] = true;
         }
-        self.closest_contacts(u, &moved);
+        self.kept_contacts(u, &before, &moved);
     }
 
     /// Moves every coordinate of the lines of `rods` by up to `step` at
     /// random: a kick off a special position that stays near the start.
     fn nudge(&self, u: &mut [f64], rods: &[u32], step: f64, rng: &mut impl Rng) {
+        let before = self.points(u);
         let mut moved = vec![false; self.line.len()];
         for &r in rods {
             // A rod named twice (a neighbour of two) is kicked once.
@@ -416,10 +418,45 @@ impl<'a> System<'a> {
                 *x += step * rng.random_range(-1.0..=1.0);
             }
         }
-        self.closest_contacts(u, &moved);
+        self.kept_contacts(u, &before, &moved);
     }
 
-    /// Each contact of a `moved` rod where its two lines pass closest.
+    /// Per edge, its contact's point on its first rod's line, where it is a
+    /// contact between active rods.
+    fn points(&self, u: &[f64]) -> Vec<Option<V3<f64>>> {
+        self.contacts_of_edges()
+            .map(|c| c.map(|Unknowns { at, la, .. }| add(v3(u, la), scale(v3(u, la + 3), u[at]))))
+            .collect()
+    }
+
+    /// Each contact of a `moved` rod at the point of each of its lines
+    /// nearest where it was (`before`, [`System::points`]): moved lines
+    /// keep their contacts where the rods touched. The points where two
+    /// moved lines pass closest can lie far out when they are nearly
+    /// parallel, and a line's `s` counts from its point nearest the origin,
+    /// so no fixed bound on `s` suits every box: bounded by 4, they sat up
+    /// to several rod lengths off the rods of the larger boxes, and the
+    /// member reached moved the contacts the more the larger the box.
+    fn kept_contacts(&self, u: &mut [f64], before: &[Option<V3<f64>>], moved: &[bool]) {
+        let edges = self.topo.graph.edges();
+        for ((e, c), x) in edges.iter().zip(self.contacts_of_edges()).zip(before) {
+            let (Some(Unknowns { at, la, lb, shift }), Some(x)) = (c, *x) else {
+                continue;
+            };
+            if !moved[e[0] as usize] && !moved[e[1] as usize] {
+                continue;
+            }
+            let along = |u: &[f64], x: V3<f64>, l: usize| {
+                let d = v3(u, l + 3);
+                dot(sub(x, v3(u, l)), d) / dot(d, d)
+            };
+            u[at] = along(u, x, la);
+            u[at + 1] = along(u, sub(x, shift), lb);
+        }
+    }
+
+    /// Each contact of a `moved` rod where its two lines pass closest (lines
+    /// drawn through points near the origin, so `s` is bounded by 4).
     fn closest_contacts(&self, u: &mut [f64], moved: &[bool]) {
         let edges = self.topo.graph.edges();
         for (e, c) in edges.iter().zip(self.contacts_of_edges()) {
@@ -703,6 +740,14 @@ mod tests {
         ContactGraph::new(8, edges).unwrap()
     }
 
+    /// K4: the four rods touch pairwise, so one class holds them all.
+    fn k4() -> ContactGraph {
+        let edges = (0..4)
+            .flat_map(|a| (a + 1..4).map(move |b| [a, b]))
+            .collect();
+        ContactGraph::new(4, edges).unwrap()
+    }
+
     #[test]
     fn a_projection_meets_every_contact_and_is_refused_when_made_special() {
         let g = k44();
@@ -760,11 +805,7 @@ mod tests {
 
     #[test]
     fn members_moved_into_their_plane_lie_in_it() {
-        // K4: the four rods touch pairwise, so one class holds them all.
-        let edges = (0..4)
-            .flat_map(|a| (a + 1..4).map(move |b| [a, b]))
-            .collect();
-        let g = ContactGraph::new(4, edges).unwrap();
+        let g = k4();
         let topo = Topology::finite(&g);
         let core = prune::two_core(&g);
         let planes = planes::forced(&topo, &core.active).unwrap();
@@ -791,6 +832,48 @@ mod tests {
         assert!(off(&u) > 0.01);
         system.to_planes(&mut u);
         assert!(off(&u) < 1e-12, "{}", off(&u));
+    }
+
+    #[test]
+    fn moved_lines_keep_their_contacts_far_from_the_origin() {
+        // K4's four lines meet pairwise in one plane, then moved 30 rod
+        // lengths out: each contact's `s` is about 50 there.
+        let g = k4();
+        let topo = Topology::finite(&g);
+        let core = prune::two_core(&g);
+        let planes = planes::forced(&topo, &core.active).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let real = (0..8)
+            .find_map(|_| project(&topo, &planes, &core.active, &mut rng).ok())
+            .expect("a projection of K4");
+        let far_out = [30.0, -20.0, 10.0];
+        let mut far = real.clone();
+        for l in far.lines.iter_mut().flatten() {
+            l.p = add(l.p, far_out);
+        }
+        for x in far.points.iter_mut().flatten() {
+            *x = add(*x, far_out);
+        }
+        let gap = |u: &[f64], system: &System| {
+            let now = system.realization(u);
+            far.points
+                .iter()
+                .zip(&now.points)
+                .map(|(a, b)| {
+                    let d = sub(a.unwrap(), b.unwrap());
+                    dot(d, d).sqrt()
+                })
+                .fold(0.0, f64::max)
+        };
+        // Already in their plane: moved into it by nothing, and their
+        // contacts stay (with `s` bounded by 4 they were put tens of rod
+        // lengths off).
+        let (system, mut u) = from_rods(&topo, &planes, &core.active, &far);
+        assert!(u[system.contact[0].unwrap()].abs() > 10.0);
+        assert!(gap(&u, &system) < 1e-9, "{}", gap(&u, &system));
+        // Kicked by nothing: the same.
+        system.nudge(&mut u, &[0, 1, 2, 3], 0.0, &mut rng);
+        assert!(gap(&u, &system) < 1e-9, "{}", gap(&u, &system));
     }
 
     #[test]
