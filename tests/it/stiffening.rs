@@ -64,7 +64,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         "stiffening",
         s,
         "--densities",
-        "30,38",
+        "30,40",
         "--boxes",
         "3",
         "--sequences",
@@ -99,7 +99,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     } in &all
     {
         // The grid's prefixes: density times the box's volume, 27.
-        assert_eq!(grid.iter().map(|g| g.rods).collect::<Vec<_>>(), [810, 1026]);
+        assert_eq!(grid.iter().map(|g| g.rods).collect::<Vec<_>>(), [810, 1080]);
         let r = records.iter().find(|r| r.index == *index).unwrap();
         assert_eq!(Some(at.rods), r.rigid_critical);
         assert_eq!(before.rods + 1, at.rods);
@@ -139,7 +139,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         .iter()
         .map(|p| p["density"].as_f64().unwrap())
         .collect();
-    assert_eq!(densities, [30.0, 38.0]);
+    assert_eq!(densities, [30.0, 40.0]);
     // Far above the threshold both sequences are solids, and G averages theirs.
     let top = &b["grid"][1];
     assert_eq!(
@@ -163,7 +163,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         String::from_utf8_lossy(&out.stdout).into_owned()
     };
     let other = dir.join("moduli-3.5");
-    let printed = box_3_5("30,38", &other);
+    let printed = box_3_5("30,40", &other);
     let g_at = |seqs: &[SequenceStiffening]| {
         seqs.iter().map(|s| s.at.shear.unwrap()).sum::<f64>() / seqs.len() as f64
     };
@@ -185,9 +185,9 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     // each box keeps its own points.
     let printed = box_3_5("30", &dir.join("moduli-3.5-lower"));
     for (line, there) in [
-        ("gamma 23 box 3 rho 38:", true),
+        ("gamma 23 box 3 rho 40:", true),
         ("gamma 23 box 3.5 rho 30:", true),
-        ("gamma 23 box 3.5 rho 38:", false),
+        ("gamma 23 box 3.5 rho 40:", false),
     ] {
         assert_eq!(printed.contains(line), there, "{line}: {printed}");
     }
@@ -199,7 +199,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     let extend = |densities: &str, solver: &str| {
         box_3_5_into(densities, &lower, &["--extend", "--solver", solver])
     };
-    assert!(extend("30,38", "lsmr").status.success());
+    assert!(extend("30,40", "lsmr").status.success());
     let after = stiffening::read(&lower.join("stiffening.jsonl")).unwrap();
     assert_eq!((after.len(), after[0].grid.len()), (1, 2));
     assert_eq!(
@@ -217,7 +217,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     // Again: nothing to add. A grid that does not continue the old one,
     // and a solver left to the memory free, are refused.
     let text = std::fs::read_to_string(lower.join("stiffening.jsonl")).unwrap();
-    assert!(extend("30,38", "lsmr").status.success());
+    assert!(extend("30,40", "lsmr").status.success());
     assert_eq!(
         std::fs::read_to_string(lower.join("stiffening.jsonl")).unwrap(),
         text
@@ -229,7 +229,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         assert!(err.contains(needle), "{err}");
     };
     refused("30,36", "qr", "--extend adds densities after the last of");
-    refused("30,38,45", "auto", "solves by the QR or by LSMR");
+    refused("30,40,45", "auto", "solves by the QR or by LSMR");
     // One box on two grids is refused before any work.
     let two = dir.join("two-grids");
     fails(
@@ -247,7 +247,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
             "--with",
             o,
         ],
-        "box 3 at gamma 23 was measured at densities [30.0] and at [30.0, 38.0]: join a box's measurements only on one grid",
+        "box 3 at gamma 23 was measured at densities [30.0] and at [30.0, 40.0]: join a box's measurements only on one grid",
     );
     assert!(!two.exists());
     fails(
