@@ -421,8 +421,11 @@ impl<'a> System<'a> {
         self.kept_contacts(u, &before, &moved);
     }
 
-    /// Per edge, its contact's point on its first rod's line, where it is a
-    /// contact between active rods.
+    /// Per edge, its contact's point `p + s d` on its first rod's line, where
+    /// it is a contact between active rods: with `d` as solved, not scaled
+    /// to unit length, since the contact's equations hold for that `d` (in
+    /// the linear gauge `|d|` strays from 1, and `s` along the unit
+    /// direction put the point off the second rod's line).
     fn points(&self, u: &[f64]) -> Vec<Option<V3<f64>>> {
         self.contacts_of_edges()
             .map(|c| c.map(|Unknowns { at, la, .. }| add(v3(u, la), scale(v3(u, la + 3), u[at]))))
@@ -496,21 +499,10 @@ impl<'a> System<'a> {
                 })
             })
             .collect();
-        let points = self
-            .topo
-            .graph
-            .edges()
-            .iter()
-            .zip(&self.contact)
-            .map(|(&[a, _], at)| {
-                let (at, l) = ((*at)?, lines[a as usize]?);
-                Some(add(l.p, scale(l.d, u[at])))
-            })
-            .collect();
         Realization {
             side: self.side,
             lines,
-            points,
+            points: self.points(u),
         }
     }
 }
@@ -748,6 +740,43 @@ mod tests {
         ContactGraph::new(4, edges).unwrap()
     }
 
+    /// A projection of a small graph: one of 8 random starts reaches it.
+    fn projected(
+        topo: &Topology,
+        planes: &Planes,
+        active: &[bool],
+        rng: &mut ChaCha8Rng,
+    ) -> Realization<f64> {
+        (0..8)
+            .find_map(|_| project(topo, planes, active, rng).ok())
+            .expect("a projection")
+    }
+
+    /// Runs `check` on a projection of K4 (seed 3), in its one plane.
+    fn on_a_projection_of_k4(
+        check: impl FnOnce(&Topology, &Planes, &[bool], Realization<f64>, &mut ChaCha8Rng),
+    ) {
+        let g = k4();
+        let topo = Topology::finite(&g);
+        let core = prune::two_core(&g);
+        let planes = planes::forced(&topo, &core.active).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let real = projected(&topo, &planes, &core.active, &mut rng);
+        check(&topo, &planes, &core.active, real, &mut rng);
+    }
+
+    /// Each contact's point lies on both its rods' lines, to `tol`.
+    fn assert_on_both_lines(g: &ContactGraph, real: &Realization<f64>, tol: f64) {
+        for (e, &[a, b]) in g.edges().iter().enumerate() {
+            let x = real.points[e].unwrap();
+            for r in [a, b] {
+                let l = real.lines[r as usize].unwrap();
+                let off = cross(sub(x, l.p), l.d);
+                assert!(dot(off, off).sqrt() < tol, "contact {e} off rod {r}");
+            }
+        }
+    }
+
     #[test]
     fn a_projection_meets_every_contact_and_is_refused_when_made_special() {
         let g = k44();
@@ -755,17 +784,8 @@ mod tests {
         let core = prune::two_core(&g);
         let planes = planes::forced(&topo, &core.active).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let real = (0..8)
-            .find_map(|_| project(&topo, &planes, &core.active, &mut rng).ok())
-            .expect("a projection of K_{4,4}");
-        for (e, &[a, b]) in g.edges().iter().enumerate() {
-            let x = real.points[e].unwrap();
-            for r in [a, b] {
-                let l = real.lines[r as usize].unwrap();
-                let off = cross(sub(x, l.p), l.d);
-                assert!(dot(off, off).sqrt() < 1e-10, "contact {e} off rod {r}");
-            }
-        }
+        let real = projected(&topo, &planes, &core.active, &mut rng);
+        assert_on_both_lines(&g, &real, 1e-10);
         assert_eq!(degenerate(&topo, &planes, &real), None);
 
         // Rod 1 moved onto rod 0's line: both meet every rod 4..8 where rod
@@ -838,42 +858,61 @@ mod tests {
     fn moved_lines_keep_their_contacts_far_from_the_origin() {
         // K4's four lines meet pairwise in one plane, then moved 30 rod
         // lengths out: each contact's `s` is about 50 there.
-        let g = k4();
-        let topo = Topology::finite(&g);
-        let core = prune::two_core(&g);
-        let planes = planes::forced(&topo, &core.active).unwrap();
-        let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let real = (0..8)
-            .find_map(|_| project(&topo, &planes, &core.active, &mut rng).ok())
-            .expect("a projection of K4");
-        let far_out = [30.0, -20.0, 10.0];
-        let mut far = real.clone();
-        for l in far.lines.iter_mut().flatten() {
-            l.p = add(l.p, far_out);
-        }
-        for x in far.points.iter_mut().flatten() {
-            *x = add(*x, far_out);
-        }
-        let gap = |u: &[f64], system: &System| {
-            let now = system.realization(u);
-            far.points
-                .iter()
-                .zip(&now.points)
-                .map(|(a, b)| {
-                    let d = sub(a.unwrap(), b.unwrap());
-                    dot(d, d).sqrt()
-                })
-                .fold(0.0, f64::max)
-        };
-        // Already in their plane: moved into it by nothing, and their
-        // contacts stay (with `s` bounded by 4 they were put tens of rod
-        // lengths off).
-        let (system, mut u) = from_rods(&topo, &planes, &core.active, &far);
-        assert!(u[system.contact[0].unwrap()].abs() > 10.0);
-        assert!(gap(&u, &system) < 1e-9, "{}", gap(&u, &system));
-        // Kicked by nothing: the same.
-        system.nudge(&mut u, &[0, 1, 2, 3], 0.0, &mut rng);
-        assert!(gap(&u, &system) < 1e-9, "{}", gap(&u, &system));
+        on_a_projection_of_k4(|topo, planes, active, real, rng| {
+            let far_out = [30.0, -20.0, 10.0];
+            let mut far = real.clone();
+            for l in far.lines.iter_mut().flatten() {
+                l.p = add(l.p, far_out);
+            }
+            for x in far.points.iter_mut().flatten() {
+                *x = add(*x, far_out);
+            }
+            let gap = |u: &[f64], system: &System| {
+                let now = system.realization(u);
+                far.points
+                    .iter()
+                    .zip(&now.points)
+                    .map(|(a, b)| {
+                        let d = sub(a.unwrap(), b.unwrap());
+                        dot(d, d).sqrt()
+                    })
+                    .fold(0.0, f64::max)
+            };
+            // Already in their plane: moved into it by nothing, and their
+            // contacts stay (with `s` bounded by 4 they were put tens of rod
+            // lengths off).
+            let (system, mut u) = from_rods(topo, planes, active, &far);
+            assert!(u[system.contact[0].unwrap()].abs() > 10.0);
+            assert!(gap(&u, &system) < 1e-9, "{}", gap(&u, &system));
+            // Kicked by nothing: the same.
+            system.nudge(&mut u, &[0, 1, 2, 3], 0.0, rng);
+            assert!(gap(&u, &system) < 1e-9, "{}", gap(&u, &system));
+        });
+    }
+
+    #[test]
+    fn a_direction_off_unit_length_leaves_the_contacts_on_both_lines() {
+        // The linear gauge solves for `d` of any length: a solution with each
+        // `d` 1.7 times longer and each `s` 1.7 times shorter is the same
+        // framework, and its realization puts each contact on both lines.
+        on_a_projection_of_k4(|topo, planes, active, real, _| {
+            let (system, mut u) = from_rods(topo, planes, active, &real);
+            for at in system.line.iter().flatten() {
+                for x in &mut u[at + 3..at + 6] {
+                    *x *= 1.7;
+                }
+            }
+            for at in system.contact.iter().flatten() {
+                u[*at] /= 1.7;
+                u[at + 1] /= 1.7;
+            }
+            let long = system.realization(&u);
+            assert_on_both_lines(topo.graph, &long, 1e-12);
+            for (x, y) in long.points.iter().zip(&real.points) {
+                let d = sub(x.unwrap(), y.unwrap());
+                assert!(dot(d, d).sqrt() < 1e-12, "{x:?} moved from {y:?}");
+            }
+        });
     }
 
     #[test]

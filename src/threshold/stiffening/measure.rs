@@ -534,10 +534,10 @@ mod tests {
 
     #[test]
     fn a_side_whose_floats_fail_keeps_its_exact_strain_rank() {
-        // Seed 34, 1,215 rods: the projection from the rods stays on a
+        // Seed 5, 1,100 rods: the projection from the rods stays on a
         // special position after every kick, and no random start stands in.
-        let n = 1215;
-        let s = side_of(34, n);
+        let n = 1100;
+        let s = side_of(5, n);
         let why = s.failed.as_deref().expect("the floats fail");
         assert!(why.contains("special after 3 rounds of 8 repairs"), "{why}");
         assert_eq!(s.strain_rank, Some(6));
@@ -548,16 +548,16 @@ mod tests {
 
     #[test]
     fn a_special_position_is_cured_by_growing_kicks_or_a_later_round() {
-        // Seed 5, 1,100 rods: the projection from the rods lands on a
-        // special member, and the seventh kick of its first round (0.64 rod
+        // Seed 20, 1,100 rods: the projection from the rods lands on a
+        // special member, and the fifth kick of its first round (0.16 rod
         // lengths) leaves it.
-        let s = side_of(5, 1100);
+        let s = side_of(20, 1100);
         assert_eq!(s.failed, None);
         assert_eq!(s.realization.as_deref(), Some("nearest"));
         assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
-        // Seed 6, 1,215 rods: a whole round of kicks leaves it special,
+        // Seed 6, 1,100 rods: a whole round of kicks leaves it special,
         // the second round's draws cure it.
-        let s = side_of(6, 1215);
+        let s = side_of(6, 1100);
         assert_eq!(s.failed, None);
         assert_eq!(s.realization.as_deref(), Some("nearest"));
         assert!(s.comparable() && s.shear.is_some_and(|g| g > 0.0));
