@@ -378,8 +378,9 @@ impl<'a> System<'a> {
     }
 
     /// Moves each member of a class into its plane in `u` (the first
-    /// class's, for a rod in two), by the least move of its line, and puts
-    /// every contact of a moved rod where its two lines pass closest. A
+    /// class's, for a rod in two), by the least move of its line, and keeps
+    /// every contact of a moved rod near where it was
+    /// ([`System::kept_contacts`]). A
     /// class is forced by the line model's incidences, not by the actual
     /// rods, which lie far from any one plane: started from them, the
     /// planes' rows are far from solved and a normal on the sphere falls
