@@ -4,6 +4,7 @@
 //! with the axes, positive semidefinite of the strain rank, under Born).
 
 use faer::Mat;
+use nalgebra::Vector3;
 use rgc::graph::{ContactGraph, Topology};
 use rgc::math::vec3::Line;
 use rgc::moduli::{
@@ -336,6 +337,34 @@ fn the_realization_says_how_far_it_moved_the_rods() {
         floats(solid().view(), 1, true, None).unwrap().how,
         "nearest"
     );
+}
+
+/// Every contact of the realization the moduli use lies on both its rods'
+/// lines, also on a member reached with the projection's linear scale, where
+/// a line's direction is solved at any length (gamma 23, L = 3, rho 38,
+/// seed 2: with the point put along the unit direction, one sat 0.32 rod
+/// lengths off its second line).
+#[test]
+fn every_contact_of_the_realization_lies_on_both_its_lines() {
+    let net = Network::detect(RodSystem::generate(
+        RodParams::new(23.0, 3.0, 38.0).unwrap(),
+        2,
+    ));
+    let f = floats(net.view(), 1, false, None).unwrap();
+    let topo = net.topology();
+    let off = |x: [f64; 3], l: Line<f64>| {
+        let (v, d) = (Vector3::from(x) - Vector3::from(l.p), Vector3::from(l.d));
+        v.cross(&d).norm() / d.norm()
+    };
+    let mut worst = 0.0_f64;
+    for (e, &[a, b]) in net.graph.edges().iter().enumerate() {
+        let Some(x) = f.real.points[e] else { continue };
+        let seen = Vector3::from(f.real.lattice(topo.seen(e as u32, a)));
+        let y = (Vector3::from(x) - seen).into();
+        let (la, lb) = (f.real.lines[a as usize], f.real.lines[b as usize]);
+        worst = worst.max(off(x, la.unwrap())).max(off(y, lb.unwrap()));
+    }
+    assert!(worst < 1e-9, "a contact {worst} rod lengths off a line");
 }
 
 /// Where the projection from the rods fails, a random start stands in
