@@ -723,6 +723,7 @@ fn normalized(mut real: Realization<f64>) -> Realization<f64> {
 mod tests {
     use super::*;
     use crate::graph::ContactGraph;
+    use crate::math::vec3::foot;
     use crate::truth::{planes, prune};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
@@ -753,15 +754,16 @@ mod tests {
             .expect("a projection")
     }
 
-    /// Runs `check` on a projection of K4 (seed 3), in its one plane.
-    fn on_a_projection_of_k4(
+    /// Runs `check` on a projection of `g` from the draws of `seed`.
+    fn on_a_projection(
+        g: &ContactGraph,
+        seed: u64,
         check: impl FnOnce(&Topology, &Planes, &[bool], Realization<f64>, &mut ChaCha8Rng),
     ) {
-        let g = k4();
-        let topo = Topology::finite(&g);
-        let core = prune::two_core(&g);
+        let topo = Topology::finite(g);
+        let core = prune::two_core(g);
         let planes = planes::forced(&topo, &core.active).unwrap();
-        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let real = projected(&topo, &planes, &core.active, &mut rng);
         check(&topo, &planes, &core.active, real, &mut rng);
     }
@@ -771,8 +773,7 @@ mod tests {
         for (e, &[a, b]) in g.edges().iter().enumerate() {
             let x = real.points[e].unwrap();
             for r in [a, b] {
-                let l = real.lines[r as usize].unwrap();
-                let off = cross(sub(x, l.p), l.d);
+                let off = sub(x, foot(&real.lines[r as usize].unwrap(), x));
                 assert!(dot(off, off).sqrt() < tol, "contact {e} off rod {r}");
             }
         }
@@ -781,47 +782,44 @@ mod tests {
     #[test]
     fn a_projection_meets_every_contact_and_is_refused_when_made_special() {
         let g = k44();
-        let topo = Topology::finite(&g);
-        let core = prune::two_core(&g);
-        let planes = planes::forced(&topo, &core.active).unwrap();
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let real = projected(&topo, &planes, &core.active, &mut rng);
-        assert_on_both_lines(&g, &real, 1e-10);
-        assert_eq!(degenerate(&topo, &planes, &real), None);
+        on_a_projection(&g, 5, |topo, planes, _, real, _| {
+            assert_on_both_lines(&g, &real, 1e-10);
+            assert_eq!(degenerate(topo, planes, &real), None);
 
-        // Rod 1 moved onto rod 0's line: both meet every rod 4..8 where rod
-        // 0 does, and rods 0 and 1 coincide.
-        let mut same = real.clone();
-        same.lines[1] = same.lines[0];
-        for (e, &[a, b]) in g.edges().iter().enumerate() {
-            if a == 1 {
-                let twin = g.edge_between(0, b).unwrap();
-                same.points[e] = same.points[twin as usize];
+            // Rod 1 moved onto rod 0's line: both meet every rod 4..8 where rod
+            // 0 does, and rods 0 and 1 coincide.
+            let mut same = real.clone();
+            same.lines[1] = same.lines[0];
+            for (e, &[a, b]) in g.edges().iter().enumerate() {
+                if a == 1 {
+                    let twin = g.edge_between(0, b).unwrap();
+                    same.points[e] = same.points[twin as usize];
+                }
             }
-        }
-        let s = degenerate(&topo, &planes, &same).unwrap();
-        assert!(s.why.contains("at one point"), "{}", s.why);
-        assert!(s.rods.contains(&0) && s.rods.contains(&1), "{s:?}");
+            let s = degenerate(topo, planes, &same).unwrap();
+            assert!(s.why.contains("at one point"), "{}", s.why);
+            assert!(s.rods.contains(&0) && s.rods.contains(&1), "{s:?}");
 
-        // Rods 2 and 3 (which do not touch) made to meet: rod 2 through a
-        // point of rod 3.
-        let mut meet = real.clone();
-        let (l2, l3) = (meet.lines[2].unwrap(), meet.lines[3].unwrap());
-        meet.lines[2] = Some(Line { p: l3.p, d: l2.d });
-        let s = degenerate(&topo, &planes, &meet).unwrap();
-        assert!(s.why.contains("without touching"), "{}", s.why);
-        assert_eq!(s.rods, vec![2, 3]);
+            // Rods 2 and 3 (which do not touch) made to meet: rod 2 through a
+            // point of rod 3.
+            let mut meet = real.clone();
+            let (l2, l3) = (meet.lines[2].unwrap(), meet.lines[3].unwrap());
+            meet.lines[2] = Some(Line { p: l3.p, d: l2.d });
+            let s = degenerate(topo, planes, &meet).unwrap();
+            assert!(s.why.contains("without touching"), "{}", s.why);
+            assert_eq!(s.rods, vec![2, 3]);
 
-        // Two touching lines made parallel.
-        let mut parallel = real.clone();
-        let l4 = parallel.lines[4].unwrap();
-        parallel.lines[0] = Some(Line {
-            p: parallel.lines[0].unwrap().p,
-            d: l4.d,
+            // Two touching lines made parallel.
+            let mut parallel = real.clone();
+            let l4 = parallel.lines[4].unwrap();
+            parallel.lines[0] = Some(Line {
+                p: parallel.lines[0].unwrap().p,
+                d: l4.d,
+            });
+            let s = degenerate(topo, planes, &parallel).unwrap();
+            assert!(s.why.contains("parallel"), "{}", s.why);
+            assert_eq!(s.rods, vec![0, 4]);
         });
-        let s = degenerate(&topo, &planes, &parallel).unwrap();
-        assert!(s.why.contains("parallel"), "{}", s.why);
-        assert_eq!(s.rods, vec![0, 4]);
     }
 
     #[test]
@@ -859,7 +857,7 @@ mod tests {
     fn moved_lines_keep_their_contacts_far_from_the_origin() {
         // K4's four lines meet pairwise in one plane, then moved 30 rod
         // lengths out: each contact's `s` is about 50 there.
-        on_a_projection_of_k4(|topo, planes, active, real, rng| {
+        on_a_projection(&k4(), 3, |topo, planes, active, real, rng| {
             let far_out = [30.0, -20.0, 10.0];
             let mut far = real.clone();
             for l in far.lines.iter_mut().flatten() {
@@ -896,7 +894,7 @@ mod tests {
         // The linear gauge solves for `d` of any length: a solution with each
         // `d` 1.7 times longer and each `s` 1.7 times shorter is the same
         // framework, and its realization puts each contact on both lines.
-        on_a_projection_of_k4(|topo, planes, active, real, _| {
+        on_a_projection(&k4(), 3, |topo, planes, active, real, _| {
             let (system, mut u) = from_rods(topo, planes, active, &real);
             for at in system.line.iter().flatten() {
                 for x in &mut u[at + 3..at + 6] {

@@ -4,9 +4,8 @@
 //! with the axes, positive semidefinite of the strain rank, under Born).
 
 use faer::Mat;
-use nalgebra::Vector3;
 use rgc::graph::{ContactGraph, Topology};
-use rgc::math::vec3::Line;
+use rgc::math::vec3::{Line, V3, dot, foot, sub};
 use rgc::moduli::{
     Elastic, ModuliOptions, Solver, Voigt, floats, of_realization, of_system, springs,
 };
@@ -352,17 +351,16 @@ fn every_contact_of_the_realization_lies_on_both_its_lines() {
     ));
     let f = floats(net.view(), 1, false, None).unwrap();
     let topo = net.topology();
-    let off = |x: [f64; 3], l: Line<f64>| {
-        let (v, d) = (Vector3::from(x) - Vector3::from(l.p), Vector3::from(l.d));
-        v.cross(&d).norm() / d.norm()
+    let off = |x: V3<f64>, l: Option<Line<f64>>| {
+        let v = sub(x, foot(&l.unwrap(), x));
+        dot(v, v).sqrt()
     };
     let mut worst = 0.0_f64;
     for (e, &[a, b]) in net.graph.edges().iter().enumerate() {
         let Some(x) = f.real.points[e] else { continue };
-        let seen = Vector3::from(f.real.lattice(topo.seen(e as u32, a)));
-        let y = (Vector3::from(x) - seen).into();
+        let y = sub(x, f.real.lattice(topo.seen(e as u32, a)));
         let (la, lb) = (f.real.lines[a as usize], f.real.lines[b as usize]);
-        worst = worst.max(off(x, la.unwrap())).max(off(y, lb.unwrap()));
+        worst = worst.max(off(x, la)).max(off(y, lb));
     }
     assert!(worst < 1e-9, "a contact {worst} rod lengths off a line");
 }
