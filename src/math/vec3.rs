@@ -58,6 +58,12 @@ pub fn foot(l: &Line<f64>, x: V3<f64>) -> V3<f64> {
     add(l.p, scale(l.d, dot(sub(x, l.p), l.d) / dot(l.d, l.d)))
 }
 
+/// How far `x` lies from the float line `l`.
+pub fn distance(l: &Line<f64>, x: V3<f64>) -> f64 {
+    let v = sub(x, foot(l, x));
+    dot(v, v).sqrt()
+}
+
 pub fn is_null<S: Scalar>(a: V3<S>) -> bool {
     a.iter().all(|x| x.negligible())
 }
@@ -90,4 +96,22 @@ pub fn parallel<S: Scalar>(a: V3<S>, b: V3<S>) -> bool {
 /// Whether every coordinate is finite (always over F_p).
 pub fn finite<S: Scalar>(v: V3<S>) -> bool {
     v.iter().all(|x| x.magnitude().is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_distance_from_a_line_ignores_the_length_of_its_direction() {
+        // The line through (1, 0, 0) along x, its direction 2.5 long: (5, 3, 4)
+        // is 5 from it, its foot (5, 0, 0).
+        let l = Line {
+            p: [1.0, 0.0, 0.0],
+            d: [2.5, 0.0, 0.0],
+        };
+        assert_eq!(foot(&l, [5.0, 3.0, 4.0]), [5.0, 0.0, 0.0]);
+        assert_eq!(distance(&l, [5.0, 3.0, 4.0]), 5.0);
+        assert_eq!(distance(&l, [-7.0, 0.0, 0.0]), 0.0);
+    }
 }

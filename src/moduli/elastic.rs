@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use super::relax::{self, Relaxation, Solver};
 use super::voigt::Voigt;
 use crate::graph::Topology;
-use crate::math::vec3::{Line, V3, add, dot, foot, scale, sub};
+use crate::math::vec3::{Line, V3, add, distance, dot, foot, scale, sub};
 use crate::network::View;
 use crate::rods::Periodic;
 use crate::truth::planes::{self, Planes};
@@ -373,7 +373,7 @@ impl Moved {
             .zip(&real.lines)
             .filter_map(|(a, b)| {
                 let (c, l) = ((*a)?.p, (*b)?);
-                Some(norm(sub(c, foot(&l, c))))
+                Some(distance(&l, c))
             })
             .collect();
         Moved {

@@ -723,7 +723,7 @@ fn normalized(mut real: Realization<f64>) -> Realization<f64> {
 mod tests {
     use super::*;
     use crate::graph::ContactGraph;
-    use crate::math::vec3::foot;
+    use crate::math::vec3::distance;
     use crate::truth::{planes, prune};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
@@ -773,8 +773,8 @@ mod tests {
         for (e, &[a, b]) in g.edges().iter().enumerate() {
             let x = real.points[e].unwrap();
             for r in [a, b] {
-                let off = sub(x, foot(&real.lines[r as usize].unwrap(), x));
-                assert!(dot(off, off).sqrt() < tol, "contact {e} off rod {r}");
+                let off = distance(&real.lines[r as usize].unwrap(), x);
+                assert!(off < tol, "contact {e} off rod {r}");
             }
         }
     }

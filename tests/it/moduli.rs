@@ -5,7 +5,7 @@
 
 use faer::Mat;
 use rgc::graph::{ContactGraph, Topology};
-use rgc::math::vec3::{Line, V3, dot, foot, sub};
+use rgc::math::vec3::{Line, distance, sub};
 use rgc::moduli::{
     Elastic, ModuliOptions, Solver, Voigt, floats, of_realization, of_system, springs,
 };
@@ -351,16 +351,14 @@ fn every_contact_of_the_realization_lies_on_both_its_lines() {
     ));
     let f = floats(net.view(), 1, false, None).unwrap();
     let topo = net.topology();
-    let off = |x: V3<f64>, l: Option<Line<f64>>| {
-        let v = sub(x, foot(&l.unwrap(), x));
-        dot(v, v).sqrt()
-    };
     let mut worst = 0.0_f64;
     for (e, &[a, b]) in net.graph.edges().iter().enumerate() {
         let Some(x) = f.real.points[e] else { continue };
         let y = sub(x, f.real.lattice(topo.seen(e as u32, a)));
         let (la, lb) = (f.real.lines[a as usize], f.real.lines[b as usize]);
-        worst = worst.max(off(x, la)).max(off(y, lb));
+        worst = worst
+            .max(distance(&la.unwrap(), x))
+            .max(distance(&lb.unwrap(), y));
     }
     assert!(worst < 1e-9, "a contact {worst} rod lengths off a line");
 }

@@ -14,7 +14,7 @@ use rgc::engine::examples;
 use rgc::enumerate::{GraphFilter, connected_small_graphs};
 use rgc::graph::ContactGraph;
 use rgc::graph::io::{read_graph6_file, to_graph6};
-use rgc::math::vec3::{V3, cross, dot, sub};
+use rgc::math::vec3::{V3, distance, dot, sub};
 use rgc::pattern::Pattern;
 use rgc::rigidity::construction::Realization;
 use rgc::rigidity::family;
@@ -55,9 +55,7 @@ fn violation(inc: &Incidence, grouping: &Grouping, s: &Realization<f64>) -> f64 
     let mut worst: f64 = 0.0;
     for (c, &[a, b]) in inc.contact_lines.iter().enumerate() {
         for l in [a, b] {
-            let line = s.lines[l];
-            let off = norm(cross(sub(s.points[c], line.p), line.d)) / norm(line.d);
-            worst = worst.max(off);
+            worst = worst.max(distance(&s.lines[l], s.points[c]));
         }
     }
     for (g, pl) in grouping.groups.iter().zip(&s.group_planes) {
