@@ -53,6 +53,11 @@ pub fn cross<S: Scalar>(a: V3<S>, b: V3<S>) -> V3<S> {
     ]
 }
 
+/// The length of a float vector.
+pub fn norm(a: V3<f64>) -> f64 {
+    dot(a, a).sqrt()
+}
+
 /// The point of the float line `l` nearest `x`.
 pub fn foot(l: &Line<f64>, x: V3<f64>) -> V3<f64> {
     add(l.p, scale(l.d, dot(sub(x, l.p), l.d) / dot(l.d, l.d)))
@@ -60,8 +65,7 @@ pub fn foot(l: &Line<f64>, x: V3<f64>) -> V3<f64> {
 
 /// How far `x` lies from the float line `l`.
 pub fn distance(l: &Line<f64>, x: V3<f64>) -> f64 {
-    let v = sub(x, foot(l, x));
-    dot(v, v).sqrt()
+    norm(sub(x, foot(l, x)))
 }
 
 pub fn is_null<S: Scalar>(a: V3<S>) -> bool {

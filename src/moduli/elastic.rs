@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use super::relax::{self, Relaxation, Solver};
 use super::voigt::Voigt;
 use crate::graph::Topology;
-use crate::math::vec3::{Line, V3, add, distance, dot, foot, scale, sub};
+use crate::math::vec3::{Line, V3, add, distance, foot, norm, scale, sub};
 use crate::network::View;
 use crate::rods::Periodic;
 use crate::truth::planes::{self, Planes};
@@ -360,7 +360,6 @@ impl Moved {
             let n = d.len().max(1) as f64;
             (d.iter().map(|x| x * x).sum::<f64>() / n).sqrt()
         };
-        let norm = |v: V3<f64>| dot(v, v).sqrt();
         let contacts = rods
             .points
             .iter()

@@ -19,7 +19,7 @@ use super::family::jacobian;
 use super::incidence::{Grouping, Incidence};
 use crate::math::float::{RankRule, decide_rank_above, singular_values};
 use crate::math::marquardt::{self, Residual, Residuals};
-use crate::math::vec3::{Line, Plane, V3, add, cross, dot, scale, size, sub};
+use crate::math::vec3::{Line, Plane, V3, add, cross, dot, norm, scale, size, sub};
 use crate::math::{Matrix, Scalar};
 
 /// Random starts tried before a grouping counts as not found.
@@ -128,14 +128,14 @@ impl System<'_> {
             .map(|g| {
                 let at = self.normal(g);
                 let n = Self::v(u, at);
-                let n = scale(n, 1.0 / dot(n, n).sqrt());
+                let n = scale(n, 1.0 / norm(n));
                 let other = if n[0].abs() < 0.5 {
                     [1.0, 0.0, 0.0]
                 } else {
                     [0.0, 1.0, 0.0]
                 };
                 let u1 = cross(n, other);
-                let u1 = scale(u1, 1.0 / dot(u1, u1).sqrt());
+                let u1 = scale(u1, 1.0 / norm(u1));
                 Some(Plane {
                     q: scale(n, u[at + 3]),
                     u: u1,
@@ -184,7 +184,7 @@ impl System<'_> {
                 return true;
             }
         }
-        let unit = |v: V3<f64>| scale(v, 1.0 / dot(v, v).sqrt());
+        let unit = |v: V3<f64>| scale(v, 1.0 / norm(v));
         for (a, b) in inc.contact_lines.iter().map(|&[a, b]| (a, b)) {
             if size(cross(unit(s.lines[a].d), unit(s.lines[b].d))) <= SEPARATION {
                 return true;

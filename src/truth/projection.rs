@@ -30,7 +30,7 @@ use super::realize::{Realization, lattice};
 use super::special::{Special, degenerate, spread};
 use crate::graph::Topology;
 use crate::math::marquardt::{self, Residual, Residuals};
-use crate::math::vec3::{Line, V3, add, cross, dot, scale, sub};
+use crate::math::vec3::{Line, V3, add, cross, dot, norm, scale, sub};
 
 /// Largest residual, relative to the size of the realization, accepted as
 /// a solution of the incidences.
@@ -149,7 +149,7 @@ struct Unknowns {
 fn unit(rng: &mut impl Rng) -> V3<f64> {
     loop {
         let v: V3<f64> = [0; 3].map(|_| rng.random_range(-1.0..=1.0));
-        let len = dot(v, v).sqrt();
+        let len = norm(v);
         if len > 0.1 && len <= 1.0 {
             return scale(v, 1.0 / len);
         }
@@ -374,7 +374,7 @@ impl<'a> System<'a> {
         let (n, h) = (v3(u, at), u[at + 3]);
         let p = sub(p, scale(n, dot(n, add(p, lattice(self.side, o))) - h));
         let d = sub(d, scale(n, dot(n, d)));
-        Some((p, d, dot(d, d).sqrt()))
+        Some((p, d, norm(d)))
     }
 
     /// Moves each member of a class into its plane in `u` (the first
@@ -495,7 +495,7 @@ impl<'a> System<'a> {
                     let d = v3(u, at + 3);
                     Line {
                         p: v3(u, at),
-                        d: scale(d, 1.0 / dot(d, d).sqrt()),
+                        d: scale(d, 1.0 / norm(d)),
                     }
                 })
             })
@@ -844,7 +844,7 @@ mod tests {
                 .iter()
                 .map(|&at| {
                     let d = v3(u, at + 3);
-                    (dot(n, v3(u, at)) - h).abs() + dot(n, d).abs() / dot(d, d).sqrt()
+                    (dot(n, v3(u, at)) - h).abs() + dot(n, d).abs() / norm(d)
                 })
                 .fold(0.0, f64::max)
         };
@@ -873,7 +873,7 @@ mod tests {
                     .zip(&now.points)
                     .map(|(a, b)| {
                         let d = sub(a.unwrap(), b.unwrap());
-                        dot(d, d).sqrt()
+                        norm(d)
                     })
                     .fold(0.0, f64::max)
             };
@@ -909,7 +909,7 @@ mod tests {
             assert_on_both_lines(topo.graph, &long, 1e-12);
             for (x, y) in long.points.iter().zip(&real.points) {
                 let d = sub(x.unwrap(), y.unwrap());
-                assert!(dot(d, d).sqrt() < 1e-12, "{x:?} moved from {y:?}");
+                assert!(norm(d) < 1e-12, "{x:?} moved from {y:?}");
             }
         });
     }

@@ -7,7 +7,7 @@ use super::planes::Planes;
 use super::realize::Realization;
 use crate::contacts::Offset;
 use crate::graph::Topology;
-use crate::math::vec3::{V3, add, cross, dot, scale, sub};
+use crate::math::vec3::{V3, add, cross, dot, norm, scale, sub};
 
 /// Smallest separation, relative to the extent of the contact points (for
 /// angles: their sine), between two contacts on one rod (in a system of
@@ -100,7 +100,7 @@ pub fn degenerate(topo: &Topology, planes: &Planes, real: &Realization<f64>) -> 
     }
     let sin = |a: V3<f64>, b: V3<f64>| {
         let n = cross(a, b);
-        dot(n, n).sqrt() / (dot(a, a) * dot(b, b)).sqrt()
+        norm(n) / (dot(a, a) * dot(b, b)).sqrt()
     };
     // Two rods that both lie in two classes lie along both planes' common
     // direction (in a periodic box the classes can share them at two

@@ -14,7 +14,7 @@ use rgc::engine::examples;
 use rgc::enumerate::{GraphFilter, connected_small_graphs};
 use rgc::graph::ContactGraph;
 use rgc::graph::io::{read_graph6_file, to_graph6};
-use rgc::math::vec3::{V3, distance, dot, sub};
+use rgc::math::vec3::{distance, dot, norm, sub};
 use rgc::pattern::Pattern;
 use rgc::rigidity::construction::Realization;
 use rgc::rigidity::family;
@@ -43,10 +43,6 @@ fn example(name: &str) -> Pattern {
         .find(|e| e.name == name)
         .unwrap();
     Pattern::from_host(&e.graph(), &e.bodies).unwrap()
-}
-
-fn norm(v: V3<f64>) -> f64 {
-    dot(v, v).sqrt()
 }
 
 /// The largest relative violation of the incidences of `grouping` at `s`:
