@@ -226,11 +226,15 @@ def moduli(
     seed: int = 1,
     memory_limit: Optional[int] = None,
     solver: str = "auto",
+    lsmr_iterations: int = 10000,
 ) -> dict:
     """The elastic moduli of ``rods`` in a cubic periodic box (the same
-    answer as ``rgc moduli --json`` with that seed and ``solver``: 'auto',
-    the sparse QR where it fits in memory and LSMR where it does not, or
-    'qr' or 'lsmr' alone; ``conditioning['solver']`` says which ran): a spring of stiffness
+    answer as ``rgc moduli --json`` with that seed, ``solver`` and
+    ``lsmr_iterations``: 'auto', the sparse QR where it fits in memory and
+    LSMR where it does not, or 'qr' or 'lsmr' alone;
+    ``conditioning['solver']`` says which ran, and
+    ``conditioning['settled']`` whether LSMR converged within its
+    ``lsmr_iterations`` per strain, else the moduli are upper bounds): a spring of stiffness
     ``k`` at every contact, the rods rigid, the non-affine relaxation.
     ``tensor`` and ``born`` are 6 x 6 float64 arrays in Voigt's notation
     (xx, yy, zz, yz, xz, xy) in ``k / L_rod``; ``shear`` and ``bulk`` are
@@ -238,7 +242,16 @@ def moduli(
     is truth's exact strain rank, at which the tensor is kept; and the
     ``conditioning``. A system whose float tensor shows no gap at the
     strain rank, or whose strain rank is unknown, raises ValueError."""
-    out = json.loads(_moduli(rods, k=k, seed=seed, memory_limit=memory_limit, solver=solver))
+    out = json.loads(
+        _moduli(
+            rods,
+            k=k,
+            seed=seed,
+            memory_limit=memory_limit,
+            solver=solver,
+            lsmr_iterations=lsmr_iterations,
+        )
+    )
     for key in ("tensor", "born", "eigenvalues"):
         out[key] = np.asarray(out[key], dtype=np.float64)
     return out

@@ -161,7 +161,7 @@ def generate(
 def contacts(rods: Rods) -> Contacts: ...
 def compress(rods: Rods, rules: str = "sound", runs: int = 1, seed: int = 1, criterion: str = "wrap") -> Compression:
     """runs from 1 to MAX_RUNS (100,000, the command line's cap), else ValueError."""
-def moduli(rods: Rods, k: float = 1.0, seed: int = 1, memory_limit: Optional[int] = None, solver: str = "auto") -> str:
+def moduli(rods: Rods, k: float = 1.0, seed: int = 1, memory_limit: Optional[int] = None, solver: str = "auto", lsmr_iterations: int = 10000) -> str:
     """The moduli as the JSON text of ``rgc moduli --json`` (``rgc.moduli`` reads it into arrays)."""
 
 def truth(rods: Rods, criterion: str = "wrap", seed: int = 1, memory_limit: Optional[int] = None) -> Truth:

@@ -10,12 +10,13 @@ use crate::system::PyRods;
 use crate::{count, interrupt, value_error};
 
 /// The elastic tensor of `rods` (a spring `k` at every contact, rigid
-/// rods), as the JSON text of `rgc moduli --json` with that seed and
-/// solver (`auto`, `qr` or `lsmr`); `rgc.moduli` reads it into arrays.
+/// rods), as the JSON text of `rgc moduli --json` with that seed,
+/// solver (`auto`, `qr` or `lsmr`) and cap on LSMR's iterations per
+/// strain; `rgc.moduli` reads it into arrays.
 #[pyfunction]
 #[pyo3(
-    signature = (rods, k=1.0, seed=None, memory_limit=None, solver="auto"),
-    text_signature = "(rods, k=1.0, seed=1, memory_limit=None, solver='auto')"
+    signature = (rods, k=1.0, seed=None, memory_limit=None, solver="auto", lsmr_iterations=None),
+    text_signature = "(rods, k=1.0, seed=1, memory_limit=None, solver='auto', lsmr_iterations=10000)"
 )]
 pub fn moduli(
     py: Python<'_>,
@@ -24,6 +25,7 @@ pub fn moduli(
     seed: Option<&Bound<'_, PyAny>>,
     memory_limit: Option<&Bound<'_, PyAny>>,
     solver: &str,
+    lsmr_iterations: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let seed = crate::seed(seed)?;
     // Solver's own names, as its JSON spells them.
@@ -36,6 +38,10 @@ pub fn moduli(
         Some(m) => Some(count(m, "memory_limit (bytes)", 1, u64::MAX)?),
         None => None,
     };
+    let lsmr_iterations = match lsmr_iterations {
+        Some(n) => count(n, "lsmr_iterations", 1, 1_000_000)? as usize,
+        None => rgc::moduli::LSMR_ITERATIONS,
+    };
     check_memory(rods, memory_limit)?;
     let system = rods.system.clone();
     let opts = ModuliOptions {
@@ -45,6 +51,7 @@ pub fn moduli(
             ..TruthOptions::seeded(seed)
         },
         solver,
+        lsmr_iterations,
     };
     let e = interrupt::run(py, move || {
         let network = rgc::network::Network::detect((*system).clone());

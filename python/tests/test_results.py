@@ -177,3 +177,11 @@ def test_moduli_match_the_command_line(cli):
     assert np.allclose(by_lsmr["tensor"], m["tensor"], rtol=1e-8, atol=1e-12 * m["born"].max())
     with pytest.raises(ValueError, match="solver must be 'auto', 'qr' or 'lsmr'"):
         rgc.moduli(rods, solver="cg")
+    # Cut short, LSMR says so, and its energies (so G) stand above the
+    # settled ones: an upper bound.
+    short = rgc.moduli(rods, k=2.0, seed=1, solver="lsmr", lsmr_iterations=1)
+    assert by_lsmr["conditioning"]["settled"] and not short["conditioning"]["settled"]
+    assert short["conditioning"]["steps"] == 6
+    assert short["shear"] > by_lsmr["shear"] * (1 + 1e-6)
+    with pytest.raises(ValueError, match="lsmr_iterations must be an integer from 1"):
+        rgc.moduli(rods, solver="lsmr", lsmr_iterations=0)

@@ -56,6 +56,7 @@ pub fn measure(density: f64, box_len: usize, seed: u64) -> crate::Result<ModuliR
         stiffness: 1.0,
         truth: TruthOptions::seeded(seed),
         solver: Solver::Qr,
+        lsmr_iterations: moduli::LSMR_ITERATIONS,
     };
     // `of_system`'s steps, timed as it times them, with the realization
     // kept for LSMR's relaxation on it.

@@ -50,6 +50,9 @@ pub struct ModuliOptions {
     pub truth: TruthOptions,
     /// How the springs' least squares is solved.
     pub solver: Solver,
+    /// LSMR's iterations per strain column at most: where they run out
+    /// the moduli are upper bounds (`Conditioning::settled`).
+    pub lsmr_iterations: usize,
 }
 
 /// How well posed the solve was.
@@ -275,6 +278,7 @@ pub fn of_realization(
         &entries,
         &affine,
         opts.solver,
+        opts.lsmr_iterations,
         opts.truth.memory_limit,
     )?;
     let volume = real.side.powi(3);

@@ -211,6 +211,7 @@ fn a_moduli_row_is_its_system_s_moduli_with_truth_inside_the_time() {
             stiffness: 1.0,
             truth: TruthOptions::seeded(seed),
             solver: Solver::Qr,
+            lsmr_iterations: rgc::moduli::LSMR_ITERATIONS,
         },
     )
     .unwrap();

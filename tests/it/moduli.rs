@@ -7,7 +7,8 @@ use faer::Mat;
 use rgc::graph::{ContactGraph, Topology};
 use rgc::math::vec3::{Line, distance, sub};
 use rgc::moduli::{
-    Elastic, ModuliOptions, Solver, Voigt, floats, of_realization, of_system, springs,
+    Elastic, LSMR_ITERATIONS, ModuliOptions, Solver, Voigt, floats, of_realization, of_system,
+    springs,
 };
 use rgc::network::Network;
 use rgc::rods::{Rod, RodParams, RodSystem};
@@ -19,6 +20,7 @@ fn opts(k: f64) -> ModuliOptions {
         stiffness: k,
         truth: TruthOptions::seeded(1),
         solver: Solver::Auto,
+        lsmr_iterations: LSMR_ITERATIONS,
     }
 }
 

@@ -230,6 +230,54 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     };
     refused("30,36", "qr", "--extend adds densities after the last of");
     refused("30,40,45", "auto", "solves by the QR or by LSMR");
+    // LSMR cut short leaves sides unsettled (upper bounds); --extend with
+    // a larger cap measures again only those, and they come out as the
+    // QR's, while a smaller cap is refused.
+    let short = dir.join("moduli-3.5-short");
+    let run_short = |more: &[&str]| {
+        let args = [&["--solver", "lsmr"], more].concat();
+        let o = box_3_5_into("30,40", &short, &args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        stiffening::read(&short.join("stiffening.jsonl")).unwrap()
+    };
+    let cut = run_short(&["--lsmr-iterations", "3"]);
+    let sides = |s: &SequenceStiffening| {
+        [
+            s.before.clone(),
+            s.at.clone(),
+            s.grid[0].clone(),
+            s.grid[1].clone(),
+        ]
+    };
+    let unsettled: Vec<bool> = sides(&cut[0]).iter().map(|s| s.unsettled()).collect();
+    assert_eq!(unsettled, [true, true, false, true], "{cut:?}");
+    assert_eq!(cut[0].at.lsmr_iterations, Some(3));
+    let settled = run_short(&["--extend"]);
+    for (was, now) in sides(&cut[0]).iter().zip(&sides(&settled[0])) {
+        if was.unsettled() {
+            assert_eq!(
+                (now.settled, now.lsmr_iterations),
+                (Some(true), Some(10_000))
+            );
+            assert!(now.shear.unwrap() < was.shear.unwrap(), "{was:?} {now:?}");
+        } else {
+            assert_eq!(was, now);
+        }
+    }
+    let (a, b) = (settled[0].grid[1].shear.unwrap(), qr.shear.unwrap());
+    assert!((a / b - 1.0).abs() < 1e-8, "{a} by LSMR, {b} by the QR");
+    assert!(settled[0].seconds > cut[0].seconds);
+    let smaller = box_3_5_into(
+        "30,40",
+        &short,
+        &["--extend", "--solver", "lsmr", "--lsmr-iterations", "3"],
+    );
+    let err = String::from_utf8_lossy(&smaller.stderr);
+    assert_eq!(smaller.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("or raises LSMR's iterations per strain (10000)"),
+        "{err}"
+    );
     // One box on two grids is refused before any work.
     let two = dir.join("two-grids");
     fails(

@@ -41,6 +41,7 @@ fn side(
             ..TruthOptions::seeded(run_seed(r.seed, n as u64))
         },
         solver: spec.solver,
+        lsmr_iterations: spec.lsmr_iterations,
     };
     let view = seq.view(n, &graph);
     let blank = Side {
@@ -55,6 +56,7 @@ fn side(
         failed: None,
         settled: None,
         solver: None,
+        lsmr_iterations: None,
     };
     let failed = |e: Error, side: Side| match e {
         // Over the memory limit is no answer about the sequence: stop.
@@ -94,6 +96,7 @@ fn side(
         moved: e.moved.map(|m| m.contacts),
         settled: Some(e.conditioning.settled),
         solver: Some(e.conditioning.solver),
+        lsmr_iterations: (e.conditioning.solver == Solver::Lsmr).then_some(spec.lsmr_iterations),
         ..known.clone()
     };
     // The larger system's geometry, unless it is special for these rods
@@ -144,7 +147,10 @@ fn probe(
     // One sequence to the most rods any side needs; each side a prefix.
     let most = grid.iter().copied().fold(n, usize::max);
     let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
-    if done.pair.is_none() {
+    // A side LSMR left unsettled under a smaller cap than the spec's is
+    // measured again (`--extend` with a larger cap).
+    let stale = |s: &Side| s.settles_under(spec.lsmr_iterations);
+    if done.pair.as_ref().is_none_or(|(b, a)| stale(b) || stale(a)) {
         // The critical rod's side first: the side below it is measured on
         // the same realization, so that the jump is the rod's, not another
         // member's of the family.
@@ -154,8 +160,15 @@ fn probe(
         done.seconds = seconds();
         save(part, &done)?;
     }
-    for &m in &grid[done.grid.len()..] {
-        done.grid.push(side(&seq, r, m, spec, None, limit)?.0);
+    for (i, &m) in grid.iter().enumerate() {
+        if done.grid.get(i).is_some_and(|s| !stale(s)) {
+            continue;
+        }
+        let s = side(&seq, r, m, spec, None, limit)?.0;
+        match done.grid.get_mut(i) {
+            Some(old) => *old = s,
+            None => done.grid.push(s),
+        }
         done.seconds = seconds();
         save(part, &done)?;
     }
@@ -215,12 +228,14 @@ fn files(out: &Path) -> (PathBuf, PathBuf) {
 }
 
 /// Gives the finished sequences of the measurement in `out` the densities
-/// `spec` adds after its grid's last: each line goes back to `partial/` as
-/// a sequence in progress with the old grid measured, and leaves the
-/// journal, and then the spec takes the new grid and solver, so that the
-/// run measures only the new sides (each a prefix of its own, as if
-/// measured with the rest). Killed at any point, the same command
-/// finishes it. A directory already on `spec` is left as it is.
+/// `spec` adds after its grid's last, or its larger cap on LSMR's
+/// iterations: each line goes back to `partial/` as a sequence in
+/// progress with the old grid measured, and leaves the journal, and then
+/// the spec takes the new grid, solver and cap, so that the run measures
+/// only the new sides (each a prefix of its own, as if measured with the
+/// rest) and those LSMR left unsettled under a smaller cap (a critical
+/// side with its pair, one geometry). Killed at any point, the same
+/// command finishes it. A directory already on `spec` is left as it is.
 fn extend(out: &Path, spec: &StiffeningSpec) -> Result<()> {
     let (spec_file, lines) = files(out);
     if !spec_file.exists() {
@@ -237,14 +252,19 @@ fn extend(out: &Path, spec: &StiffeningSpec) -> Result<()> {
     let same_else = StiffeningSpec {
         densities: old.clone(),
         solver: there.solver,
+        lsmr_iterations: there.lsmr_iterations,
         ..spec.clone()
     } == there;
-    let continues = spec.densities.len() > old.len() && spec.densities.starts_with(old);
+    let more = spec.densities.len() > old.len();
+    let cap = (there.lsmr_iterations, spec.lsmr_iterations);
+    let continues = spec.densities.starts_with(old) && cap.1 >= cap.0 && (more || cap.1 > cap.0);
     if !(same_else && continues) {
         return Err(Error::Parameter(format!(
-            "--extend adds densities after the last of {} ({old:?}) with the same studies, boxes, sequences and k; this run's are {:?}",
+            "--extend adds densities after the last of {} ({old:?}), or raises LSMR's iterations per strain ({}), with the same studies, boxes, sequences and k; this run's are {:?} and {}",
             spec_file.display(),
-            spec.densities
+            cap.0,
+            spec.densities,
+            cap.1
         )));
     }
     let partial = out.join("partial");
@@ -419,6 +439,7 @@ mod tests {
             stiffness: 1.0,
             densities: vec![],
             solver: Solver::Qr,
+            lsmr_iterations: moduli::LSMR_ITERATIONS,
         }
     }
 

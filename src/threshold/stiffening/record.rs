@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::moduli::Solver;
+use crate::moduli::{FIRST_LSMR_ITERATIONS, Solver};
 use crate::threshold::journal;
 
 /// What a measurement takes: which studies, boxes and sequences, and the
@@ -30,6 +30,15 @@ pub struct StiffeningSpec {
     /// its own.
     #[serde(default = "Solver::qr", skip_serializing_if = "Solver::is_qr")]
     pub solver: Solver,
+    /// LSMR's iterations per strain at most (absent: 1,000, the cap before
+    /// it was a choice). `--extend` with a larger one measures again the
+    /// sides that did not settle under theirs.
+    #[serde(default = "first_cap")]
+    pub lsmr_iterations: usize,
+}
+
+fn first_cap() -> usize {
+    FIRST_LSMR_ITERATIONS
 }
 
 /// The moduli of one prefix of a sequence, or why there are none.
@@ -62,12 +71,24 @@ pub struct Side {
     /// sides older than LSMR, which the QR relaxed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<Solver>,
+    /// LSMR's cap on iterations per strain when it relaxed this side
+    /// (absent in sides relaxed under the first cap, 1,000, or by the QR).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lsmr_iterations: Option<usize>,
 }
 
 impl Side {
     /// Its relaxation ran out of refinement steps.
     pub fn unsettled(&self) -> bool {
         self.settled == Some(false)
+    }
+
+    /// Whether LSMR with `cap` iterations per strain could settle it where
+    /// its own relaxation did not: LSMR's, under a smaller cap.
+    pub fn settles_under(&self, cap: usize) -> bool {
+        self.unsettled()
+            && self.solver == Some(Solver::Lsmr)
+            && self.lsmr_iterations.unwrap_or(FIRST_LSMR_ITERATIONS) < cap
     }
 
     /// Whether its moduli compare with other sequences': exact where the
@@ -124,5 +145,42 @@ pub struct Partial {
 impl journal::Line for SequenceStiffening {
     fn key(&self) -> (f64, f64, u64) {
         (self.gamma, self.box_len, self.index)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn measurements_made_before_the_cap_was_a_choice_read_as_1000() {
+        let spec: StiffeningSpec = serde_json::from_str(
+            r#"{"studies": ["s"], "boxes": [5.0], "sequences": 40, "stiffness": 1.0, "solver": "lsmr"}"#,
+        )
+        .unwrap();
+        assert_eq!(spec.lsmr_iterations, 1000);
+        // An unsettled LSMR side of then settles only under a larger cap;
+        // a settled one, and one the QR relaxed, never.
+        let side: Side = serde_json::from_str(
+            r#"{"rods": 4295, "strain_rank": 6, "shear": 1e-9, "bulk": 1e-9, "born_shear": 1.4,
+                "realization": "nearest", "moved": 0.2, "largest": 900, "failed": null,
+                "settled": false, "solver": "lsmr"}"#,
+        )
+        .unwrap();
+        assert!(side.settles_under(1001) && !side.settles_under(1000));
+        let settled = Side {
+            settled: Some(true),
+            ..side.clone()
+        };
+        let qr = Side {
+            solver: Some(Solver::Qr),
+            ..side.clone()
+        };
+        assert!(!settled.settles_under(10_000) && !qr.settles_under(10_000));
+        let later = Side {
+            lsmr_iterations: Some(10_000),
+            ..side
+        };
+        assert!(!later.settles_under(10_000) && later.settles_under(20_000));
     }
 }

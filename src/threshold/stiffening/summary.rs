@@ -457,6 +457,7 @@ mod tests {
             failed: None,
             settled: solid.then_some(true),
             solver: solid.then_some(crate::moduli::Solver::Qr),
+            lsmr_iterations: None,
         }
     }
 
