@@ -2,7 +2,7 @@
 
 use pyo3::prelude::*;
 
-use rgc::moduli::{ModuliOptions, Solver, of_system};
+use rgc::moduli::{LSMR_ITERATIONS, MAX_LSMR_ITERATIONS, ModuliOptions, Solver, of_system};
 use rgc::truth::TruthOptions;
 
 use crate::compress::check_memory;
@@ -39,8 +39,8 @@ pub fn moduli(
         None => None,
     };
     let lsmr_iterations = match lsmr_iterations {
-        Some(n) => count(n, "lsmr_iterations", 1, 1_000_000)? as usize,
-        None => rgc::moduli::LSMR_ITERATIONS,
+        Some(n) => count(n, "lsmr_iterations", 1, MAX_LSMR_ITERATIONS as u64)? as usize,
+        None => LSMR_ITERATIONS,
     };
     check_memory(rods, memory_limit)?;
     let system = rods.system.clone();

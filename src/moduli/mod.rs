@@ -20,5 +20,5 @@ pub use elastic::{
     Conditioning, Elastic, Exact, Floats, ModuliOptions, Moved, Springs, exact, floats, of_exact,
     of_floats, of_realization, of_system, springs,
 };
-pub use relax::{FIRST_LSMR_ITERATIONS, LSMR_ITERATIONS, Relaxation, Solver};
+pub use relax::{FIRST_LSMR_ITERATIONS, LSMR_ITERATIONS, MAX_LSMR_ITERATIONS, Relaxation, Solver};
 pub use voigt::Voigt;

@@ -66,6 +66,9 @@ pub const LSMR_ITERATIONS: usize = 10_000;
 /// were relaxed under it.
 pub const FIRST_LSMR_ITERATIONS: usize = 1000;
 
+/// The largest cap accepted: a typo's cap would run for days.
+pub const MAX_LSMR_ITERATIONS: usize = 1_000_000;
+
 /// How the least squares is solved.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]

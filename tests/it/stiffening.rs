@@ -257,7 +257,7 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
         if was.unsettled() {
             assert_eq!(
                 (now.settled, now.lsmr_iterations),
-                (Some(true), Some(10_000))
+                (Some(true), Some(rgc::moduli::LSMR_ITERATIONS))
             );
             assert!(now.shear.unwrap() < was.shear.unwrap(), "{was:?} {now:?}");
         } else {
@@ -275,7 +275,10 @@ fn the_moduli_are_measured_across_the_solid_critical_rod_and_resume() {
     let err = String::from_utf8_lossy(&smaller.stderr);
     assert_eq!(smaller.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("or raises LSMR's iterations per strain (10000)"),
+        err.contains(&format!(
+            "or raises LSMR's iterations per strain ({})",
+            rgc::moduli::LSMR_ITERATIONS
+        )),
         "{err}"
     );
     // One box on two grids is refused before any work.

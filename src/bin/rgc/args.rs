@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::{ArgAction, Args};
 use rgc::engine::RuleSet;
+use rgc::moduli;
 use rgc::rods::ensemble::{Dist, Ensemble, Orientation};
 use rgc::rods::file::{self, Columns, Format, Frame, ReadOptions};
 use rgc::rods::{Domain, MIN_GAMMA, Periodic, RodParams};
@@ -20,6 +21,20 @@ pub struct MemoryArgs {
     /// Refuse, before each large step, work that would take the process's resident size past this (the rods, contacts and graph up front; truth's realization and each dense front of its elimination; the compressions; the moduli's projection and sparse QR): bytes, or with a unit (`512M`, `4G`, `1.5GiB`). With or without it, a step is refused that the machine (free memory, a cgroup's limit) or an address-space limit (`ulimit -v`) has no room for.
     #[arg(long, value_name = "SIZE", value_parser = parse_size)]
     pub memory_limit: Option<u64>,
+}
+
+/// How long LSMR may relax each strain: `moduli` and `stiffening`.
+#[derive(Args)]
+pub struct LsmrArgs {
+    /// LSMR's iterations per strain at most: where they run out the moduli are upper bounds, said as unsettled (a stiffening measurement made before this was a choice had 1,000).
+    #[arg(long, default_value_t = moduli::LSMR_ITERATIONS as u64, value_parser = clap::value_parser!(u64).range(1..=moduli::MAX_LSMR_ITERATIONS as u64))]
+    lsmr_iterations: u64,
+}
+
+impl LsmrArgs {
+    pub fn iterations(&self) -> usize {
+        self.lsmr_iterations as usize
+    }
 }
 
 /// Bytes from `4G`, `512M`, `1.5GiB`, `100000` (binary units).

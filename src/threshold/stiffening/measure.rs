@@ -144,33 +144,38 @@ fn probe(
     let mut done = resumed(part, n, &grid)?;
     let spent = done.seconds;
     let seconds = || spent + start.elapsed().as_secs_f64();
-    // One sequence to the most rods any side needs; each side a prefix.
-    let most = grid.iter().copied().fold(n, usize::max);
-    let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
     // A side LSMR left unsettled under a smaller cap than the spec's is
     // measured again (`--extend` with a larger cap).
     let stale = |s: &Side| s.settles_under(spec.lsmr_iterations);
-    if done.pair.as_ref().is_none_or(|(b, a)| stale(b) || stale(a)) {
-        // The critical rod's side first: the side below it is measured on
-        // the same realization, so that the jump is the rod's, not another
-        // member's of the family.
-        let (at, floats) = side(&seq, r, n, spec, None, limit)?;
-        let (before, _) = side(&seq, r, n - 1, spec, floats.as_ref(), limit)?;
-        done.pair = Some((before, at));
-        done.seconds = seconds();
-        save(part, &done)?;
-    }
-    for (i, &m) in grid.iter().enumerate() {
-        if done.grid.get(i).is_some_and(|s| !stale(s)) {
-            continue;
+    let pair_due = done.pair.as_ref().is_none_or(|(b, a)| stale(b) || stale(a));
+    let grid_due: Vec<usize> = (0..grid.len())
+        .filter(|&i| done.grid.get(i).is_none_or(stale))
+        .collect();
+    // A line whose sides all stand (extended to a cap they settled under)
+    // costs no rods and no time.
+    if pair_due || !grid_due.is_empty() {
+        // One sequence to the most rods any side needs; each side a prefix.
+        let most = grid.iter().copied().fold(n, usize::max);
+        let seq = Sequence::new(gamma, r.box_len, most, r.seed)?;
+        if pair_due {
+            // The critical rod's side first: the side below it is measured
+            // on the same realization, so that the jump is the rod's, not
+            // another member's of the family.
+            let (at, floats) = side(&seq, r, n, spec, None, limit)?;
+            let (before, _) = side(&seq, r, n - 1, spec, floats.as_ref(), limit)?;
+            done.pair = Some((before, at));
+            done.seconds = seconds();
+            save(part, &done)?;
         }
-        let s = side(&seq, r, m, spec, None, limit)?.0;
-        match done.grid.get_mut(i) {
-            Some(old) => *old = s,
-            None => done.grid.push(s),
+        for i in grid_due {
+            let s = side(&seq, r, grid[i], spec, None, limit)?.0;
+            match done.grid.get_mut(i) {
+                Some(old) => *old = s,
+                None => done.grid.push(s),
+            }
+            done.seconds = seconds();
+            save(part, &done)?;
         }
-        done.seconds = seconds();
-        save(part, &done)?;
     }
     let (before, at) = done.pair.expect("measured above");
     Ok(SequenceStiffening {
@@ -180,7 +185,7 @@ fn probe(
         at,
         before,
         grid: done.grid,
-        seconds: seconds(),
+        seconds: done.seconds,
     })
 }
 
@@ -495,6 +500,14 @@ mod tests {
         let whole = probe(23.0, &r, &spec, None, &part).unwrap();
         let saved: Partial = journal::read_spec(&part, "partial").unwrap();
         assert_eq!(saved.grid.len(), 2);
+        // Every side standing, nothing is measured and no time is added.
+        let timed = Partial {
+            seconds: 5.0,
+            ..saved.clone()
+        };
+        output::write_atomic(&part, serde_json::to_vec(&timed).unwrap()).unwrap();
+        let standing = probe(23.0, &r, &spec, None, &part).unwrap();
+        assert_eq!((standing.seconds, &standing.grid), (5.0, &whole.grid));
         // What the file holds is taken, not measured again: a side marked
         // in it comes back marked, and the time spent before is kept.
         let mut cut = saved.clone();

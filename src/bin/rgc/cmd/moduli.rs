@@ -2,7 +2,7 @@
 
 use clap::Args;
 
-use crate::args::{MemoryArgs, RodsArgs};
+use crate::args::{LsmrArgs, MemoryArgs, RodsArgs};
 
 use rgc::moduli::{self, ModuliOptions, Solver, Voigt};
 use rgc::network::Network;
@@ -28,9 +28,8 @@ pub struct ModuliArgs {
     /// Cholesky factor (a tenth of the QR's memory), or either alone.
     #[arg(long, value_enum, default_value_t = Solver::Auto)]
     solver: Solver,
-    /// LSMR's iterations per strain at most: where they run out, the moduli are upper bounds (said as unsettled).
-    #[arg(long, default_value_t = moduli::LSMR_ITERATIONS as u64, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
-    lsmr_iterations: u64,
+    #[command(flatten)]
+    lsmr: LsmrArgs,
     /// Print JSON instead of a summary.
     #[arg(long)]
     json: bool,
@@ -56,7 +55,7 @@ pub fn run(a: ModuliArgs, out: &mut String) -> Result<()> {
             ..TruthOptions::seeded(a.seed)
         },
         solver: a.solver,
-        lsmr_iterations: a.lsmr_iterations as usize,
+        lsmr_iterations: a.lsmr.iterations(),
     };
     let e = moduli::of_system(network.view(), opts)?;
     if a.json {

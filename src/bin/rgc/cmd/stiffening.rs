@@ -4,11 +4,11 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use rgc::moduli::{self, Solver};
+use rgc::moduli::Solver;
 use rgc::threshold::stiffening::{self, Mean, StiffeningSpec};
 use rgc::{Result, output, plot, threshold};
 
-use crate::args::{MeasuredArgs, MemoryArgs};
+use crate::args::{LsmrArgs, MeasuredArgs, MemoryArgs};
 use crate::progress::Reporter;
 
 #[derive(Args)]
@@ -26,9 +26,8 @@ pub struct StiffeningArgs {
     /// How the springs' least squares is solved: qr or lsmr (as `rgc moduli --solver`; a measurement never lets the memory free at the time choose).
     #[arg(long, value_enum, default_value_t = Solver::Qr)]
     solver: Solver,
-    /// LSMR's iterations per strain at most (a measurement made before this was a choice had 1,000; give that to continue it).
-    #[arg(long, default_value_t = moduli::LSMR_ITERATIONS as u64, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
-    lsmr_iterations: u64,
+    #[command(flatten)]
+    lsmr: LsmrArgs,
     /// Add the densities of --densities that continue the directory's grid (its densities, then more) to its finished sequences, measuring only the new sides (with this run's --solver; each side records its own); or, with a larger --lsmr-iterations than the directory's, measure again the sides LSMR left unsettled.
     #[arg(long)]
     extend: bool,
@@ -55,7 +54,7 @@ pub fn run(a: StiffeningArgs, out: &mut String) -> Result<()> {
         stiffness: a.k,
         densities: a.densities.clone(),
         solver: a.solver,
-        lsmr_iterations: a.lsmr_iterations as usize,
+        lsmr_iterations: a.lsmr.iterations(),
     };
     let summary = stiffening::run(
         &m.dirs,
