@@ -10,13 +10,17 @@
 //! costs it iterations. So where it converges it solves the same least
 //! squares as the QR, and where those modes are many it does not converge
 //! within its cap and says so.
+//!
+//! The columns (the moduli's six strains) are independent solves and run
+//! in parallel, each on one thread, so no digit depends on the thread count.
 
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::matrix_free::InitialGuessStatus;
 use faer::matrix_free::lsmr::{LsmrError, LsmrParams, lsmr, lsmr_scratch};
 use faer::sparse::linalg::matmul::sparse_sparse_matmul;
 use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
 use faer::{Mat, MatRef, Par};
+use rayon::prelude::*;
 
 use super::cholesky::Llt;
 use super::qr::Failure;
@@ -111,7 +115,13 @@ pub fn least_squares(
     drop(matrix);
     drop(normal);
     let root = llt.root().expect("factored above");
-    let mut mem = MemBuffer::new(StackReq::any_of(&[lsmr_scratch(root, a, 1, Par::Seq)]));
+    // Each column its own LSMR, in parallel (rgc's parallelism is over
+    // independent solves): a column's arithmetic is the same on any thread,
+    // so the solution does not depend on the thread count. Each running
+    // column holds its own workspace.
+    let scratch = lsmr_scratch(root, a, 1, Par::Seq);
+    let running = rayon::current_num_threads().min(b.ncols()).max(1) as u64;
+    usage::reserve(running * scratch.size_bytes() as u64, 0, limit).map_err(Failure::Memory)?;
     let params = LsmrParams {
         initial_guess: InitialGuessStatus::Zero,
         abs_tolerance: 0.0,
@@ -119,38 +129,55 @@ pub fn least_squares(
         max_iters: max_iterations,
         ..Default::default()
     };
+    let columns: Vec<Column> = (0..b.ncols())
+        .into_par_iter()
+        .map(|j| {
+            let mut mem = MemBuffer::new(scratch);
+            let mut x = Mat::<f64>::zeros(n, 1);
+            let out = lsmr(
+                x.as_mut(),
+                root,
+                a,
+                b.subcols(j, 1),
+                params,
+                |_| {},
+                Par::Seq,
+                MemStack::new(&mut mem),
+            );
+            let (iterations, converged, residual) = match out {
+                Ok(info) => (info.iter_count, true, info.rel_residual),
+                Err(LsmrError::NoConvergence { rel_residual, .. }) => {
+                    (max_iterations, false, rel_residual)
+                }
+            };
+            Column {
+                x,
+                iterations,
+                converged,
+                residual,
+            }
+        })
+        .collect();
     let mut x = Mat::<f64>::zeros(n, b.ncols());
-    let (mut iterations, mut converged, mut optimality) = (0, true, 0.0_f64);
-    for j in 0..b.ncols() {
-        let out = lsmr(
-            x.as_mut().subcols_mut(j, 1),
-            root,
-            a,
-            b.subcols(j, 1),
-            params,
-            |_| {},
-            Par::Seq,
-            MemStack::new(&mut mem),
-        );
-        match out {
-            Ok(info) => {
-                iterations += info.iter_count;
-                optimality = optimality.max(info.rel_residual);
-            }
-            Err(LsmrError::NoConvergence { rel_residual, .. }) => {
-                iterations += max_iterations;
-                converged = false;
-                optimality = optimality.max(rel_residual);
-            }
-        }
+    for (j, c) in columns.iter().enumerate() {
+        x.col_mut(j).copy_from(c.x.col(0));
     }
     Ok(Solution {
         x,
-        iterations,
-        converged,
-        optimality,
+        iterations: columns.iter().map(|c| c.iterations).sum(),
+        converged: columns.iter().all(|c| c.converged),
+        optimality: columns.iter().map(|c| c.residual).fold(0.0, f64::max),
         shift: mu,
     })
+}
+
+/// One column's LSMR: its solution, its iterations, whether it stopped at
+/// the tolerance, and `|(A M)ᵀ r| / |(A M)ᵀ b|` where it stopped.
+struct Column {
+    x: Mat<f64>,
+    iterations: usize,
+    converged: bool,
+    residual: f64,
 }
 
 fn alloc(e: faer::sparse::FaerError) -> Failure {
@@ -191,5 +218,55 @@ mod tests {
         assert!(err < 1e-10, "relative error {err:e}");
         // A near-exact preconditioner: a handful of iterations per column.
         assert!(out.iterations <= 10, "{} iterations", out.iterations);
+    }
+
+    #[test]
+    fn the_solution_does_not_depend_on_the_thread_count() {
+        // Six right-hand sides, as the moduli's strains, on a matrix with a
+        // soft mode below the preconditioner's shift (its last column the
+        // one before it, changed by 1e-8), which costs iterations.
+        let (m, n) = (90, 30);
+        let mut entries: Vec<Triplet<usize, usize, f64>> = (0..m)
+            .flat_map(|i| {
+                (0..3).map(move |k| {
+                    let v = 1.0 + ((i * 17 + k * 5) % 13) as f64 / 3.0;
+                    Triplet::new(i, (i * 11 + k * 7) % (n - 1), v)
+                })
+            })
+            .collect();
+        let twin: Vec<_> = entries
+            .iter()
+            .filter(|t| t.col == n - 2)
+            .map(|t| Triplet::new(t.row, n - 1, t.val * (1.0 + 1e-8 * (t.row % 3) as f64)))
+            .collect();
+        entries.extend(twin);
+        let a = SparseColMat::<usize, f64>::try_new_from_triplets(m, n, &entries).unwrap();
+        let b = Mat::from_fn(m, 6, |i, j| ((i * (j + 2)) % 9) as f64 - 4.0);
+        let on = |threads: usize, cap: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| least_squares(a.as_ref(), b.as_ref(), 1e-14, cap, None).unwrap())
+        };
+        for cap in [2, 2000] {
+            let (one, three) = (on(1, cap), on(3, cap));
+            let bits = |x: &Mat<f64>| -> Vec<u64> {
+                (0..6)
+                    .flat_map(|j| x.col(j).iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+                    .collect()
+            };
+            assert_eq!(bits(&one.x), bits(&three.x), "cap {cap}");
+            assert_eq!(
+                (one.iterations, one.converged, one.optimality.to_bits()),
+                (
+                    three.iterations,
+                    three.converged,
+                    three.optimality.to_bits()
+                )
+            );
+            // The small cap leaves columns unsettled; the large one none.
+            assert_eq!(one.converged, cap == 2000, "cap {cap}: {one:?}");
+        }
     }
 }
