@@ -115,10 +115,7 @@ pub fn least_squares(
     drop(matrix);
     drop(normal);
     let root = llt.root().expect("factored above");
-    // Each column its own LSMR, in parallel (rgc's parallelism is over
-    // independent solves): a column's arithmetic is the same on any thread,
-    // so the solution does not depend on the thread count. Each running
-    // column holds its own workspace.
+    // Each running column holds its own workspace.
     let scratch = lsmr_scratch(root, a, 1, Par::Seq);
     let running = rayon::current_num_threads().min(b.ncols()).max(1) as u64;
     usage::reserve(running * scratch.size_bytes() as u64, 0, limit).map_err(Failure::Memory)?;
@@ -129,13 +126,14 @@ pub fn least_squares(
         max_iters: max_iterations,
         ..Default::default()
     };
-    let columns: Vec<Column> = (0..b.ncols())
-        .into_par_iter()
-        .map(|j| {
+    let mut x = Mat::<f64>::zeros(n, b.ncols());
+    let columns: Vec<Column> = x
+        .par_col_chunks_mut(1)
+        .enumerate()
+        .map(|(j, x)| {
             let mut mem = MemBuffer::new(scratch);
-            let mut x = Mat::<f64>::zeros(n, 1);
             let out = lsmr(
-                x.as_mut(),
+                x,
                 root,
                 a,
                 b.subcols(j, 1),
@@ -144,24 +142,20 @@ pub fn least_squares(
                 Par::Seq,
                 MemStack::new(&mut mem),
             );
-            let (iterations, converged, residual) = match out {
-                Ok(info) => (info.iter_count, true, info.rel_residual),
-                Err(LsmrError::NoConvergence { rel_residual, .. }) => {
-                    (max_iterations, false, rel_residual)
-                }
-            };
-            Column {
-                x,
-                iterations,
-                converged,
-                residual,
+            match out {
+                Ok(info) => Column {
+                    iterations: info.iter_count,
+                    converged: true,
+                    residual: info.rel_residual,
+                },
+                Err(LsmrError::NoConvergence { rel_residual, .. }) => Column {
+                    iterations: max_iterations,
+                    converged: false,
+                    residual: rel_residual,
+                },
             }
         })
         .collect();
-    let mut x = Mat::<f64>::zeros(n, b.ncols());
-    for (j, c) in columns.iter().enumerate() {
-        x.col_mut(j).copy_from(c.x.col(0));
-    }
     Ok(Solution {
         x,
         iterations: columns.iter().map(|c| c.iterations).sum(),
@@ -171,10 +165,9 @@ pub fn least_squares(
     })
 }
 
-/// One column's LSMR: its solution, its iterations, whether it stopped at
-/// the tolerance, and `|(A M)ᵀ r| / |(A M)ᵀ b|` where it stopped.
+/// How one column's LSMR ended: its iterations, whether it stopped at the
+/// tolerance, and `|(A M)ᵀ r| / |(A M)ᵀ b|` where it stopped.
 struct Column {
-    x: Mat<f64>,
     iterations: usize,
     converged: bool,
     residual: f64,
