@@ -49,7 +49,7 @@ mod truth_studies;
 mod vtk;
 mod workspaces;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// An empty scratch directory of one test: the process id and the test's
 /// own name, so tests running in parallel never share (or delete) a folder.
@@ -78,4 +78,19 @@ pub fn cube(params: rgc::rods::RodParams, rods: Vec<rgc::rods::Rod>) -> rgc::rod
             .map(|r| rgc::rods::Rod::new(r.center, r.axis, 1.0, radius))
             .collect(),
     }
+}
+
+/// The CPU seconds of a study's first `n` sequences, summed from its
+/// records as written (a record's wall time where it carries no CPU time):
+/// what a variant reading those sequences must report. Sums, not an
+/// ordering of them, since CPU comes in 10 ms ticks and a tiny sequence
+/// may cost none.
+pub fn cpu_of_first(study: &Path, n: u64) -> f64 {
+    std::fs::read_to_string(study.join("records.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str::<rgc::threshold::sequence::Record>(l).unwrap())
+        .filter(|r| r.index < n)
+        .map(|r| r.cpu_seconds.unwrap_or(r.seconds))
+        .sum()
 }

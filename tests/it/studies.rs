@@ -464,29 +464,12 @@ fn tradeoff_measures_every_family_of_variants() {
     assert_eq!(std::fs::read_dir(&studies).unwrap().count(), 12);
     assert_eq!(v[10]["study"], v[1]["study"]);
     assert_eq!(v[11]["study"], v[1]["study"]);
-    // Their CPU is that of the sequences they read, out of the K=1 study's
-    // records (CPU comes in 10 ms ticks: tiny sequences may cost none, so
-    // only the sums are exact, not an ordering).
-    let k1_records = std::fs::read_to_string(
-        std::path::Path::new(v[1]["study"].as_str().unwrap()).join("records.jsonl"),
-    )
-    .unwrap();
-    let cpu_of_first = |n: u64| -> f64 {
-        k1_records
-            .lines()
-            .map(|l| serde_json::from_str::<Value>(l).unwrap())
-            .filter(|r| r["index"].as_u64().unwrap() < n)
-            .map(|r| {
-                r["cpu_seconds"]
-                    .as_f64()
-                    .unwrap_or(r["seconds"].as_f64().unwrap())
-            })
-            .sum()
-    };
+    // Their CPU is that of the sequences they read of the K=1 study.
+    let k1 = std::path::Path::new(v[1]["study"].as_str().unwrap());
     for (k, n) in [(10, 5), (11, 10), (1, 20)] {
         let cpu = v[k]["cpu_seconds"].as_f64().unwrap();
         assert!(
-            (cpu - cpu_of_first(n)).abs() < 1e-9,
+            (cpu - crate::cpu_of_first(k1, n)).abs() < 1e-9,
             "{}: {cpu}",
             v[k]["label"]
         );

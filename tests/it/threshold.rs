@@ -519,21 +519,9 @@ fn variants_share_studies_and_analyse_the_first_sequences() {
     assert_eq!(out[1].study, out[0].study);
     assert_ne!(out[2].study, out[0].study);
     assert_eq!(std::fs::read_dir(&root).unwrap().count(), 3);
-    // The subset's CPU is that of the sequences it reads (CPU comes in 10 ms
-    // ticks, so tiny sequences may cost none: the sums are exact, an
-    // ordering would not be).
-    let records: Vec<Record> =
-        std::fs::read_to_string(Path::new(&out[0].study).join("records.jsonl"))
-            .unwrap()
-            .lines()
-            .map(|l| serde_json::from_str(l).unwrap())
-            .collect();
+    // The subset's CPU is that of the sequences it reads.
     for (o, n) in [(&out[0], 12), (&out[1], 8)] {
-        let cpu: f64 = records
-            .iter()
-            .filter(|r| r.index < n)
-            .map(|r| r.cpu_seconds.unwrap_or(r.seconds))
-            .sum();
+        let cpu = crate::cpu_of_first(Path::new(&o.study), n);
         assert!(
             (o.cpu_seconds - cpu).abs() < 1e-9,
             "{}: {}",
